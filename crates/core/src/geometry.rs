@@ -1,0 +1,140 @@
+//! Small plane-geometry predicates used by scene validation, meshing and contact search.
+
+/// A point or vector in the plane.
+pub type Point = [f64; 2];
+
+/// Signed area of a polygon (positive when counter-clockwise).
+pub fn signed_area(polygon: &[Point]) -> f64 {
+    let n = polygon.len();
+    (0..n)
+        .map(|i| {
+            let [x0, y0] = polygon[i];
+            let [x1, y1] = polygon[(i + 1) % n];
+            x0 * y1 - x1 * y0
+        })
+        .sum::<f64>()
+        * 0.5
+}
+
+/// Axis-aligned bounding box `[xmin, xmax, ymin, ymax]` of a set of points.
+pub fn bounding_box<'a>(points: impl IntoIterator<Item = &'a Point>) -> [f64; 4] {
+    let mut b = [
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for p in points {
+        b[0] = b[0].min(p[0]);
+        b[1] = b[1].max(p[0]);
+        b[2] = b[2].min(p[1]);
+        b[3] = b[3].max(p[1]);
+    }
+    b
+}
+
+/// Cross product (b − a) × (c − a): twice the signed area of triangle a, b, c.
+pub fn orient(a: Point, b: Point, c: Point) -> f64 {
+    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+}
+
+/// Euclidean distance.
+pub fn distance(a: Point, b: Point) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// Parameter t ∈ [0, 1] of the point on segment a–b closest to p, and the distance to it.
+pub fn project_on_segment(p: Point, a: Point, b: Point) -> (f64, f64) {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let len2 = d[0] * d[0] + d[1] * d[1];
+    let t = if len2 > 0.0 {
+        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let q = [a[0] + t * d[0], a[1] + t * d[1]];
+    (t, distance(p, q))
+}
+
+/// True when the closed segments p1–p2 and q1–q2 share a point (`tol`: length tolerance).
+pub fn segments_touch(p1: Point, p2: Point, q1: Point, q2: Point, tol: f64) -> bool {
+    let lp = distance(p1, p2).max(tol);
+    let lq = distance(q1, q2).max(tol);
+    let d1 = orient(q1, q2, p1) / lq;
+    let d2 = orient(q1, q2, p2) / lq;
+    let d3 = orient(p1, p2, q1) / lp;
+    let d4 = orient(p1, p2, q2) / lp;
+    if ((d1 > tol && d2 < -tol) || (d1 < -tol && d2 > tol))
+        && ((d3 > tol && d4 < -tol) || (d3 < -tol && d4 > tol))
+    {
+        return true;
+    }
+    project_on_segment(p1, q1, q2).1 <= tol
+        || project_on_segment(p2, q1, q2).1 <= tol
+        || project_on_segment(q1, p1, p2).1 <= tol
+        || project_on_segment(q2, p1, p2).1 <= tol
+}
+
+/// First pair of non-adjacent edges (i, j) of a closed polygon that touch, if any
+/// (`tol`: length tolerance).  A simple polygon has none.
+pub fn self_intersection(polygon: &[Point], tol: f64) -> Option<(usize, usize)> {
+    let n = polygon.len();
+    for i in 0..n {
+        for j in (i + 1)..n {
+            let adjacent = j == i + 1 || (i == 0 && j == n - 1);
+            if adjacent {
+                continue;
+            }
+            let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+            let (c, d) = (polygon[j], polygon[(j + 1) % n]);
+            if segments_touch(a, b, c, d, tol) {
+                return Some((i, j));
+            }
+        }
+    }
+    // Adjacent edges folding back onto each other (a spike) also make a polygon non-simple.
+    for i in 0..n {
+        let (a, b, c) = (polygon[i], polygon[(i + 1) % n], polygon[(i + 2) % n]);
+        let ab = distance(a, b).max(tol);
+        let bc = distance(b, c).max(tol);
+        let collinear = orient(a, b, c).abs() / (ab * bc) <= 1e-12;
+        let back = (b[0] - a[0]) * (c[0] - b[0]) + (b[1] - a[1]) * (c[1] - b[1]) < 0.0;
+        if collinear && back {
+            return Some((i, (i + 1) % n));
+        }
+    }
+    None
+}
+
+/// True when `p` lies in the closed box `[x1, x2, y1, y2]` enlarged by `tol`.
+pub fn in_box(p: Point, region: &[f64; 4], tol: f64) -> bool {
+    p[0] >= region[0] - tol
+        && p[0] <= region[1] + tol
+        && p[1] >= region[2] - tol
+        && p[1] <= region[3] + tol
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn area_orientation_and_simplicity() {
+        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        assert_eq!(signed_area(&square), 1.0);
+        let mut cw = square;
+        cw.reverse();
+        assert_eq!(signed_area(&cw), -1.0);
+        assert_eq!(self_intersection(&square, 1e-12), None);
+        let bowtie = [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]];
+        assert!(self_intersection(&bowtie, 1e-12).is_some());
+        let spike = [[0.0, 0.0], [2.0, 0.0], [1.0, 0.0], [1.0, 1.0]];
+        assert!(self_intersection(&spike, 1e-12).is_some());
+    }
+
+    #[test]
+    fn projection_onto_segment() {
+        let (t, d) = project_on_segment([0.25, 1.0], [0.0, 0.0], [1.0, 0.0]);
+        assert!((t - 0.25).abs() < 1e-15 && (d - 1.0).abs() < 1e-15);
+    }
+}
