@@ -1,0 +1,6 @@
+//! The `signorini` command-line driver: solve, compare, sweep, export and check a scene.
+//!
+//! The library half holds the steps of a run (each one function with one job) so that tests can
+//! call them; `main.rs` only parses the command line.
+
+pub mod output;

@@ -1,0 +1,1 @@
+//! Output files: VTK XML meshes with fields, SVG plots, written atomically.
