@@ -114,6 +114,61 @@ pub fn in_box(p: Point, region: &[f64; 4], tol: f64) -> bool {
         && p[1] <= region[3] + tol
 }
 
+/// The part of segment a–b inside the closed box `region` enlarged by `tol` (Liang–Barsky
+/// clipping): `None` when they do not meet, otherwise the clipped length (possibly zero).
+pub fn clip_to_box(a: Point, b: Point, region: &[f64; 4], tol: f64) -> Option<f64> {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
+    let checks = [
+        (-d[0], a[0] - (region[0] - tol)),
+        (d[0], (region[1] + tol) - a[0]),
+        (-d[1], a[1] - (region[2] - tol)),
+        (d[1], (region[3] + tol) - a[1]),
+    ];
+    for (p, q) in checks {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    (t0 <= t1).then(|| (t1 - t0) * d[0].hypot(d[1]))
+}
+
+/// Length of a closed polygon's boundary inside the box (`None` when they do not meet).
+pub fn boundary_in_box(polygon: &[Point], region: &[f64; 4], tol: f64) -> Option<f64> {
+    let n = polygon.len();
+    (0..n)
+        .filter_map(|i| clip_to_box(polygon[i], polygon[(i + 1) % n], region, tol))
+        .reduce(|x, y| x + y)
+}
+
+/// True when `p` lies inside the polygon or on its boundary (within `tol`).
+pub fn contains(polygon: &[Point], p: Point, tol: f64) -> bool {
+    let n = polygon.len();
+    let mut inside = false;
+    for i in 0..n {
+        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+        if project_on_segment(p, a, b).1 <= tol {
+            return true;
+        }
+        if (a[1] > p[1]) != (b[1] > p[1]) {
+            let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+            if p[0] < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -130,6 +185,25 @@ mod tests {
         assert!(self_intersection(&bowtie, 1e-12).is_some());
         let spike = [[0.0, 0.0], [2.0, 0.0], [1.0, 0.0], [1.0, 1.0]];
         assert!(self_intersection(&spike, 1e-12).is_some());
+    }
+
+    #[test]
+    fn clipping_and_containment() {
+        let top = [[0.0, 2.0], [2.0, 2.0]];
+        let l = clip_to_box(top[0], top[1], &[1.0, 2.0, 2.0, 2.0], 1e-12).unwrap();
+        assert!((l - 1.0).abs() < 1e-9);
+        assert_eq!(
+            clip_to_box(top[0], top[1], &[3.0, 4.0, 2.0, 2.0], 1e-12),
+            None
+        );
+        let point = clip_to_box(top[0], top[1], &[2.0, 3.0, 1.0, 3.0], 1e-12).unwrap();
+        assert!(point < 1e-9);
+        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        assert!(contains(&square, [0.5, 0.5], 1e-12));
+        assert!(contains(&square, [1.0, 0.5], 1e-12));
+        assert!(!contains(&square, [1.5, 0.5], 1e-12));
+        let edge = boundary_in_box(&square, &[0.0, 0.0, 0.0, 1.0], 1e-12).unwrap();
+        assert!((edge - 1.0).abs() < 1e-9);
     }
 
     #[test]

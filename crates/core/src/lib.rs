@@ -21,3 +21,4 @@ pub mod geometry;
 pub mod linalg;
 pub mod mesh;
 pub mod qp;
+pub mod scene;

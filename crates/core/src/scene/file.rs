@@ -1,0 +1,144 @@
+//! The TOML scene file as written by the user (`SCENE.md`), before validation.
+//!
+//! Every table refuses unknown keys, so a typo is an error and never silently ignored.
+
+use serde::Deserialize;
+
+use crate::geometry::Point;
+use crate::mesh::ElementKind;
+
+/// Plane-strain or plane-stress idealisation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Plane {
+    /// Plane strain (ε_zz = 0), the seed's choice; per unit thickness.
+    #[default]
+    Strain,
+    /// Plane stress (σ_zz = 0), with an optional thickness.
+    Stress,
+}
+
+/// A displacement component.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Component {
+    /// Horizontal.
+    X,
+    /// Vertical.
+    Y,
+}
+
+/// The whole file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Free-text title.
+    pub title: Option<String>,
+    /// Modelling choices.
+    pub model: Option<ModelSection>,
+    /// `[[body]]` tables.
+    #[serde(default)]
+    pub body: Vec<BodySection>,
+    /// `[[dirichlet]]` tables.
+    #[serde(default)]
+    pub dirichlet: Vec<DirichletSection>,
+    /// `[[neumann]]` tables.
+    #[serde(default)]
+    pub neumann: Vec<NeumannSection>,
+    /// `[[contact]]` tables.
+    #[serde(default)]
+    pub contact: Vec<ContactSection>,
+    /// `[[probe]]` tables.
+    #[serde(default)]
+    pub probe: Vec<ProbeSection>,
+}
+
+/// `[model]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSection {
+    /// `"strain"` (default) or `"stress"`.
+    #[serde(default)]
+    pub plane: Plane,
+    /// Thickness, plane stress only.
+    pub thickness: Option<f64>,
+    /// Body force per unit mass `[gx, gy]`; every body then needs `density`.
+    pub gravity: Option<[f64; 2]>,
+}
+
+/// `[[body]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySection {
+    /// Unique name.
+    pub name: String,
+    /// Vertices of a simple polygon, either orientation.
+    pub polygon: Vec<Point>,
+    /// Largest element edge.
+    pub hmax: f64,
+    /// `"p1"` (default) or `"q1"`.
+    #[serde(default)]
+    pub element: ElementKind,
+    /// Young's modulus E.
+    pub young: f64,
+    /// Poisson's ratio ν.
+    pub poisson: f64,
+    /// Mass density (only with `[model] gravity`).
+    pub density: Option<f64>,
+}
+
+/// `[[dirichlet]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DirichletSection {
+    /// Body name.
+    pub body: String,
+    /// Box `[x1, x2, y1, y2]`.
+    pub region: [f64; 4],
+    /// Prescribed displacement, default `[0, 0]`.
+    pub value: Option<[f64; 2]>,
+    /// Constrained components, default both.
+    pub components: Option<Vec<Component>>,
+}
+
+/// `[[neumann]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NeumannSection {
+    /// Body name.
+    pub body: String,
+    /// Box `[x1, x2, y1, y2]`.
+    pub region: [f64; 4],
+    /// Constant traction `[tx, ty]`.
+    pub traction: Option<[f64; 2]>,
+    /// Three non-collinear points of a linear traction field.
+    pub points: Option<[Point; 3]>,
+    /// tx at the three points.
+    pub tx: Option<[f64; 3]>,
+    /// ty at the three points.
+    pub ty: Option<[f64; 3]>,
+}
+
+/// `[[contact]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSection {
+    /// The two body names.
+    pub bodies: [String; 2],
+    /// Optional box limiting the candidate boundary nodes.
+    pub region: Option<[f64; 4]>,
+    /// Optional slave side.
+    pub slave: Option<String>,
+}
+
+/// `[[probe]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeSection {
+    /// Name in the report.
+    pub name: String,
+    /// Body name.
+    pub body: String,
+    /// Point of the undeformed body.
+    pub point: Point,
+}
