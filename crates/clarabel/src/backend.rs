@@ -1,0 +1,168 @@
+//! [`ClarabelBackend`]: our QP handed to clarabel's interior-point method.
+
+use std::time::{Duration, Instant};
+
+use clarabel::algebra::CscMatrix as ClarabelCsc;
+use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
+use signorini_core::qp::{
+    QpBackend, QpError, QpProblem, QpScaling, QpSolution, QpStatus, SolveOptions,
+};
+
+use crate::settings::ClarabelSettings;
+use crate::validate::{check_problem, csc_parts};
+use crate::NAME;
+
+/// The clarabel interior-point solver behind [`QpBackend`].
+///
+/// # Example
+/// ```
+/// use signorini_clarabel::{ClarabelBackend, ClarabelSettings};
+/// use signorini_core::qp::{kkt_residuals, QpBackend, QpProblem, QpStatus, SolveOptions};
+/// use sprs::TriMat;
+/// // min x² − 4x  s.t.  x ≤ 1   →  x = 1, λ = 2
+/// let mut a = TriMat::new((1, 1));
+/// a.add_triplet(0, 0, 2.0);
+/// let mut b = TriMat::new((1, 1));
+/// b.add_triplet(0, 0, 1.0);
+/// let qp = QpProblem::try_new(a.to_csc(), vec![4.0], b.to_csc(), vec![1.0])?;
+/// let mut backend = ClarabelBackend::new(ClarabelSettings::default());
+/// let solution = backend.solve(&qp, &SolveOptions::default())?;
+/// assert_eq!(solution.status, QpStatus::Solved);
+/// assert!((solution.x[0] - 1.0).abs() < 1e-8 && (solution.multipliers[0] - 2.0).abs() < 1e-8);
+/// assert!(kkt_residuals(&qp, &solution.x, &solution.multipliers).meet(1e-9));
+/// # Ok::<(), signorini_core::qp::QpError>(())
+/// ```
+#[derive(Debug, Clone, Default)]
+pub struct ClarabelBackend {
+    /// Settings used by every solve.
+    pub settings: ClarabelSettings,
+}
+
+impl ClarabelBackend {
+    /// A backend with the given settings.
+    pub fn new(settings: ClarabelSettings) -> Self {
+        Self { settings }
+    }
+}
+
+impl QpBackend for ClarabelBackend {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn solve(
+        &mut self,
+        problem: &QpProblem,
+        options: &SolveOptions,
+    ) -> Result<QpSolution, QpError> {
+        let start = Instant::now();
+        check_problem(problem)?;
+        let settings = self.settings.to_clarabel(options)?;
+        if problem.dofs() == 0 {
+            return Ok(no_unknowns(problem, start));
+        }
+        let mut solution = if self.settings.rescale {
+            let scaling = QpScaling::of(problem);
+            scaling.unscale(solve_with_clarabel(&scaling.scale(problem), settings)?)
+        } else {
+            solve_with_clarabel(problem, settings)?
+        };
+        solution.solve_time = start.elapsed();
+        Ok(solution)
+    }
+}
+
+/// One clarabel solve of `problem` (already checked, n > 0); `solve_time` is left for the caller.
+fn solve_with_clarabel(
+    problem: &QpProblem,
+    settings: DefaultSettings<f64>,
+) -> Result<QpSolution, QpError> {
+    let (n, m) = (problem.dofs(), problem.rows());
+
+    // P = triu(A), q = −f, A_clarabel = B, b = g, s ∈ ℝᵐ₊.
+    let (colptr, rows, values) = csc_parts(&problem.stiffness, |row, col| row <= col);
+    let p = ClarabelCsc::new(n, n, colptr, rows, values);
+    let (colptr, rows, values) = csc_parts(&problem.constraints, |_, _| true);
+    let a = ClarabelCsc::new(m, n, colptr, rows, values);
+    let q: Vec<f64> = problem.load.iter().map(|f| -f).collect();
+    let cones: Vec<SupportedConeT<f64>> = if m > 0 {
+        vec![SupportedConeT::NonnegativeConeT(m)]
+    } else {
+        Vec::new()
+    };
+
+    let mut solver =
+        DefaultSolver::new(&p, &q, &a, &problem.gap, &cones, settings).map_err(|error| {
+            QpError::Backend {
+                backend: NAME,
+                reason: error.to_string(),
+            }
+        })?;
+    solver.solve();
+    let solution = &solver.solution;
+    let (mut status, note) = map_status(solution.status);
+    let (mut x, mut multipliers) = match status {
+        // clarabel's x, z are then a certificate, not a point: report none.
+        QpStatus::PrimalInfeasible | QpStatus::DualInfeasible => (vec![0.0; n], vec![0.0; m]),
+        _ => (solution.x.clone(), solution.z.clone()),
+    };
+    let mut message = format!(
+        "clarabel {:?}{note}: primal residual {:.2e}, dual residual {:.2e}",
+        solution.status, solution.r_prim, solution.r_dual
+    );
+    if x.iter().chain(&multipliers).any(|v| !v.is_finite()) {
+        status = QpStatus::NumericalError;
+        x = vec![0.0; n];
+        multipliers = vec![0.0; m];
+        message.push_str("; non-finite output replaced by zeros");
+    }
+    Ok(QpSolution {
+        x,
+        multipliers,
+        status,
+        iterations: solution.iterations as usize,
+        solve_time: Duration::ZERO,
+        message: Some(message),
+    })
+}
+
+/// clarabel's verdict as a [`QpStatus`], with a note for verdicts that lose information.
+fn map_status(status: SolverStatus) -> (QpStatus, &'static str) {
+    match status {
+        SolverStatus::Solved => (QpStatus::Solved, ""),
+        SolverStatus::AlmostSolved => (QpStatus::Inaccurate, " (reduced tolerances met)"),
+        SolverStatus::InsufficientProgress => (QpStatus::Inaccurate, " (stalled)"),
+        SolverStatus::MaxIterations => (QpStatus::MaxIterations, ""),
+        SolverStatus::MaxTime => (QpStatus::TimeLimit, ""),
+        SolverStatus::PrimalInfeasible => (QpStatus::PrimalInfeasible, ""),
+        SolverStatus::AlmostPrimalInfeasible => (
+            QpStatus::PrimalInfeasible,
+            " (reduced-accuracy certificate)",
+        ),
+        SolverStatus::DualInfeasible => (QpStatus::DualInfeasible, ""),
+        SolverStatus::AlmostDualInfeasible => {
+            (QpStatus::DualInfeasible, " (reduced-accuracy certificate)")
+        }
+        SolverStatus::NumericalError => (QpStatus::NumericalError, ""),
+        SolverStatus::Unsolved | SolverStatus::CallbackTerminated => {
+            (QpStatus::NumericalError, " (solver did not finish)")
+        }
+    }
+}
+
+/// The answer when there are no unknowns: feasible iff every gap is non-negative.
+fn no_unknowns(problem: &QpProblem, start: Instant) -> QpSolution {
+    let feasible = problem.gap.iter().all(|&g| g >= 0.0);
+    QpSolution {
+        x: Vec::new(),
+        multipliers: vec![0.0; problem.rows()],
+        status: if feasible {
+            QpStatus::Solved
+        } else {
+            QpStatus::PrimalInfeasible
+        },
+        iterations: 0,
+        solve_time: start.elapsed(),
+        message: Some("no unknowns: nothing to solve".to_string()),
+    }
+}
