@@ -1,1 +1,139 @@
 //! Output files: VTK XML meshes with fields, SVG plots, written atomically.
+//!
+//! Every file goes through [`write_atomically`]: it is written to a temporary file in the target
+//! directory and renamed over the target only when the whole content was written, so a failed run
+//! never leaves a truncated file (or a stray temporary file) behind.
+//!
+//! * [`write_vtu`] writes one VTK XML UnstructuredGrid holding every body (see its docs for the
+//!   arrays and their layout).
+//! * [`write_deformed_svg`] plots the undeformed and the magnified deformed meshes; the factor is
+//!   chosen by [`magnification`].
+
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use signorini_core::mesh::Mesh;
+
+mod svg;
+mod vtu;
+
+#[cfg(test)]
+mod tests;
+
+pub use svg::{magnification, write_deformed_svg};
+pub use vtu::write_vtu;
+
+/// One body's fields for output.
+#[derive(Debug, Clone, Copy)]
+pub struct BodyField<'a> {
+    /// Body name (from the scene).
+    pub name: &'a str,
+    /// The body's mesh.
+    pub mesh: &'a Mesh,
+    /// Displacement per node.
+    pub displacement: &'a [[f64; 2]],
+    /// Stress per cell: σxx, σyy, σxy, σzz (σzz ≠ 0 in plane strain).
+    pub stress: &'a [[f64; 4]],
+    /// Von Mises stress per cell.
+    pub von_mises: &'a [f64],
+    /// Contact pressure per node (0 away from contact).
+    pub contact_pressure: &'a [f64],
+}
+
+/// Failure to write an output file.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// The file (or its temporary sibling) could not be created, written or renamed.
+    #[error("cannot write {}: {source}", path.display())]
+    Io {
+        /// The file that was to be written.
+        path: PathBuf,
+        /// The underlying error.
+        source: io::Error,
+    },
+    /// A field's length disagrees with the mesh (or a cell names a node that does not exist).
+    #[error("inconsistent output data: {0}")]
+    Mismatch(String),
+    /// The plotting library failed.
+    #[error("plotting failed: {0}")]
+    Plot(String),
+}
+
+/// Writes `path` atomically: `write` fills a temporary file in the same directory, which is then
+/// renamed over `path`.  If `write` (or flushing, or the rename) fails, neither a partial `path`
+/// nor the temporary file is left behind, and an existing `path` is left untouched.
+///
+/// The writer handed to `write` is buffered.
+pub fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> Result<(), OutputError> {
+    let io_err = |source: io::Error| OutputError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".signorini-").suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        // NamedTempFile defaults to 0600; output files are ordinary readable files.
+        builder.permissions(std::fs::Permissions::from_mode(0o644));
+    }
+    let tmp = builder.tempfile_in(dir).map_err(io_err)?;
+    {
+        let mut out = BufWriter::new(tmp.as_file());
+        write(&mut out).map_err(io_err)?;
+        out.flush().map_err(io_err)?;
+    }
+    // On error the temporary file is dropped, which deletes it.
+    tmp.persist(path).map_err(|e| io_err(e.error))?;
+    Ok(())
+}
+
+/// Checks that every field of every body has the length its mesh asks for and that every cell
+/// refers to existing nodes.
+fn validate(bodies: &[BodyField]) -> Result<(), OutputError> {
+    for b in bodies {
+        let nodes = b.mesh.nodes.len();
+        let cells = b.mesh.cells.len();
+        let check = |field: &str, len: usize, want: usize, what: &str| {
+            if len == want {
+                Ok(())
+            } else {
+                Err(OutputError::Mismatch(format!(
+                    "body \"{}\": {field} has {len} entries but the mesh has {want} {what}",
+                    b.name
+                )))
+            }
+        };
+        check("displacement", b.displacement.len(), nodes, "nodes")?;
+        check("contact_pressure", b.contact_pressure.len(), nodes, "nodes")?;
+        check("stress", b.stress.len(), cells, "cells")?;
+        check("von_mises", b.von_mises.len(), cells, "cells")?;
+        for i in 0..cells {
+            if let Some(&n) = b.mesh.cells.cell(i).iter().find(|&&n| n >= nodes) {
+                return Err(OutputError::Mismatch(format!(
+                    "body \"{}\": cell {i} refers to node {n} but the mesh has {nodes} nodes",
+                    b.name
+                )));
+            }
+        }
+        if let Some(e) = b
+            .mesh
+            .boundary
+            .iter()
+            .find(|e| e[0] >= nodes || e[1] >= nodes)
+        {
+            return Err(OutputError::Mismatch(format!(
+                "body \"{}\": boundary edge {e:?} refers to a node beyond the mesh's {nodes} nodes",
+                b.name
+            )));
+        }
+    }
+    Ok(())
+}
