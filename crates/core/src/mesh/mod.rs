@@ -7,7 +7,14 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::geometry::Point;
+use crate::geometry::{bounding_box, distance, signed_area, Point};
+
+mod boundary;
+mod quads;
+mod quality;
+mod triangles;
+
+pub use boundary::box_crossings;
 
 /// Element type of a body.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -61,4 +68,218 @@ pub struct Mesh {
     pub cells: Cells,
     /// Boundary edges `[a, b]`, oriented so that the body lies on the left (counter-clockwise).
     pub boundary: Vec<[usize; 2]>,
+}
+
+/// One body to mesh.
+///
+/// ```
+/// use signorini_core::mesh::{mesh_body, BodyGeometry, ElementKind, MeshLimits};
+/// let polygon = [[0.0, 1.0], [2.0, 1.0], [2.0, 2.0], [0.0, 2.0]];
+/// let body = BodyGeometry {
+///     polygon: &polygon,
+///     hmax: 0.2,
+///     element: ElementKind::P1,
+///     breakpoints: &[[1.0, 1.0]],
+///     tol: 1e-9,
+/// };
+/// let mesh = mesh_body(&body, &MeshLimits::default()).unwrap();
+/// assert!(mesh.max_edge() <= 0.2 * (1.0 + 1e-9));
+/// assert!((mesh.area() - 2.0).abs() < 1e-12);
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub struct BodyGeometry<'a> {
+    /// Simple polygon, either orientation, ≥ 3 vertices.
+    pub polygon: &'a [Point],
+    /// Largest allowed element edge length (scene length units).
+    pub hmax: f64,
+    /// Element type: P1 for any polygon, Q1 only for axis-aligned rectangles.
+    pub element: ElementKind,
+    /// Points that must become mesh vertices wherever they lie on the boundary (within `tol`);
+    /// points off the boundary are ignored.  Typically other bodies' corners and the
+    /// [`box_crossings`] of the regions that apply to this body.
+    pub breakpoints: &'a [Point],
+    /// Absolute length tolerance for "lies on" (≈ 1e-9 × scene size).
+    pub tol: f64,
+}
+
+/// Limits of the mesher.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeshLimits {
+    /// Largest number of elements of one body; larger requests are refused before meshing.
+    /// Default 5 000 000.
+    pub max_elements: usize,
+    /// Smallest triangle angle the refinement aims at, in degrees (boundary permitting).
+    /// Default 20; must lie in [0, 34] (Ruppert refinement need not terminate above ≈ 34°).
+    pub min_angle_deg: f64,
+}
+
+impl Default for MeshLimits {
+    fn default() -> Self {
+        Self {
+            max_elements: 5_000_000,
+            min_angle_deg: 20.0,
+        }
+    }
+}
+
+/// Why a body could not be meshed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MeshError {
+    /// The estimated element count exceeds [`MeshLimits::max_elements`].
+    #[error(
+        "the mesh would have about {estimated} elements, more than the limit of {limit}; \
+         increase hmax or raise the limit (MeshLimits::max_elements)"
+    )]
+    TooManyElements {
+        /// Estimated (or actual) number of elements.
+        estimated: usize,
+        /// The limit.
+        limit: usize,
+    },
+    /// Q1 elements were requested for a polygon that is not an axis-aligned rectangle.
+    #[error("Q1 (structured quadrilateral) meshes need an axis-aligned rectangle; use P1 for other polygons")]
+    NotARectangle,
+    /// A parameter is out of range.
+    #[error("mesh parameter `{name}` = {value} is invalid: {expected}")]
+    InvalidParameter {
+        /// Parameter name.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+        /// What is allowed.
+        expected: &'static str,
+    },
+    /// The polygon has fewer than 3 distinct vertices, no area, non-finite coordinates or
+    /// crossing edges.
+    #[error("degenerate polygon: {reason}")]
+    DegeneratePolygon {
+        /// What is wrong.
+        reason: String,
+    },
+    /// Delaunay refinement ran out of its vertex budget before meeting the angle and edge bounds.
+    #[error(
+        "mesh refinement did not finish: {vertices} vertices reached the budget of {budget}; \
+         lower min_angle_deg or check the polygon for tiny features"
+    )]
+    RefinementIncomplete {
+        /// Vertices when refinement stopped.
+        vertices: usize,
+        /// Vertex budget.
+        budget: usize,
+    },
+    /// The triangulation library failed.
+    #[error("triangulation failed: {reason}")]
+    Triangulation {
+        /// The failure.
+        reason: String,
+    },
+}
+
+/// Mean P1 triangle area produced by [`mesh_body`], as a multiple of hmax² (measured).
+const P1_AREA_PER_ELEMENT: f64 = 0.15;
+
+/// Cheap estimate of the number of elements [`mesh_body`] creates, used to refuse oversized
+/// requests before allocating.  `usize::MAX` for a non-positive or non-finite `hmax` or an empty
+/// polygon.
+///
+/// ```
+/// use signorini_core::mesh::{estimate_elements, ElementKind};
+/// let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+/// assert_eq!(estimate_elements(&square, 0.1, ElementKind::Q1), 100);
+/// assert!(estimate_elements(&square, 0.1, ElementKind::P1) > 100);
+/// ```
+pub fn estimate_elements(polygon: &[Point], hmax: f64, element: ElementKind) -> usize {
+    if !(hmax.is_finite() && hmax > 0.0) || polygon.len() < 3 {
+        return usize::MAX;
+    }
+    let estimate = match element {
+        ElementKind::Q1 => {
+            let [x0, x1, y0, y1] = bounding_box(polygon);
+            ((x1 - x0) / hmax - 1e-9).ceil().max(1.0) * ((y1 - y0) / hmax - 1e-9).ceil().max(1.0)
+        }
+        ElementKind::P1 => {
+            let perimeter: f64 = (0..polygon.len())
+                .map(|i| distance(polygon[i], polygon[(i + 1) % polygon.len()]))
+                .sum();
+            signed_area(polygon).abs() / (P1_AREA_PER_ELEMENT * hmax * hmax) + perimeter / hmax
+        }
+    };
+    if estimate.is_finite() {
+        // `as` saturates at usize::MAX.
+        estimate.ceil() as usize
+    } else {
+        usize::MAX
+    }
+}
+
+/// Meshes one body.
+///
+/// The boundary is discretised deterministically (see the module docs), so bodies that share an
+/// edge and `hmax` get coincident interface nodes.  P1: constrained Delaunay triangulation with
+/// refinement; every edge ≤ `hmax` (boundary edges ≤ `hmax (1 + 1e-9)`), angles ≥
+/// `limits.min_angle_deg` except where the fixed boundary discretisation forbids it.  Q1:
+/// structured grid on an axis-aligned rectangle.  Cells are counter-clockwise; `boundary` lists
+/// every boundary edge once with the body on its left.  For P1 the boundary nodes come first
+/// (node `i` to `i + 1` is boundary edge `i`).
+///
+/// # Errors
+/// [`MeshError`] for invalid parameters, a degenerate polygon, Q1 on a non-rectangle, an
+/// estimate above `limits.max_elements` (checked before anything large is allocated) or a
+/// refinement that cannot finish.
+pub fn mesh_body(geometry: &BodyGeometry, limits: &MeshLimits) -> Result<Mesh, MeshError> {
+    let BodyGeometry {
+        polygon,
+        hmax,
+        element,
+        breakpoints,
+        tol,
+    } = *geometry;
+    if !(hmax.is_finite() && hmax > 0.0) {
+        return Err(MeshError::InvalidParameter {
+            name: "hmax",
+            value: hmax,
+            expected: "a positive finite length",
+        });
+    }
+    if !(tol.is_finite() && tol >= 0.0) {
+        return Err(MeshError::InvalidParameter {
+            name: "tol",
+            value: tol,
+            expected: "a non-negative finite length",
+        });
+    }
+    if !(limits.min_angle_deg.is_finite() && (0.0..=34.0).contains(&limits.min_angle_deg)) {
+        return Err(MeshError::InvalidParameter {
+            name: "min_angle_deg",
+            value: limits.min_angle_deg,
+            expected: "an angle in [0, 34] degrees",
+        });
+    }
+    let polygon = boundary::clean_polygon(polygon, tol)?;
+    let estimated = estimate_elements(&polygon, hmax, element);
+    if estimated > limits.max_elements {
+        return Err(MeshError::TooManyElements {
+            estimated,
+            limit: limits.max_elements,
+        });
+    }
+    let mesh = match element {
+        ElementKind::Q1 => quads::mesh_rectangle(&polygon, hmax, breakpoints, tol)?,
+        ElementKind::P1 => {
+            let points = boundary::discretise(&polygon, hmax, breakpoints, tol);
+            let budget = estimated
+                .saturating_mul(2)
+                .saturating_add(points.len().saturating_mul(10))
+                .saturating_add(1000)
+                .min(limits.max_elements.saturating_add(points.len()));
+            triangles::mesh_polygon(&points, hmax, limits, budget)?
+        }
+    };
+    if mesh.cells.len() > limits.max_elements {
+        return Err(MeshError::TooManyElements {
+            estimated: mesh.cells.len(),
+            limit: limits.max_elements,
+        });
+    }
+    Ok(mesh)
 }

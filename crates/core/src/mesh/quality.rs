@@ -1,0 +1,63 @@
+//! Size and quality measures of a mesh.
+
+use crate::geometry::{distance, orient, Point};
+
+use super::Mesh;
+
+impl Mesh {
+    /// Corner points of cell `i`.
+    fn corners(&self, i: usize) -> impl Iterator<Item = Point> + '_ {
+        self.cells.cell(i).iter().map(|&v| self.nodes[v])
+    }
+
+    /// Longest cell edge (0 for an empty mesh).
+    pub fn max_edge(&self) -> f64 {
+        (0..self.cells.len())
+            .flat_map(|i| {
+                let c = self.cells.cell(i);
+                (0..c.len()).map(move |k| (c[k], c[(k + 1) % c.len()]))
+            })
+            .map(|(a, b)| distance(self.nodes[a], self.nodes[b]))
+            .fold(0.0, f64::max)
+    }
+
+    /// Smallest interior angle of any cell, in degrees (180 for an empty mesh).
+    pub fn min_angle_deg(&self) -> f64 {
+        let mut min = 180.0_f64;
+        for i in 0..self.cells.len() {
+            let p: Vec<Point> = self.corners(i).collect();
+            let m = p.len();
+            for k in 0..m {
+                let (a, b, c) = (p[(k + m - 1) % m], p[k], p[(k + 1) % m]);
+                let u = [a[0] - b[0], a[1] - b[1]];
+                let v = [c[0] - b[0], c[1] - b[1]];
+                let cross = u[0] * v[1] - u[1] * v[0];
+                let dot = u[0] * v[0] + u[1] * v[1];
+                min = min.min(cross.abs().atan2(dot).to_degrees());
+            }
+        }
+        min
+    }
+
+    /// Sum of the signed cell areas (positive for counter-clockwise cells).
+    pub fn area(&self) -> f64 {
+        (0..self.cells.len())
+            .map(|i| {
+                let c = self.cells.cell(i);
+                let p0 = self.nodes[c[0]];
+                (1..c.len() - 1)
+                    .map(|k| orient(p0, self.nodes[c[k]], self.nodes[c[k + 1]]))
+                    .sum::<f64>()
+                    * 0.5
+            })
+            .sum()
+    }
+
+    /// Total length of the boundary edges.
+    pub fn boundary_length(&self) -> f64 {
+        self.boundary
+            .iter()
+            .map(|&[a, b]| distance(self.nodes[a], self.nodes[b]))
+            .sum()
+    }
+}
