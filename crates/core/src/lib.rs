@@ -17,8 +17,13 @@
 //! with A the stiffness on the free degrees of freedom, f the loads, B the node-to-segment
 //! contact rows and g the initial gaps.  Backends implement [`qp::QpBackend`].
 
+pub mod contact;
+pub mod fem;
 pub mod geometry;
 pub mod linalg;
 pub mod mesh;
+pub mod model;
 pub mod qp;
+pub mod report;
 pub mod scene;
+pub mod solve;

@@ -3,4 +3,6 @@
 //! The library half holds the steps of a run (each one function with one job) so that tests can
 //! call them; `main.rs` only parses the command line.
 
+pub mod backends;
 pub mod output;
+pub mod run;

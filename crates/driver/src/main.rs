@@ -1,1 +1,178 @@
-fn main() {}
+//! `signorini`: frictionless contact of elastic bodies in 2D, solved by several QP backends.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand};
+use signorini::backends::{make_backend, BackendKind};
+use signorini::run;
+use signorini_core::mesh::{estimate_elements, MeshLimits};
+use signorini_core::qp::{QpStatus, SolveOptions};
+
+#[derive(Parser)]
+#[command(
+    name = "signorini",
+    version,
+    about = "2D frictionless contact of elastic bodies by FEM, through several QP backends"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(clap::Args)]
+struct Common {
+    /// Scene file (TOML, see SCENE.md); the seed's Experiment 2b when omitted.
+    scene: Option<PathBuf>,
+    /// Largest number of elements a scene may ask for before it is refused.
+    #[arg(long, default_value_t = 5_000_000)]
+    max_elements: usize,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Mesh, assemble and solve a scene; write result.json, solution.vtu and deformed.svg.
+    Solve {
+        #[command(flatten)]
+        common: Common,
+        /// QP backend: clarabel, osqp, dual-pgs or dual-uzawa.
+        #[arg(long, default_value = "clarabel")]
+        backend: String,
+        /// Relative KKT tolerance the answer must meet to count as solved.
+        #[arg(long, default_value_t = 1e-9)]
+        tol: f64,
+        /// Output directory (created if missing).
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+    },
+    /// Validate a scene without solving it.
+    Check {
+        #[command(flatten)]
+        common: Common,
+    },
+}
+
+fn limits(common: &Common) -> MeshLimits {
+    MeshLimits {
+        max_elements: common.max_elements,
+        ..MeshLimits::default()
+    }
+}
+
+fn check_tol(tol: f64) -> Result<()> {
+    anyhow::ensure!(
+        tol.is_finite() && tol > 0.0 && tol < 1.0,
+        "--tol must lie in (0, 1), got {tol}"
+    );
+    Ok(())
+}
+
+fn solve(common: &Common, backend: &str, tol: f64, out: &std::path::Path) -> Result<ExitCode> {
+    check_tol(tol)?;
+    let kind: BackendKind = backend.parse()?;
+    let mut backend = make_backend(kind)?;
+    let scene = run::load_scene(common.scene.as_deref())?;
+    let options = SolveOptions {
+        tol,
+        ..SolveOptions::default()
+    };
+    let outcome = run::solve_scene(&scene, backend.as_mut(), &options, &limits(common))?;
+    let written = run::write_outputs(out, &scene, &outcome)
+        .with_context(|| format!("writing results to {}", out.display()))?;
+    let r = &outcome.report;
+    println!("{}", r.scene);
+    println!(
+        "  {} DOFs, {} contact rows ({} active); backend {}: {} in {} iterations",
+        r.dofs, r.constraints, r.active_constraints, r.backend, r.status, r.iterations
+    );
+    for b in &r.bodies {
+        println!(
+            "  body {:<10} {:>7} nodes {:>7} elements  max |u| = {:.6e}  reaction = [{:.4e}, {:.4e}]",
+            b.name, b.nodes, b.elements, b.max_displacement, b.reaction[0], b.reaction[1]
+        );
+    }
+    for c in &r.contacts {
+        println!(
+            "  contact {} – {} (slave {}): normal force {:.6e}",
+            c.bodies[0], c.bodies[1], c.slave, c.normal_force
+        );
+    }
+    println!(
+        "  residuals: penetration {:.2e}, stationarity {:.2e}, complementarity {:.2e}, min multiplier {:.2e}",
+        r.residuals.max_penetration,
+        r.residuals.stationarity,
+        r.residuals.complementarity,
+        r.residuals.min_multiplier
+    );
+    println!(
+        "  time: mesh {:.4} s, assemble {:.4} s, solve {:.4} s, total {:.4} s",
+        r.timing_s.mesh, r.timing_s.assemble, r.timing_s.solve, r.timing_s.total
+    );
+    for p in &written {
+        println!("  wrote {}", p.display());
+    }
+    if outcome.solution.status == QpStatus::Solved {
+        Ok(ExitCode::SUCCESS)
+    } else {
+        eprintln!(
+            "error: status {} (residuals miss --tol {tol:e}){}",
+            outcome.solution.status,
+            outcome
+                .solution
+                .message
+                .as_deref()
+                .map(|m| format!(": {m}"))
+                .unwrap_or_default()
+        );
+        Ok(ExitCode::from(2))
+    }
+}
+
+fn check(common: &Common) -> Result<ExitCode> {
+    let scene = run::load_scene(common.scene.as_deref())?;
+    let limits = limits(common);
+    println!("{}: valid", scene.title);
+    let mut total = 0;
+    for b in &scene.bodies {
+        let estimate = estimate_elements(&b.polygon, b.hmax, b.element);
+        total += estimate;
+        println!(
+            "  body {:<10} hmax {:<8} ~{estimate} elements",
+            b.name, b.hmax
+        );
+    }
+    println!(
+        "  {} dirichlet, {} neumann, {} contact pair(s), {} probe(s)",
+        scene.dirichlet.len(),
+        scene.neumann.len(),
+        scene.contacts.len(),
+        scene.probes.len()
+    );
+    anyhow::ensure!(
+        total <= limits.max_elements,
+        "the scene asks for ~{total} elements, more than --max-elements {}",
+        limits.max_elements
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Solve {
+            common,
+            backend,
+            tol,
+            out,
+        } => solve(common, backend, *tol, out),
+        Command::Check { common } => check(common),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -89,8 +89,7 @@ pub(crate) fn mesh_polygon(
     })) {
         Ok(result) => result,
         Err(_) => Err(MeshError::Triangulation {
-            reason: "spade panicked (likely loss of precision on a near-degenerate polygon)"
-                .into(),
+            reason: "spade panicked (likely loss of precision on a near-degenerate polygon)".into(),
         }),
     }
 }
@@ -140,7 +139,11 @@ fn triangulate(
     loop {
         let t0 = std::time::Instant::now();
         let result = cdt.refine(parameters(&cdt));
-        eprintln!("refine round {rounds}: {:.3}s, {} vertices", t0.elapsed().as_secs_f64(), cdt.num_vertices());
+        eprintln!(
+            "refine round {rounds}: {:.3}s, {} vertices",
+            t0.elapsed().as_secs_f64(),
+            cdt.num_vertices()
+        );
         if !result.refinement_complete {
             return Err(MeshError::RefinementIncomplete {
                 vertices: cdt.num_vertices(),

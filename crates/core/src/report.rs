@@ -1,0 +1,407 @@
+//! The result of a run: full displacements, reactions, stresses, contact pressures and probes, as
+//! the `result.json` of `SCENE.md`.
+
+use serde::Serialize;
+
+use crate::fem::{self, element};
+use crate::geometry::Point;
+use crate::mesh::{Cells, Mesh};
+use crate::model::{Effect, Model};
+use crate::qp::{mat_vec, KktResiduals};
+use crate::scene::Scene;
+use crate::solve::{contact_forces, Solution};
+
+/// Wall-clock time of each phase, in seconds.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct Timings {
+    /// Meshing.
+    pub mesh: f64,
+    /// Assembly of stiffness, loads, supports and contact rows.
+    pub assemble: f64,
+    /// The solve (backend or direct).
+    pub solve: f64,
+    /// Everything, including output.
+    pub total: f64,
+}
+
+/// Per-body results.
+#[derive(Debug, Clone, Serialize)]
+pub struct BodyReport {
+    /// Body name.
+    pub name: String,
+    /// Node count.
+    pub nodes: usize,
+    /// Element count.
+    pub elements: usize,
+    /// Largest nodal displacement magnitude.
+    pub max_displacement: f64,
+    /// Sum of the support reactions on the body `[Rx, Ry]`.
+    pub reaction: [f64; 2],
+    /// Sum of the applied loads `[Fx, Fy]`.
+    pub applied: [f64; 2],
+    /// Sum of the contact forces acting on the body `[Cx, Cy]`.
+    pub contact_force: [f64; 2],
+    /// Largest von Mises stress over the body's elements.
+    pub max_von_mises: f64,
+}
+
+/// One slave node of a contact pair.
+#[derive(Debug, Clone, Serialize)]
+pub struct ContactNodeReport {
+    /// Slave node x.
+    pub x: f64,
+    /// Slave node y.
+    pub y: f64,
+    /// Final normal gap g − (Bu)ᵢ (≥ 0 up to tolerance).
+    pub gap: f64,
+    /// Initial normal gap.
+    pub initial_gap: f64,
+    /// Contact force λ at the node (≥ 0, per unit thickness).
+    pub multiplier: f64,
+    /// λ divided by the node's tributary length.
+    pub pressure: f64,
+}
+
+/// One contact pair.
+#[derive(Debug, Clone, Serialize)]
+pub struct ContactReport {
+    /// The pair's body names, as in the scene.
+    pub bodies: [String; 2],
+    /// Slave body name.
+    pub slave: String,
+    /// True when slave and master interface nodes coincide.
+    pub conforming: bool,
+    /// Number of rows.
+    pub constraints: usize,
+    /// Rows with a positive multiplier (see [`is_active`]).
+    pub active: usize,
+    /// Sum of the multipliers: the total normal force transmitted.
+    pub normal_force: f64,
+    /// Per slave node.
+    pub nodes: Vec<ContactNodeReport>,
+}
+
+/// A probe's displacement.
+#[derive(Debug, Clone, Serialize)]
+pub struct ProbeReport {
+    /// Probe name.
+    pub name: String,
+    /// Body name.
+    pub body: String,
+    /// The probed point.
+    pub point: Point,
+    /// Interpolated displacement `[ux, uy]`.
+    pub displacement: [f64; 2],
+}
+
+/// `result.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct RunReport {
+    /// Scene title.
+    pub scene: String,
+    /// Backend name (`"cholesky"` when there was no contact row).
+    pub backend: String,
+    /// `"solved"` only when the residuals meet the tolerance.
+    pub status: String,
+    /// The tolerance requested.
+    pub tolerance: f64,
+    /// What was assembled.
+    pub effects: Vec<Effect>,
+    /// Free DOFs (the QP's unknowns).
+    pub dofs: usize,
+    /// Contact rows.
+    pub constraints: usize,
+    /// Active contact rows.
+    pub active_constraints: usize,
+    /// Backend iterations.
+    pub iterations: usize,
+    /// ½uᵀAu − fᵀu on the free DOFs.
+    pub objective: f64,
+    /// Core-computed KKT residuals.
+    pub residuals: KktResiduals,
+    /// Phase times.
+    pub timing_s: Timings,
+    /// Per body.
+    pub bodies: Vec<BodyReport>,
+    /// Per contact pair.
+    pub contacts: Vec<ContactReport>,
+    /// Per probe.
+    pub probes: Vec<ProbeReport>,
+    /// Relative force balance: the largest |applied + reaction + contact| over bodies and
+    /// components, divided by the largest of those three totals.
+    pub force_balance: f64,
+    /// The backend's note, if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub message: Option<String>,
+}
+
+/// Per-body fields for output files.
+#[derive(Debug, Clone)]
+pub struct BodyFields {
+    /// Nodal displacements.
+    pub displacement: Vec<[f64; 2]>,
+    /// Stresses (σₓₓ, σᵧᵧ, σₓᵧ, σ_zz) per cell.
+    pub stress: Vec<[f64; 4]>,
+    /// Von Mises stress per cell.
+    pub von_mises: Vec<f64>,
+    /// Contact pressure per node (0 away from contact).
+    pub contact_pressure: Vec<f64>,
+}
+
+/// A row counts as active when its multiplier exceeds 10⁻⁶ of the force scale (the larger of the
+/// largest multiplier and the total applied load), so round-off multipliers never count.
+pub fn is_active(multiplier: f64, force_scale: f64) -> bool {
+    multiplier > 1e-6 * force_scale && multiplier > 0.0
+}
+
+/// Displacement at `point` of a mesh by interpolation (`None` if the point is in no cell).
+pub fn interpolate(mesh: &Mesh, u: &[[f64; 2]], point: Point, tol: f64) -> Option<[f64; 2]> {
+    let combine = |nodes: &[usize], w: &[f64]| {
+        let mut r = [0.0, 0.0];
+        for (n, wi) in nodes.iter().zip(w) {
+            r[0] += wi * u[*n][0];
+            r[1] += wi * u[*n][1];
+        }
+        r
+    };
+    match &mesh.cells {
+        Cells::Triangles(t) => t.iter().find_map(|c| {
+            let [a, b, d] = c.map(|n| mesh.nodes[n]);
+            let area = crate::geometry::orient(a, b, d);
+            let w = [
+                crate::geometry::orient(point, b, d) / area,
+                crate::geometry::orient(a, point, d) / area,
+                crate::geometry::orient(a, b, point) / area,
+            ];
+            let eps = tol / crate::geometry::distance(a, b).max(f64::MIN_POSITIVE);
+            w.iter().all(|x| *x >= -eps).then(|| combine(c, &w))
+        }),
+        Cells::Quads(q) => q.iter().find_map(|c| {
+            let p = c.map(|n| mesh.nodes[n]);
+            let (xi, eta) = quad_local(p, point)?;
+            let eps = 1e-9;
+            if xi.abs() > 1.0 + eps || eta.abs() > 1.0 + eps {
+                return None;
+            }
+            let w = [
+                0.25 * (1.0 - xi) * (1.0 - eta),
+                0.25 * (1.0 + xi) * (1.0 - eta),
+                0.25 * (1.0 + xi) * (1.0 + eta),
+                0.25 * (1.0 - xi) * (1.0 + eta),
+            ];
+            Some(combine(c, &w))
+        }),
+    }
+}
+
+/// Local coordinates (ξ, η) of a point in a bilinear quad, by Newton's method.
+fn quad_local(p: [Point; 4], x: Point) -> Option<(f64, f64)> {
+    let (mut xi, mut eta) = (0.0_f64, 0.0_f64);
+    for _ in 0..30 {
+        let n = [
+            0.25 * (1.0 - xi) * (1.0 - eta),
+            0.25 * (1.0 + xi) * (1.0 - eta),
+            0.25 * (1.0 + xi) * (1.0 + eta),
+            0.25 * (1.0 - xi) * (1.0 + eta),
+        ];
+        let dxi = [
+            -0.25 * (1.0 - eta),
+            0.25 * (1.0 - eta),
+            0.25 * (1.0 + eta),
+            -0.25 * (1.0 + eta),
+        ];
+        let deta = [
+            -0.25 * (1.0 - xi),
+            -0.25 * (1.0 + xi),
+            0.25 * (1.0 + xi),
+            0.25 * (1.0 - xi),
+        ];
+        let (mut fx, mut fy, mut j11, mut j12, mut j21, mut j22) =
+            (-x[0], -x[1], 0.0, 0.0, 0.0, 0.0);
+        for a in 0..4 {
+            fx += n[a] * p[a][0];
+            fy += n[a] * p[a][1];
+            j11 += dxi[a] * p[a][0];
+            j12 += deta[a] * p[a][0];
+            j21 += dxi[a] * p[a][1];
+            j22 += deta[a] * p[a][1];
+        }
+        let det = j11 * j22 - j12 * j21;
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let dx = (j22 * fx - j12 * fy) / det;
+        let dy = (-j21 * fx + j11 * fy) / det;
+        xi -= dx;
+        eta -= dy;
+        if dx.abs() + dy.abs() < 1e-14 {
+            break;
+        }
+    }
+    (xi.is_finite() && eta.is_finite()).then_some((xi, eta))
+}
+
+/// Fields per body (displacement, stresses, contact pressure) for the output files.
+pub fn body_fields(model: &Model, solution: &Solution) -> Vec<BodyFields> {
+    let mut fields: Vec<BodyFields> = model
+        .meshes
+        .iter()
+        .enumerate()
+        .map(|(b, mesh)| {
+            let displacement = model.body_displacements(b, &solution.displacement);
+            let stress = fem::cell_stresses(mesh, &model.materials[b], &displacement);
+            let von_mises = stress.iter().map(|s| element::von_mises(*s)).collect();
+            BodyFields {
+                displacement,
+                stress,
+                von_mises,
+                contact_pressure: vec![0.0; mesh.nodes.len()],
+            }
+        })
+        .collect();
+    let mut row = 0;
+    for pair in &model.contacts {
+        for r in &pair.rows {
+            if let Some(l) = solution.multipliers.get(row) {
+                fields[pair.slave].contact_pressure[r.slave_node] += l / r.tributary;
+            }
+            row += 1;
+        }
+    }
+    fields
+}
+
+/// Builds `result.json`'s content.
+pub fn run_report(
+    scene: &Scene,
+    model: &Model,
+    solution: &Solution,
+    fields: &[BodyFields],
+    tolerance: f64,
+    timings: Timings,
+) -> RunReport {
+    let u = &solution.displacement;
+    // r = K u − f − (contact forces): the support reactions (nonzero on fixed DOFs only).
+    let ku = mat_vec(&model.stiffness, u);
+    let contact = contact_forces(model, &solution.multipliers);
+    let mut bodies = Vec::with_capacity(model.meshes.len());
+    let mut imbalance = 0.0_f64;
+    let mut load_scale = 0.0_f64;
+    for (b, mesh) in model.meshes.iter().enumerate() {
+        let mut reaction = [0.0; 2];
+        let mut applied = [0.0; 2];
+        let mut contact_force = [0.0; 2];
+        for d in model.dofs.body_range(b) {
+            let c = d % 2;
+            applied[c] += model.load[d];
+            contact_force[c] += contact[d];
+            if model.fixed[d].is_some() {
+                reaction[c] += ku[d] - model.load[d] - contact[d];
+            }
+        }
+        for c in 0..2 {
+            imbalance = imbalance.max((applied[c] + reaction[c] + contact_force[c]).abs());
+            load_scale = load_scale
+                .max(applied[c].abs())
+                .max(reaction[c].abs())
+                .max(contact_force[c].abs());
+        }
+        let f = &fields[b];
+        bodies.push(BodyReport {
+            name: scene.bodies[b].name.clone(),
+            nodes: mesh.nodes.len(),
+            elements: mesh.cells.len(),
+            max_displacement: f
+                .displacement
+                .iter()
+                .map(|d| d[0].hypot(d[1]))
+                .fold(0.0, f64::max),
+            reaction,
+            applied,
+            contact_force,
+            max_von_mises: f.von_mises.iter().copied().fold(0.0, f64::max),
+        });
+    }
+    let largest = solution
+        .multipliers
+        .iter()
+        .copied()
+        .fold(0.0, f64::max)
+        .max(model.load.iter().map(|f| f.abs()).sum());
+    let bu = mat_vec(&model.constraints, u);
+    let mut contacts = Vec::with_capacity(model.contacts.len());
+    let mut row = 0;
+    let mut active_total = 0;
+    for pair in &model.contacts {
+        let mut nodes = Vec::with_capacity(pair.rows.len());
+        let mut active = 0;
+        let mut normal_force = 0.0;
+        for r in &pair.rows {
+            let l = solution.multipliers.get(row).copied().unwrap_or(0.0);
+            if is_active(l, largest) {
+                active += 1;
+            }
+            normal_force += l;
+            nodes.push(ContactNodeReport {
+                x: r.position[0],
+                y: r.position[1],
+                gap: model.gap[row] - bu[row],
+                initial_gap: r.gap,
+                multiplier: l,
+                pressure: l / r.tributary,
+            });
+            row += 1;
+        }
+        active_total += active;
+        let spec = &scene.contacts[pair.pair];
+        contacts.push(ContactReport {
+            bodies: spec.bodies.map(|k| scene.bodies[k].name.clone()),
+            slave: scene.bodies[pair.slave].name.clone(),
+            conforming: pair.conforming,
+            constraints: pair.rows.len(),
+            active,
+            normal_force,
+            nodes,
+        });
+    }
+    let tol = scene.tolerance();
+    let probes = scene
+        .probes
+        .iter()
+        .map(|p| ProbeReport {
+            name: p.name.clone(),
+            body: scene.bodies[p.body].name.clone(),
+            point: p.point,
+            displacement: interpolate(
+                &model.meshes[p.body],
+                &fields[p.body].displacement,
+                p.point,
+                tol,
+            )
+            .unwrap_or([f64::NAN, f64::NAN]),
+        })
+        .collect();
+    RunReport {
+        scene: scene.title.clone(),
+        backend: solution.backend.clone(),
+        status: solution.status.as_str().to_string(),
+        tolerance,
+        effects: model.effects.clone(),
+        dofs: model.free.len(),
+        constraints: model.rows(),
+        active_constraints: active_total,
+        iterations: solution.iterations,
+        objective: solution.objective,
+        residuals: solution.residuals,
+        timing_s: timings,
+        bodies,
+        contacts,
+        probes,
+        force_balance: if load_scale > 0.0 {
+            imbalance / load_scale
+        } else {
+            imbalance
+        },
+        message: solution.message.clone(),
+    }
+}

@@ -1,0 +1,172 @@
+//! Solving an assembled model: one sparse Cholesky solve when there is no contact row, otherwise
+//! the reduced QP through a backend on the nondimensionalised problem, checked by the core's own
+//! KKT residuals.
+
+use std::time::{Duration, Instant};
+
+use crate::linalg::{LinalgError, SparseCholesky};
+use crate::model::{Model, ModelError};
+use crate::qp::{
+    checked_status, kkt_residuals, mat_t_vec, KktResiduals, QpBackend, QpError, QpProblem,
+    QpScaling, QpStatus, SolveOptions,
+};
+
+/// Name reported when no QP was needed.
+pub const DIRECT: &str = "cholesky";
+
+/// Why a model could not be solved (as opposed to a solve that did not converge).
+#[derive(Debug, thiserror::Error)]
+pub enum SolveError {
+    /// Building the QP failed.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// The backend could not run.
+    #[error(transparent)]
+    Qp(#[from] QpError),
+    /// The unconstrained stiffness could not be factored.
+    #[error(transparent)]
+    Linalg(#[from] LinalgError),
+    /// A body held only by contact received no contact row, so it is free to move.
+    #[error("the stiffness is singular ({modes} rigid-body mode(s) free) and no contact row holds the body; check the contact pair's region")]
+    Floating {
+        /// Number of free modes.
+        modes: usize,
+    },
+}
+
+/// The outcome of a solve, in the scene's units.
+#[derive(Debug, Clone)]
+pub struct Solution {
+    /// Backend name (`"cholesky"` when no QP was needed).
+    pub backend: String,
+    /// Full displacement vector (all DOFs, prescribed values included).
+    pub displacement: Vec<f64>,
+    /// Contact multipliers λ (one per row, force per unit thickness).
+    pub multipliers: Vec<f64>,
+    /// Final status (core-checked).
+    pub status: QpStatus,
+    /// Backend iterations (0 for a direct solve).
+    pub iterations: usize,
+    /// KKT residuals (penetration in length units, the rest dimensionless).
+    pub residuals: KktResiduals,
+    /// Objective ½uᵀAu − fᵀu of the reduced problem.
+    pub objective: f64,
+    /// Wall-clock time of the solve.
+    pub solve_time: Duration,
+    /// A note from the backend.
+    pub message: Option<String>,
+}
+
+/// Solves the model: a direct solve without contact rows, else `backend` on the scaled QP.
+pub fn solve_model(
+    model: &Model,
+    backend: &mut dyn QpBackend,
+    options: &SolveOptions,
+) -> Result<Solution, SolveError> {
+    let qp = model.qp()?;
+    solve_problem(model, &qp, backend, options)
+}
+
+/// As [`solve_model`], on an already reduced QP of the model (built once, solved many times).
+pub fn solve_problem(
+    model: &Model,
+    qp: &QpProblem,
+    backend: &mut dyn QpBackend,
+    options: &SolveOptions,
+) -> Result<Solution, SolveError> {
+    if qp.rows() == 0 {
+        return solve_direct(model, qp, options);
+    }
+    let scaling = QpScaling::of(qp);
+    let scaled = scaling.scale(qp);
+    let start = Instant::now();
+    let raw = backend.solve(&scaled, options)?;
+    let elapsed = start.elapsed();
+    let solution = scaling.unscale(raw);
+    let residuals = kkt_residuals(qp, &solution.x, &solution.multipliers);
+    let status = checked_status(solution.status, &residuals, options.tol);
+    let objective = if solution.x.iter().all(|v| v.is_finite()) {
+        qp.objective(&solution.x)
+    } else {
+        f64::NAN
+    };
+    Ok(Solution {
+        backend: backend.name().to_string(),
+        displacement: model.expand(&solution.x),
+        multipliers: solution.multipliers,
+        status,
+        iterations: solution.iterations,
+        residuals,
+        objective,
+        solve_time: elapsed,
+        message: solution.message,
+    })
+}
+
+fn solve_direct(
+    model: &Model,
+    qp: &QpProblem,
+    options: &SolveOptions,
+) -> Result<Solution, SolveError> {
+    if !qp.kernel.is_empty() {
+        return Err(SolveError::Floating {
+            modes: qp.kernel.len(),
+        });
+    }
+    let start = Instant::now();
+    let mut x = qp.load.clone();
+    if qp.dofs() > 0 {
+        let chol = SparseCholesky::factor(&qp.stiffness)?;
+        chol.solve_in_place(&mut x);
+    }
+    let elapsed = start.elapsed();
+    let residuals = kkt_residuals(qp, &x, &[]);
+    let status = checked_status(QpStatus::Solved, &residuals, options.tol);
+    Ok(Solution {
+        backend: DIRECT.to_string(),
+        objective: qp.objective(&x),
+        displacement: model.expand(&x),
+        multipliers: Vec::new(),
+        status,
+        iterations: 0,
+        residuals,
+        solve_time: elapsed,
+        message: None,
+    })
+}
+
+/// The timing floor: one unconstrained sparse factorisation + solve of the same A, timed here.
+/// With a known null space (floating bodies) A + Σ r rᵀ is factored instead, same pattern cost.
+pub fn floor_time(qp: &QpProblem) -> Result<Duration, LinalgError> {
+    let start = Instant::now();
+    let mut x = qp.load.clone();
+    if qp.dofs() > 0 && qp.kernel.is_empty() {
+        SparseCholesky::factor(&qp.stiffness)?.solve_in_place(&mut x);
+    } else if qp.dofs() > 0 {
+        // Shift along the diagonal: same sparsity, positive definite, same cost.
+        let shift = 1e-8
+            * (0..qp.dofs())
+                .map(|j| qp.stiffness.get(j, j).copied().unwrap_or(0.0))
+                .fold(0.0, f64::max);
+        let n = qp.dofs();
+        let mut eye = sprs::TriMat::new((n, n));
+        for j in 0..n {
+            eye.add_triplet(j, j, shift);
+        }
+        let eye: crate::qp::CscMatrix = eye.to_csc();
+        let shifted = &qp.stiffness + &eye;
+        SparseCholesky::factor(&shifted)?.solve_in_place(&mut x);
+    }
+    Ok(start.elapsed())
+}
+
+/// Contact forces on every DOF: −B_fullᵀ λ (the force the contact exerts on the nodes).
+pub fn contact_forces(model: &Model, multipliers: &[f64]) -> Vec<f64> {
+    if multipliers.is_empty() {
+        return vec![0.0; model.dofs.len()];
+    }
+    mat_t_vec(&model.constraints, multipliers)
+        .into_iter()
+        .map(|v| -v)
+        .collect()
+}

@@ -1,0 +1,151 @@
+//! The steps of a run, each a function with one job: read the scene, mesh, assemble, solve,
+//! report, write.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use signorini_core::mesh::MeshLimits;
+use signorini_core::model::{self, Model, ModelError};
+use signorini_core::qp::{QpBackend, SolveOptions};
+use signorini_core::report::{self, BodyFields, RunReport, Timings};
+use signorini_core::scene::{Scene, SceneError};
+use signorini_core::solve::{self, Solution, SolveError};
+
+use crate::output::{self, BodyField, OutputError};
+
+/// The scene run when none is given: the seed's Experiment 2b.
+pub const DEFAULT_SCENE: &str = include_str!("../../../fixtures/seed/exp2b.toml");
+
+/// Anything that stops a run.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The scene is unreadable or invalid.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// Meshing or assembly refused the scene.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// The solve could not run.
+    #[error(transparent)]
+    Solve(#[from] SolveError),
+    /// Writing a file failed.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+}
+
+/// Reads the scene at `path`, or the embedded default when `None`.
+pub fn load_scene(path: Option<&Path>) -> Result<Scene, SceneError> {
+    match path {
+        Some(p) => Scene::from_path(p),
+        None => Scene::from_toml(DEFAULT_SCENE),
+    }
+}
+
+/// A meshed and assembled scene with the time each step took.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    /// The model.
+    pub model: Model,
+    /// Seconds spent meshing.
+    pub mesh_s: f64,
+    /// Seconds spent assembling.
+    pub assemble_s: f64,
+}
+
+/// Meshes and assembles.
+pub fn prepare(scene: &Scene, limits: &MeshLimits) -> Result<Prepared, ModelError> {
+    let t0 = Instant::now();
+    let meshes = model::mesh_scene(scene, limits)?;
+    let mesh_s = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let model = model::assemble(scene, meshes)?;
+    Ok(Prepared {
+        model,
+        mesh_s,
+        assemble_s: t1.elapsed().as_secs_f64(),
+    })
+}
+
+/// Everything a solve produced.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// The model solved.
+    pub model: Model,
+    /// The raw solution.
+    pub solution: Solution,
+    /// Per-body output fields.
+    pub fields: Vec<BodyFields>,
+    /// The report (`result.json`).
+    pub report: RunReport,
+}
+
+/// Meshes, assembles and solves a scene with one backend.
+pub fn solve_scene(
+    scene: &Scene,
+    backend: &mut dyn QpBackend,
+    options: &SolveOptions,
+    limits: &MeshLimits,
+) -> Result<Outcome, RunError> {
+    let start = Instant::now();
+    let prepared = prepare(scene, limits)?;
+    let solution = solve::solve_model(&prepared.model, backend, options)?;
+    let fields = report::body_fields(&prepared.model, &solution);
+    let timings = Timings {
+        mesh: prepared.mesh_s,
+        assemble: prepared.assemble_s,
+        solve: solution.solve_time.as_secs_f64(),
+        total: start.elapsed().as_secs_f64(),
+    };
+    let report = report::run_report(
+        scene,
+        &prepared.model,
+        &solution,
+        &fields,
+        options.tol,
+        timings,
+    );
+    Ok(Outcome {
+        model: prepared.model,
+        solution,
+        fields,
+        report,
+    })
+}
+
+/// Writes `result.json`, `solution.vtu` and `deformed.svg` into `dir` (created if missing), each
+/// through a temporary file and a rename.  Returns the paths written.
+pub fn write_outputs(
+    dir: &Path,
+    scene: &Scene,
+    outcome: &Outcome,
+) -> Result<Vec<PathBuf>, OutputError> {
+    std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let bodies: Vec<BodyField> = outcome
+        .model
+        .meshes
+        .iter()
+        .zip(&outcome.fields)
+        .zip(&scene.bodies)
+        .map(|((mesh, f), body)| BodyField {
+            name: &body.name,
+            mesh,
+            displacement: &f.displacement,
+            stress: &f.stress,
+            von_mises: &f.von_mises,
+            contact_pressure: &f.contact_pressure,
+        })
+        .collect();
+    let json_path = dir.join("result.json");
+    output::write_atomically(&json_path, |w| {
+        serde_json::to_writer_pretty(&mut *w, &outcome.report).map_err(std::io::Error::other)?;
+        writeln!(w)
+    })?;
+    let vtu_path = dir.join("solution.vtu");
+    output::write_vtu(&vtu_path, &bodies)?;
+    let svg_path = dir.join("deformed.svg");
+    output::write_deformed_svg(&svg_path, &scene.title, &bodies)?;
+    Ok(vec![json_path, vtu_path, svg_path])
+}
