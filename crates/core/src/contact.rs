@@ -110,6 +110,9 @@ fn candidates(
         .collect()
 }
 
+/// A master segment faces a slave node when cos(angle between their outward normals) < −FACING.
+const FACING: f64 = 0.3;
+
 fn outward_normal(a: Point, b: Point) -> Point {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let len = dx.hypot(dy);
@@ -182,10 +185,31 @@ fn pair_rows(
         if !cand_s[x_node] {
             continue;
         }
-        // Closest segment whose span (within tolerance) contains the projection of X.
+        // The slave's outward normal at X, from its adjacent interface edges (all adjacent
+        // boundary edges if none): only master segments facing it can be touched.
+        let mut ns = [0.0, 0.0];
+        for pass in [true, false] {
+            for &e in &slave_edges[x_node] {
+                let [p, q] = slave.boundary[e];
+                if pass && !(cand_s[p] && cand_s[q]) {
+                    continue;
+                }
+                let n = outward_normal(slave.nodes[p], slave.nodes[q]);
+                ns = [ns[0] + n[0], ns[1] + n[1]];
+            }
+            if ns != [0.0, 0.0] {
+                break;
+            }
+        }
+        let ns_len = ns[0].hypot(ns[1]);
+        // Closest facing segment whose span (within tolerance) contains the projection of X.
         let mut best: Option<(f64, bool, [usize; 2], f64)> = None;
         for &[a, b] in &segments {
             let (pa, pb) = (master.nodes[a], master.nodes[b]);
+            let nm = outward_normal(pa, pb);
+            if ns_len > 0.0 && (nm[0] * ns[0] + nm[1] * ns[1]) / ns_len > -FACING {
+                continue;
+            }
             let d = [pb[0] - pa[0], pb[1] - pa[1]];
             let len2 = d[0] * d[0] + d[1] * d[1];
             if len2 == 0.0 {
