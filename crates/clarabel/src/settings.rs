@@ -39,10 +39,10 @@ impl DirectSolver {
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct ClarabelSettings {
-    /// Absolute duality-gap tolerance (`tol_gap_abs`); `None` → `tol / 10`.  Default `None`.
+    /// Absolute duality-gap tolerance (`tol_gap_abs`); `None` → `tol / 100` (clarabel's residuals are measured on its equilibrated data, ours on the original).  Default `None`.
     pub eps_abs: Option<f64>,
     /// Relative duality-gap and primal/dual feasibility tolerance (`tol_gap_rel`, `tol_feas`);
-    /// `None` → `tol / 10`.  Default `None`.
+    /// `None` → `tol / 100` (clarabel's residuals are measured on its equilibrated data, ours on the original).  Default `None`.
     pub eps_rel: Option<f64>,
     /// Iteration cap used when [`SolveOptions::max_iter`] is `None`.  Default `200` (clarabel's).
     pub max_iter: u32,
@@ -143,7 +143,7 @@ impl ClarabelSettings {
                 value: tol,
             });
         }
-        let derived = (0.1 * tol).max(MIN_TOL);
+        let derived = (0.01 * tol).max(MIN_TOL);
         let eps_abs = self.eps_abs.unwrap_or(derived);
         let eps_rel = self.eps_rel.unwrap_or(derived);
         let max_iter = match options.max_iter {
