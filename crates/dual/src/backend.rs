@@ -9,7 +9,7 @@ use signorini_core::qp::{
 use crate::dual::{DualData, Outcome};
 use crate::error::DualError;
 use crate::monitor::Monitor;
-use crate::settings::{DualMethod, DualSettings};
+use crate::settings::{Condensation, DualMethod, DualSettings};
 use crate::{pgs, ssn, uzawa};
 
 /// The dual QP backend: condenses the contact problem onto the multipliers and runs projected
@@ -75,7 +75,10 @@ impl DualBackend {
     }
 
     fn run(&self, problem: &QpProblem, options: &SolveOptions, start: Instant) -> Outcome {
-        let mut data = match DualData::new(problem) {
+        let contact_last = self.settings.method != DualMethod::Uzawa
+            && self.settings.condensation == Condensation::TrailingBlock
+            && problem.rows() > 0;
+        let mut data = match DualData::new(problem, contact_last) {
             Ok(data) => data,
             Err(e) => return failure(problem, QpStatus::NumericalError, e.to_string()),
         };

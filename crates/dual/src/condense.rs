@@ -1,14 +1,18 @@
 //! Condensation of A onto the contact rows: the dense dual Hessian H = B A⁺ Bᵀ (m × m).
 //!
-//! [`Condensation::MultiRhs`] solves A Y = Bᵀ for blocks of `block_size` right-hand sides with
+//! [`Condensation::TrailingBlock`] reads H off the factor with the contact DOFs last
+//! (see [`crate::trailing`]); [`Condensation::MultiRhs`] solves A Y = Bᵀ for blocks of `block_size` right-hand sides with
 //! the cached factor and keeps only B Y (the rows of Y that B touches).
 //! [`Condensation::InteriorSchur`] lives in [`crate::schur`].
 
+use faer::linalg::matmul::matmul;
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::{Accum, Mat, MatRef, Par};
 use signorini_core::qp::CscMatrix;
 
 use crate::dual::DualData;
 use crate::error::DualError;
-use crate::inverse::StiffnessInverse;
+use crate::inverse::{Factor, StiffnessInverse};
 use crate::kernel::RigidModes;
 use crate::settings::{Condensation, DualSettings};
 
@@ -114,7 +118,17 @@ pub fn power_iteration(
 
 /// H = B A⁺ Bᵀ by the strategy of `settings`.
 pub fn dual_hessian(data: &DualData<'_>, settings: &DualSettings) -> Result<DenseSym, DualError> {
+    if let Factor::Trailing(chol) = data.inverse.factor() {
+        return Ok(trailing_hessian(
+            chol.trailing(),
+            data.inverse.trailing(),
+            &data.problem.constraints,
+        ));
+    }
     match settings.condensation {
+        Condensation::TrailingBlock => Err(DualError::Structure(
+            "the trailing-block condensation needs a factor with the contact DOFs last".into(),
+        )),
         Condensation::MultiRhs => Ok(multi_rhs(
             &data.inverse,
             &data.problem.constraints,
@@ -122,6 +136,40 @@ pub fn dual_hessian(data: &DualData<'_>, settings: &DualSettings) -> Result<Dens
         )),
         Condensation::InteriorSchur => crate::schur::interior_schur(data, settings.block_size),
     }
+}
+
+/// H = Yᵀ Y with Y = L_cc⁻¹ B_cᵀ; `touched[k]` is the full DOF of row/column k of L_cc.
+pub fn trailing_hessian(
+    factor: MatRef<'_, f64>,
+    touched: &[usize],
+    constraints: &CscMatrix,
+) -> DenseSym {
+    let m = constraints.rows();
+    let mut y = Mat::<f64>::zeros(touched.len(), m);
+    for (k, &j) in touched.iter().enumerate() {
+        if let Some(col) = constraints.outer_view(j) {
+            for (i, &v) in col.iter() {
+                y[(k, i)] = v;
+            }
+        }
+    }
+    solve_lower_triangular_in_place(factor, y.as_mut(), Par::Seq);
+    let mut h = Mat::<f64>::zeros(m, m);
+    matmul(
+        h.as_mut(),
+        Accum::Replace,
+        y.transpose(),
+        y.as_ref(),
+        1.0,
+        Par::Seq,
+    );
+    let mut values = vec![0.0; m * m];
+    for j in 0..m {
+        for i in 0..m {
+            values[j * m + i] = 0.5 * (h[(i, j)] + h[(j, i)]);
+        }
+    }
+    DenseSym { values, size: m }
 }
 
 /// Columns of B with at least one entry that are not fixed: (full index, reduced index).

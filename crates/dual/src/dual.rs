@@ -37,10 +37,17 @@ pub struct DualData<'p> {
 }
 
 impl<'p> DualData<'p> {
-    /// Checks the kernel, chooses fixing DOFs, factors A (or A_ff) and solves A⁺ f.
-    pub fn new(problem: &'p QpProblem) -> Result<Self, DualError> {
+    /// Checks the kernel, chooses fixing DOFs, factors A (or A_ff) and solves A⁺ f.  With
+    /// `contact_last`, the DOFs that B touches are ordered last in the factor (see
+    /// [`crate::trailing`]).
+    pub fn new(problem: &'p QpProblem, contact_last: bool) -> Result<Self, DualError> {
         let modes = RigidModes::of(problem)?;
-        let inverse = StiffnessInverse::new(&problem.stiffness, &modes.fixed, modes.count())?;
+        let inverse = StiffnessInverse::new(
+            &problem.stiffness,
+            &modes.fixed,
+            modes.count(),
+            contact_last.then_some(&problem.constraints),
+        )?;
         let base = inverse.solve(&problem.load);
         let multiplier = vec![0.0; modes.count()];
         Ok(Self {

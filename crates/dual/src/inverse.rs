@@ -15,54 +15,117 @@ use signorini_core::linalg::SparseCholesky;
 use signorini_core::qp::CscMatrix;
 
 use crate::error::DualError;
+use crate::trailing::TrailingCholesky;
 
 /// Marker in the full → reduced index map for a fixed DOF.
 const FIXED: usize = usize::MAX;
 
+/// The factor behind A⁺ (of A, or of A_ff when DOFs are fixed).
+#[derive(Debug)]
+pub enum Factor {
+    /// Fill-reducing (AMD) order, through the core wrapper.
+    Plain(SparseCholesky),
+    /// The DOFs B touches ordered last; the trailing block is the Schur complement's factor.
+    Trailing(TrailingCholesky),
+}
+
+impl Factor {
+    fn dim(&self) -> usize {
+        match self {
+            Factor::Plain(chol) => chol.dim(),
+            Factor::Trailing(chol) => chol.dim(),
+        }
+    }
+
+    fn solve_many_in_place(&self, block: &mut [f64]) {
+        match self {
+            Factor::Plain(chol) => chol.solve_many_in_place(block),
+            Factor::Trailing(chol) => chol.solve_many_in_place(block),
+        }
+    }
+}
+
 /// A⁺ applied through a cached sparse Cholesky factor.
 #[derive(Debug)]
 pub struct StiffnessInverse {
-    chol: SparseCholesky,
+    factor: Factor,
     /// Full index → reduced index (`FIXED` for fixed DOFs); empty when nothing is fixed.
     reduced: Vec<usize>,
+    /// With a [`Factor::Trailing`]: the full indices of the trailing DOFs, in trailing order.
+    trailing: Vec<usize>,
     n: usize,
 }
 
 impl StiffnessInverse {
-    /// Factors A with the DOFs in `fixed` removed (rows and columns).
-    pub fn new(a: &CscMatrix, fixed: &[usize], kernel_count: usize) -> Result<Self, DualError> {
+    /// Factors A with the DOFs in `fixed` removed (rows and columns).  With
+    /// `trailing_for = Some(B)`, the DOFs that B touches are ordered last
+    /// ([`Factor::Trailing`]).
+    pub fn new(
+        a: &CscMatrix,
+        fixed: &[usize],
+        kernel_count: usize,
+        trailing_for: Option<&CscMatrix>,
+    ) -> Result<Self, DualError> {
         let n = a.rows();
         let singular = |source| DualError::Singular {
             source,
             kernel: kernel_count,
         };
-        if fixed.is_empty() {
-            let chol = SparseCholesky::factor(a).map_err(singular)?;
-            return Ok(Self {
-                chol,
-                reduced: Vec::new(),
-                n,
-            });
-        }
-        let mut reduced = vec![0; n];
-        for &i in fixed {
-            reduced[i] = FIXED;
-        }
-        let mut next = 0;
-        for r in reduced.iter_mut() {
-            if *r != FIXED {
-                *r = next;
-                next += 1;
+        let mut reduced = Vec::new();
+        let mut sub = None;
+        if !fixed.is_empty() {
+            reduced = vec![0; n];
+            for &i in fixed {
+                reduced[i] = FIXED;
             }
+            let mut next = 0;
+            for r in reduced.iter_mut() {
+                if *r != FIXED {
+                    *r = next;
+                    next += 1;
+                }
+            }
+            sub = Some(submatrix(a, &reduced, next)?);
         }
-        let sub = submatrix(a, &reduced, next)?;
-        let chol = SparseCholesky::factor(&sub).map_err(singular)?;
-        Ok(Self { chol, reduced, n })
+        let matrix = sub.as_ref().unwrap_or(a);
+        let mut trailing = Vec::new();
+        let factor = match trailing_for {
+            Some(constraints) => {
+                let mut touched_reduced = Vec::new();
+                for (j, col) in constraints.outer_iterator().enumerate() {
+                    let r = if reduced.is_empty() { j } else { reduced[j] };
+                    if col.nnz() > 0 && r != FIXED {
+                        trailing.push(j);
+                        touched_reduced.push(r);
+                    }
+                }
+                Factor::Trailing(
+                    TrailingCholesky::factor(matrix, &touched_reduced).map_err(singular)?,
+                )
+            }
+            None => Factor::Plain(SparseCholesky::factor(matrix).map_err(singular)?),
+        };
+        Ok(Self {
+            factor,
+            reduced,
+            trailing,
+            n,
+        })
+    }
+
+    /// The factor.
+    pub fn factor(&self) -> &Factor {
+        &self.factor
+    }
+
+    /// Full indices of the trailing DOFs (empty for a [`Factor::Plain`]).
+    pub fn trailing(&self) -> &[usize] {
+        &self.trailing
     }
 
     /// Size of the factored block (n minus the fixed DOFs).
     pub fn reduced_dim(&self) -> usize {
-        self.chol.dim()
+        self.factor.dim()
     }
 
     /// Reduced index of full index `i`, `None` for a fixed DOF.
@@ -77,14 +140,14 @@ impl StiffnessInverse {
 
     /// Overwrites the column-major reduced block (reduced_dim × k) with A_ff⁻¹ times it.
     pub fn solve_reduced_many(&self, block: &mut [f64]) {
-        self.chol.solve_many_in_place(block);
+        self.factor.solve_many_in_place(block);
     }
 
     /// A⁺ rhs for a full-length right-hand side (zero on fixed DOFs).
     pub fn solve(&self, rhs: &[f64]) -> Vec<f64> {
         if self.reduced.is_empty() {
             let mut x = rhs.to_vec();
-            self.chol.solve_in_place(&mut x);
+            self.factor.solve_many_in_place(&mut x);
             return x;
         }
         let mut y = vec![0.0; self.reduced_dim()];
@@ -93,7 +156,7 @@ impl StiffnessInverse {
                 y[r] = rhs[i];
             }
         }
-        self.chol.solve_in_place(&mut y);
+        self.factor.solve_many_in_place(&mut y);
         let mut x = vec![0.0; self.n];
         for (i, &r) in self.reduced.iter().enumerate() {
             if r != FIXED {

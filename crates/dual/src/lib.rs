@@ -50,11 +50,13 @@ mod dual;
 mod error;
 mod inverse;
 mod kernel;
+mod measure;
 mod monitor;
 mod pgs;
 mod schur;
 mod settings;
 mod ssn;
+mod trailing;
 mod uzawa;
 
 pub use backend::DualBackend;

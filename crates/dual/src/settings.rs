@@ -16,6 +16,10 @@ pub enum DualMethod {
 /// How the dense dual Hessian H = B A⁻¹ Bᵀ is formed (projected Gauss–Seidel, active set).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Condensation {
+    /// Factor A with the touched DOFs c ordered last: the trailing block L_cc of the factor is
+    /// the Cholesky factor of the Schur complement S on c, and H = Yᵀ Y with Y = L_cc⁻¹ B_cᵀ
+    /// (dense work only, no extra sparse solves).  The fastest (see the crate docs).
+    TrailingBlock,
     /// Factor A once and solve A Y = Bᵀ for blocks of right-hand sides; H = B Y.
     MultiRhs,
     /// Factor the interior block A_ii (DOFs that B does not touch), form the Schur complement
@@ -41,7 +45,7 @@ pub struct DualSettings {
     /// `check_every` iterations, and earlier whenever the cheap dual estimate meets the
     /// tolerance.  Default `10`.
     pub check_every: usize,
-    /// How H is formed.  Default [`Condensation::MultiRhs`].
+    /// How H is formed.  Default [`Condensation::TrailingBlock`].
     pub condensation: Condensation,
     /// Right-hand sides solved together when forming H (bounds the n × block work array).
     /// Default `64`.
@@ -65,7 +69,7 @@ impl Default for DualSettings {
             relaxation: 1.0,
             max_iter: 100_000,
             check_every: 10,
-            condensation: Condensation::MultiRhs,
+            condensation: Condensation::TrailingBlock,
             block_size: 64,
             accelerate: true,
             step_factor: 1.0,
