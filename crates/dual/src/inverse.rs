@@ -26,7 +26,7 @@ pub enum Factor {
     /// Fill-reducing (AMD) order, through the core wrapper.
     Plain(SparseCholesky),
     /// The DOFs B touches ordered last; the trailing block is the Schur complement's factor.
-    Trailing(TrailingCholesky),
+    Trailing(Box<TrailingCholesky>),
 }
 
 impl Factor {
@@ -99,9 +99,9 @@ impl StiffnessInverse {
                         touched_reduced.push(r);
                     }
                 }
-                Factor::Trailing(
+                Factor::Trailing(Box::new(
                     TrailingCholesky::factor(matrix, &touched_reduced).map_err(singular)?,
-                )
+                ))
             }
             None => Factor::Plain(SparseCholesky::factor(matrix).map_err(singular)?),
         };
