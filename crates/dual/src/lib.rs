@@ -1,1 +1,64 @@
-//! placeholder
+//! Hand-written dual QP backend of signorini.
+//!
+//! The contact problem
+//!
+//! ```text
+//! minimise ½ xᵀ A x − fᵀ x   subject to   B x ≤ g
+//! ```
+//!
+//! (A: n × n stiffness, B: m × n contact rows, m ≪ n) is solved through its dual on the contact
+//! multipliers λ ≥ 0:
+//!
+//! ```text
+//! minimise ½ λᵀ H λ − λᵀ d   subject to   λ ≥ 0,
+//! H = B A⁻¹ Bᵀ (m × m, dense),   d = B A⁻¹ f − g,   and then   x = A⁻¹ (f − Bᵀ λ).
+//! ```
+//!
+//! A is factored once (sparse Cholesky, faer).  Three algorithms work on the dual:
+//!
+//! * **`dual-pgs`** — projected Gauss–Seidel on the dense H, formed by condensation (multi-RHS
+//!   solves H = B (A⁻¹ Bᵀ), or the Schur complement of A on the touched DOFs):
+//!   `λᵢ ← max(0, λᵢ − ω (Hλ − d)ᵢ / Hᵢᵢ)`.
+//! * **`dual-uzawa`** — projected gradient with one solve per step and no H:
+//!   `x = A⁻¹(f − Bᵀλ)`, `λ ← max(0, λ + ρ (Bx − g))`, ρ = 1/L̂ with L̂ ≥ λ_max(H) from power
+//!   iteration; by default accelerated (FISTA with gradient restart).
+//! * **`dual-ssn`** — primal–dual active set (semismooth Newton): solve the equality-constrained
+//!   dual on the current active set, update the set from `λᵢ − (Hλ − d)ᵢ / Hᵢᵢ > 0`; exact once
+//!   the set settles.
+//!
+//! Every method stops on the core's KKT residuals ([`signorini_core::qp::kkt_residuals`]) of
+//! (x(λ), λ), checked every `check_every` iterations or earlier when a cheap estimate from the
+//! dual gradient meets the tolerance.  Limits give `max-iterations` / `time-limit`; a primal
+//! without feasible point makes λ grow along a Farkas direction δ ≥ 0 (Bᵀδ = 0, gᵀδ < 0), which
+//! is detected and reported as `primal-infeasible`.
+//!
+//! # Floating bodies
+//! When A is singular with a known kernel R (`QpProblem::kernel`, n × k), the dual is the
+//! FETI one: x = A⁺(f − Bᵀλ) + R α with a generalised inverse A⁺, and the dual gains the
+//! equality G λ = e, G = Rᵀ Bᵀ, e = Rᵀ f (the load on each rigid mode must be balanced by the
+//! contact forces).  A⁺ = [A_ff⁻¹ 0; 0 0] comes from fixing k DOFs chosen by pivoted
+//! Gram–Schmidt on the rows of R (so A_ff stays sparse and positive definite).  The equality is
+//! handled by an augmented Lagrangian (PGS, Uzawa: inner bound-constrained problem with
+//! H + c GᵀG, multiplier μ updated when the inner residual falls below the equality residual;
+//! α = −μ) or directly in the Newton system (active set).  A rigid mode that no contact row sees
+//! but the load drives gives `dual-infeasible`; a singular A without (enough) kernel vectors gives
+//! `numerical-error` with a message — never NaN.
+
+mod backend;
+mod condense;
+mod dual;
+mod error;
+mod inverse;
+mod kernel;
+mod measure;
+mod monitor;
+mod pgs;
+mod schur;
+mod settings;
+mod ssn;
+mod trailing;
+mod uzawa;
+
+pub use backend::DualBackend;
+pub use error::DualError;
+pub use settings::{Condensation, DualMethod, DualSettings};

@@ -1,0 +1,232 @@
+//! [`DualBackend`]: the `QpBackend` that runs a dual method.
+
+use std::time::Instant;
+
+use signorini_core::qp::{
+    kkt_residuals, norm_inf, QpBackend, QpError, QpProblem, QpSolution, QpStatus, SolveOptions,
+};
+
+use crate::dual::{DualData, Outcome};
+use crate::error::DualError;
+use crate::monitor::Monitor;
+use crate::settings::{Condensation, DualMethod, DualSettings};
+use crate::{pgs, ssn, uzawa};
+
+/// The dual QP backend: condenses the contact problem onto the multipliers and runs projected
+/// Gauss–Seidel, Uzawa or the active-set method on it (see the [crate documentation](crate)).
+///
+/// # Example
+/// ```
+/// use signorini_core::qp::{checked_status, kkt_residuals, QpBackend, QpProblem, QpStatus,
+///     SolveOptions};
+/// use signorini_dual::{DualBackend, DualSettings};
+/// use sprs::TriMat;
+///
+/// // min x² − 4x  s.t.  x ≤ 1   →   x = 1, λ = 2.
+/// let mut a = TriMat::new((1, 1));
+/// a.add_triplet(0, 0, 2.0);
+/// let mut b = TriMat::new((1, 1));
+/// b.add_triplet(0, 0, 1.0);
+/// let qp = QpProblem::try_new(a.to_csc(), vec![4.0], b.to_csc(), vec![1.0])?;
+/// let options = SolveOptions::default();
+/// for mut backend in [DualBackend::pgs(DualSettings::default()),
+///                     DualBackend::uzawa(DualSettings::default())] {
+///     let sol = backend.solve(&qp, &options)?;
+///     let r = kkt_residuals(&qp, &sol.x, &sol.multipliers);
+///     assert_eq!(checked_status(sol.status, &r, options.tol), QpStatus::Solved);
+///     assert!((sol.x[0] - 1.0).abs() < 1e-8 && (sol.multipliers[0] - 2.0).abs() < 1e-8);
+/// }
+/// # Ok::<(), signorini_core::qp::QpError>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct DualBackend {
+    settings: DualSettings,
+}
+
+impl DualBackend {
+    /// A backend running `settings.method`.
+    pub fn new(settings: DualSettings) -> Self {
+        Self { settings }
+    }
+
+    /// Projected Gauss–Seidel on the condensed dual (name `"dual-pgs"`).
+    pub fn pgs(settings: DualSettings) -> Self {
+        Self::with_method(settings, DualMethod::ProjectedGaussSeidel)
+    }
+
+    /// (Accelerated) Uzawa, one solve per step (name `"dual-uzawa"`).
+    pub fn uzawa(settings: DualSettings) -> Self {
+        Self::with_method(settings, DualMethod::Uzawa)
+    }
+
+    /// Primal–dual active set / semismooth Newton on the condensed dual (name `"dual-ssn"`).
+    pub fn active_set(settings: DualSettings) -> Self {
+        Self::with_method(settings, DualMethod::ActiveSet)
+    }
+
+    fn with_method(mut settings: DualSettings, method: DualMethod) -> Self {
+        settings.method = method;
+        Self { settings }
+    }
+
+    /// The settings in use.
+    pub fn settings(&self) -> &DualSettings {
+        &self.settings
+    }
+
+    fn run(&self, problem: &QpProblem, options: &SolveOptions, start: Instant) -> Outcome {
+        let contact_last = self.settings.method != DualMethod::Uzawa
+            && self.settings.condensation == Condensation::TrailingBlock
+            && problem.rows() > 0;
+        let mut data = match DualData::new(problem, contact_last) {
+            Ok(data) => data,
+            Err(e) => return failure(problem, QpStatus::NumericalError, e.to_string()),
+        };
+        if let Some(j) = data.modes.unrestrained_mode(norm_inf(&problem.load)) {
+            return failure(
+                problem,
+                QpStatus::DualInfeasible,
+                format!("kernel vector {j} (a rigid motion) is not held by any contact row but the load drives it: the objective is unbounded below"),
+            );
+        }
+        if problem.rows() == 0 {
+            return plain_solve(&data, options.tol);
+        }
+        let mut monitor = Monitor::new(problem, options, &self.settings, start);
+        let result = match self.settings.method {
+            DualMethod::ProjectedGaussSeidel => pgs::solve(&mut data, &self.settings, &mut monitor),
+            DualMethod::Uzawa => uzawa::solve(&mut data, &self.settings, &mut monitor),
+            DualMethod::ActiveSet => ssn::solve(&mut data, &self.settings, &mut monitor),
+        };
+        result.unwrap_or_else(|e| failure(problem, QpStatus::NumericalError, e.to_string()))
+    }
+}
+
+impl QpBackend for DualBackend {
+    fn name(&self) -> &'static str {
+        match self.settings.method {
+            DualMethod::ProjectedGaussSeidel => "dual-pgs",
+            DualMethod::Uzawa => "dual-uzawa",
+            DualMethod::ActiveSet => "dual-ssn",
+        }
+    }
+
+    fn solve(
+        &mut self,
+        problem: &QpProblem,
+        options: &SolveOptions,
+    ) -> Result<QpSolution, QpError> {
+        let start = Instant::now();
+        let backend = self.name();
+        self.settings
+            .validate()
+            .map_err(|e: DualError| QpError::Backend {
+                backend,
+                reason: e.to_string(),
+            })?;
+        check_dimensions(problem)?;
+        let outcome = finite(self.run(problem, options, start));
+        if options.verbose {
+            eprintln!(
+                "{backend}: {} after {} iterations ({})",
+                outcome.status, outcome.iterations, outcome.message
+            );
+        }
+        Ok(QpSolution {
+            x: outcome.x,
+            multipliers: outcome.multipliers,
+            status: outcome.status,
+            iterations: outcome.iterations,
+            solve_time: start.elapsed(),
+            message: Some(outcome.message),
+        })
+    }
+}
+
+/// m = 0: x = A⁺ f (the kernel component is arbitrary and set to zero).
+fn plain_solve(data: &DualData<'_>, tol: f64) -> Outcome {
+    let x = data.base.clone();
+    let r = kkt_residuals(data.problem, &x, &[]);
+    let (status, message) = if r.meet(tol) {
+        (QpStatus::Solved, "no contact rows: one solve".to_string())
+    } else {
+        (
+            QpStatus::Inaccurate,
+            format!(
+                "no contact rows: one solve, KKT residuals {:.1e}",
+                r.worst()
+            ),
+        )
+    };
+    Outcome {
+        x,
+        multipliers: Vec::new(),
+        status,
+        iterations: 0,
+        message,
+    }
+}
+
+/// Never hand out NaN: a non-finite iterate becomes the all-zero answer with
+/// `numerical-error`.
+fn finite(outcome: Outcome) -> Outcome {
+    if outcome
+        .x
+        .iter()
+        .chain(&outcome.multipliers)
+        .all(|v| v.is_finite())
+    {
+        return outcome;
+    }
+    Outcome {
+        x: vec![0.0; outcome.x.len()],
+        multipliers: vec![0.0; outcome.multipliers.len()],
+        status: QpStatus::NumericalError,
+        iterations: outcome.iterations,
+        message: format!("non-finite iterate: {}", outcome.message),
+    }
+}
+
+/// A finite (all-zero) answer with a non-solved status.
+fn failure(problem: &QpProblem, status: QpStatus, message: String) -> Outcome {
+    Outcome {
+        x: vec![0.0; problem.dofs()],
+        multipliers: vec![0.0; problem.rows()],
+        status,
+        iterations: 0,
+        message,
+    }
+}
+
+/// The checks of `QpProblem::try_new`, for problems built field by field.
+fn check_dimensions(problem: &QpProblem) -> Result<(), QpError> {
+    let n = problem.stiffness.rows();
+    let fail = |what: String| Err(QpError::Dimensions(what));
+    if problem.stiffness.cols() != n {
+        return fail(format!("A is {}×{}", n, problem.stiffness.cols()));
+    }
+    if problem.load.len() != n || problem.constraints.cols() != n {
+        return fail(format!(
+            "A is {n}×{n}, f has length {}, B has {} columns",
+            problem.load.len(),
+            problem.constraints.cols()
+        ));
+    }
+    if problem.gap.len() != problem.constraints.rows() {
+        return fail(format!(
+            "g has length {} but B has {} rows",
+            problem.gap.len(),
+            problem.constraints.rows()
+        ));
+    }
+    if problem.kernel.iter().any(|r| r.len() != n) {
+        return fail("a kernel vector's length differs from n".to_string());
+    }
+    if !problem.stiffness.is_csc() {
+        return Err(QpError::NotCsc("A"));
+    }
+    if !problem.constraints.is_csc() {
+        return Err(QpError::NotCsc("B"));
+    }
+    Ok(())
+}

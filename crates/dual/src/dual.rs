@@ -1,0 +1,202 @@
+//! The data every dual method shares: the factor of A (or of its fixed block), A⁺ f, the rigid
+//! modes with their augmented-Lagrangian state, and the map λ ↦ x.
+//!
+//! With a kernel R the dual carries the equality G λ = e (G = Rᵀ Bᵀ, e = Rᵀ f).  It is handled
+//! by an augmented Lagrangian with penalty c and multiplier μ: the bound-constrained methods
+//! minimise ½ λᵀ(H + c GᵀG)λ − λᵀ(d − Gᵀμ + c Gᵀe) over λ ≥ 0, and μ ← μ + c(Gλ − e) between
+//! inner solves.  With μ̃ = μ + c(Gλ − e) the primal point is
+//!
+//! ```text
+//! x(λ) = A⁺(f − Bᵀλ) − R μ̃,
+//! ```
+//!
+//! and the gradient of the inner objective is exactly g − B x(λ).  Without a kernel, c = 0 and
+//! x(λ) = A⁻¹(f − Bᵀλ).
+
+use signorini_core::qp::{dot, mat_t_vec, mat_vec, norm_inf, QpProblem, QpStatus};
+
+use crate::error::DualError;
+use crate::inverse::StiffnessInverse;
+use crate::kernel::{add_coupling_t, RigidModes};
+
+/// Setup shared by all methods.
+#[derive(Debug)]
+pub struct DualData<'p> {
+    /// The primal problem.
+    pub problem: &'p QpProblem,
+    /// A⁺ through the cached factor.
+    pub inverse: StiffnessInverse,
+    /// Rigid modes (empty when A is positive definite).
+    pub modes: RigidModes,
+    /// A⁺ f.
+    pub base: Vec<f64>,
+    /// c, the augmented-Lagrangian penalty (0 without kernel).
+    pub penalty: f64,
+    /// μ, the multiplier of G λ = e (length k).
+    pub multiplier: Vec<f64>,
+}
+
+impl<'p> DualData<'p> {
+    /// Checks the kernel, chooses fixing DOFs, factors A (or A_ff) and solves A⁺ f.  With
+    /// `contact_last`, the DOFs that B touches are ordered last in the factor (see
+    /// [`crate::trailing`]).
+    pub fn new(problem: &'p QpProblem, contact_last: bool) -> Result<Self, DualError> {
+        let modes = RigidModes::of(problem)?;
+        let inverse = StiffnessInverse::new(
+            &problem.stiffness,
+            &modes.fixed,
+            modes.count(),
+            contact_last.then_some(&problem.constraints),
+        )?;
+        let base = inverse.solve(&problem.load);
+        let multiplier = vec![0.0; modes.count()];
+        Ok(Self {
+            problem,
+            inverse,
+            modes,
+            base,
+            penalty: 0.0,
+            multiplier,
+        })
+    }
+
+    /// Number of dual unknowns m.
+    pub fn rows(&self) -> usize {
+        self.problem.rows()
+    }
+
+    /// True when A has a kernel.
+    pub fn floating(&self) -> bool {
+        self.modes.count() > 0
+    }
+
+    /// Sets c from an estimate of λ_max(H): c = `factor` · λ_max(H) / ‖G‖_F².
+    pub fn set_penalty(&mut self, hessian_norm: f64, factor: f64) {
+        let g2 = self.modes.coupling_norm_sq();
+        self.penalty = if self.floating() && g2 > 0.0 {
+            factor * hessian_norm.max(f64::MIN_POSITIVE) / g2
+        } else {
+            0.0
+        };
+    }
+
+    /// d = B A⁺ f − g.
+    pub fn dual_load(&self) -> Vec<f64> {
+        let mut d = mat_vec(&self.problem.constraints, &self.base);
+        d.iter_mut()
+            .zip(&self.problem.gap)
+            .for_each(|(di, gi)| *di -= gi);
+        d
+    }
+
+    /// The inner linear term d − Gᵀμ + c Gᵀe, from d = [`DualData::dual_load`].
+    pub fn inner_load(&self, dual_load: &[f64]) -> Vec<f64> {
+        let shift: Vec<f64> = self
+            .modes
+            .load
+            .iter()
+            .zip(&self.multiplier)
+            .map(|(e, mu)| self.penalty * e - mu)
+            .collect();
+        let mut d = dual_load.to_vec();
+        add_coupling_t(&self.modes, &shift, &mut d);
+        d
+    }
+
+    /// u(λ) = A⁺(f − Bᵀλ): one solve.
+    pub fn free_part(&self, multipliers: &[f64]) -> Vec<f64> {
+        let mut rhs = mat_t_vec(&self.problem.constraints, multipliers);
+        rhs.iter_mut()
+            .zip(&self.problem.load)
+            .for_each(|(r, f)| *r = f - *r);
+        self.inverse.solve(&rhs)
+    }
+
+    /// μ̃(λ) = μ + c (G λ − e).
+    pub fn kernel_multiplier(&self, multipliers: &[f64]) -> Vec<f64> {
+        self.modes
+            .equality_residual(multipliers)
+            .iter()
+            .zip(&self.multiplier)
+            .map(|(r, mu)| mu + self.penalty * r)
+            .collect()
+    }
+
+    /// x = u − R μ̃(λ), from u = [`DualData::free_part`].
+    pub fn primal_from(&self, mut free: Vec<f64>, multipliers: &[f64]) -> Vec<f64> {
+        if self.floating() {
+            let alpha = self.kernel_multiplier(multipliers);
+            for (r, a) in self.modes.basis.iter().zip(&alpha) {
+                free.iter_mut().zip(r).for_each(|(x, ri)| *x -= a * ri);
+            }
+        }
+        free
+    }
+
+    /// x(λ): one solve.
+    pub fn primal(&self, multipliers: &[f64]) -> Vec<f64> {
+        self.primal_from(self.free_part(multipliers), multipliers)
+    }
+
+    /// g − B x, the gradient of the inner dual objective at the λ that produced x.
+    pub fn dual_gradient(&self, x: &[f64]) -> Vec<f64> {
+        let mut w = mat_vec(&self.problem.constraints, x);
+        w.iter_mut()
+            .zip(&self.problem.gap)
+            .for_each(|(wi, gi)| *wi = gi - *wi);
+        w
+    }
+
+    /// The augmented-Lagrangian update μ ← μ + c (G λ − e).
+    ///
+    /// Returns a message when the step direction proves the primal unbounded: with
+    /// v = −Δμ / ‖Δμ‖ (the direction α = −μ moves in), Gᵀv = B R v ≤ 0 and eᵀv = fᵀ R v > 0
+    /// is a rigid motion that never closes a contact and lowers the energy.  Any λ ≥ 0 with
+    /// G λ = e would need ‖λ‖₁ ≥ eᵀv / ‖(Gᵀv)⁺‖∞, so the margin asks for that bound to exceed
+    /// the current scale a million times.
+    pub fn update_multiplier(&mut self, multipliers: &[f64]) -> Option<String> {
+        let next = self.kernel_multiplier(multipliers);
+        let step: Vec<f64> = self
+            .multiplier
+            .iter()
+            .zip(&next)
+            .map(|(old, new)| old - new)
+            .collect();
+        self.multiplier = next;
+        let size = norm_inf(&step);
+        if size == 0.0 {
+            return None;
+        }
+        let v: Vec<f64> = step.iter().map(|s| s / size).collect();
+        let mut gtv = vec![0.0; self.rows()];
+        add_coupling_t(&self.modes, &v, &mut gtv);
+        let positive = gtv.iter().fold(0.0_f64, |m, x| m.max(*x));
+        let ev = dot(&self.modes.load, &v);
+        let g_scale = self.modes.coupling_norm_sq().sqrt().max(f64::MIN_POSITIVE);
+        let scale = multipliers
+            .iter()
+            .map(|l| l.abs())
+            .sum::<f64>()
+            .max(norm_inf(&self.modes.load) / g_scale);
+        (ev > 0.0 && ev > 1e6 * positive * scale).then(|| {
+            format!(
+                "dual infeasible: a rigid motion R v with B R v ≤ 0 and fᵀ R v = {ev:.3e} > 0 (a floating body is pushed away from every contact); the objective is unbounded below"
+            )
+        })
+    }
+}
+
+/// What a method hands back to the backend.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// Primal x.
+    pub x: Vec<f64>,
+    /// Multipliers λ.
+    pub multipliers: Vec<f64>,
+    /// The method's verdict.
+    pub status: QpStatus,
+    /// Iterations taken.
+    pub iterations: usize,
+    /// Why it stopped.
+    pub message: String,
+}

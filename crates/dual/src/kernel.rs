@@ -1,0 +1,161 @@
+//! Floating bodies: the known kernel R of A, the DOFs that fix it, and the dual's equality
+//! constraint G λ = e with G = Rᵀ Bᵀ (k × m) and e = Rᵀ f.
+//!
+//! Minimising ½ xᵀ A x − fᵀ x + λᵀ(B x − g) over x is bounded only if f − Bᵀλ ⟂ ker A, i.e.
+//! Rᵀ(f − Bᵀλ) = 0; then x = A⁺(f − Bᵀλ) + R α, and α is (minus) the multiplier of that
+//! equality in the dual.
+
+use signorini_core::qp::{dot, mat_vec, norm_inf, QpProblem};
+
+use crate::error::DualError;
+
+/// Relative size below which a kernel direction counts as dependent on the others.
+const DEPENDENCE: f64 = 1e-10;
+
+/// Relative residual ‖A r‖∞ / (max|A| ‖r‖∞) above which a vector is not in the kernel.
+const KERNEL_RESIDUAL: f64 = 1e-8;
+
+/// The rigid-body data of a problem (all empty when A is positive definite).
+#[derive(Debug, Clone, Default)]
+pub struct RigidModes {
+    /// R: the kernel basis, k vectors of length n.
+    pub basis: Vec<Vec<f64>>,
+    /// k DOFs whose removal makes A positive definite.
+    pub fixed: Vec<usize>,
+    /// Rows of G = Rᵀ Bᵀ: `coupling[j] = B r_j` (length m each).
+    pub coupling: Vec<Vec<f64>>,
+    /// e = Rᵀ f (length k).
+    pub load: Vec<f64>,
+}
+
+impl RigidModes {
+    /// Checks the problem's kernel and derives the fixing DOFs, G and e.
+    pub fn of(problem: &QpProblem) -> Result<Self, DualError> {
+        let basis = &problem.kernel;
+        if basis.is_empty() {
+            return Ok(Self::default());
+        }
+        let a_max = norm_inf(problem.stiffness.data());
+        for (index, r) in basis.iter().enumerate() {
+            let scale = a_max * norm_inf(r);
+            let residual = if scale > 0.0 {
+                norm_inf(&mat_vec(&problem.stiffness, r)) / scale
+            } else {
+                f64::INFINITY
+            };
+            if residual.is_nan() || residual > KERNEL_RESIDUAL {
+                return Err(DualError::NotAKernelVector { index, residual });
+            }
+        }
+        let fixed = fixing_dofs(basis)?;
+        let coupling = basis
+            .iter()
+            .map(|r| mat_vec(&problem.constraints, r))
+            .collect();
+        let load = basis.iter().map(|r| dot(r, &problem.load)).collect();
+        Ok(Self {
+            basis: basis.clone(),
+            fixed,
+            coupling,
+            load,
+        })
+    }
+
+    /// Number k of kernel vectors.
+    pub fn count(&self) -> usize {
+        self.basis.len()
+    }
+
+    /// G λ − e (length k).
+    pub fn equality_residual(&self, multipliers: &[f64]) -> Vec<f64> {
+        self.coupling
+            .iter()
+            .zip(&self.load)
+            .map(|(row, e)| dot(row, multipliers) - e)
+            .collect()
+    }
+
+    /// trace(G Gᵀ) = ‖G‖_F², an upper bound of λ_max(Gᵀ G) (0 without kernel).
+    pub fn coupling_norm_sq(&self) -> f64 {
+        self.coupling.iter().map(|row| dot(row, row)).sum()
+    }
+}
+
+/// Chooses k DOFs such that the k × k block of R on them is well conditioned: greedy
+/// Gram–Schmidt with pivoting on the rows of R (QR with column pivoting of Rᵀ).
+pub fn fixing_dofs(basis: &[Vec<f64>]) -> Result<Vec<usize>, DualError> {
+    let k = basis.len();
+    let n = basis.first().map_or(0, Vec::len);
+    // rows[i] = (r_1[i], …, r_k[i]), stored flat.
+    let mut rows = vec![0.0; n * k];
+    for (j, r) in basis.iter().enumerate() {
+        for (i, v) in r.iter().enumerate() {
+            rows[i * k + j] = *v;
+        }
+    }
+    let norm = |row: &[f64]| row.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let first_max = rows.chunks(k).map(norm).fold(0.0, f64::max);
+    let mut fixed = Vec::with_capacity(k);
+    for _ in 0..k {
+        let (best, best_norm) = rows
+            .chunks(k)
+            .map(norm)
+            .enumerate()
+            .filter(|(i, _)| !fixed.contains(i))
+            .fold(
+                (usize::MAX, 0.0),
+                |acc, (i, v)| if v > acc.1 { (i, v) } else { acc },
+            );
+        if best == usize::MAX || best_norm <= DEPENDENCE * first_max || first_max == 0.0 {
+            return Err(DualError::DependentKernel { count: k });
+        }
+        let q: Vec<f64> = rows[best * k..(best + 1) * k]
+            .iter()
+            .map(|v| v / best_norm)
+            .collect();
+        for row in rows.chunks_mut(k) {
+            let p = dot(row, &q);
+            row.iter_mut().zip(&q).for_each(|(v, qi)| *v -= p * qi);
+        }
+        fixed.push(best);
+    }
+    Ok(fixed)
+}
+
+/// y += Gᵀ v (y of length m, v of length k).
+pub fn add_coupling_t(modes: &RigidModes, v: &[f64], y: &mut [f64]) {
+    for (row, vj) in modes.coupling.iter().zip(v) {
+        if *vj != 0.0 {
+            y.iter_mut().zip(row).for_each(|(yi, gi)| *yi += vj * gi);
+        }
+    }
+}
+
+impl RigidModes {
+    /// A rigid motion that B does not see but the load drives (G v = 0 with eᵀv ≠ 0, i.e.
+    /// B R v = 0 and fᵀ R v ≠ 0): the objective is then unbounded below.  Returns the index of
+    /// the offending kernel vector in the Gram–Schmidt order, if any.
+    pub fn unrestrained_mode(&self, load_norm: f64) -> Option<usize> {
+        let mut q_rows: Vec<(Vec<f64>, f64)> = Vec::new();
+        for (j, (row, e)) in self.coupling.iter().zip(&self.load).enumerate() {
+            let mut v = row.clone();
+            let mut ev = *e;
+            for (q, qe) in &q_rows {
+                let p = dot(q, &v);
+                v.iter_mut().zip(q).for_each(|(vi, qi)| *vi -= p * qi);
+                ev -= p * qe;
+            }
+            let row_norm = dot(row, row).sqrt();
+            let v_norm = dot(&v, &v).sqrt();
+            let r_norm = dot(&self.basis[j], &self.basis[j]).sqrt();
+            if v_norm <= DEPENDENCE * row_norm.max(f64::MIN_POSITIVE) || row_norm == 0.0 {
+                if ev.abs() > 1e-9 * r_norm * load_norm {
+                    return Some(j);
+                }
+            } else {
+                q_rows.push((v.iter().map(|x| x / v_norm).collect(), ev / v_norm));
+            }
+        }
+        None
+    }
+}

@@ -1,0 +1,227 @@
+//! When to stop: the core's KKT residuals decide, checked every `check_every` iterations (or
+//! earlier when a cheap estimate from the dual gradient says so); iteration and time limits;
+//! detection of an infeasible primal from the growth of λ.
+
+use std::time::{Duration, Instant};
+
+use signorini_core::qp::{kkt_residuals, mat_t_vec, norm_inf, QpProblem, QpStatus, SolveOptions};
+
+use crate::dual::{DualData, Outcome};
+use crate::settings::DualSettings;
+
+/// Certificate margin: an infeasibility certificate δ ≥ 0 must satisfy
+/// gᵀδ < −`INFEASIBILITY_MARGIN` · X · ‖Bᵀδ‖∞, i.e. every feasible x would be that many times
+/// longer than the current iterate.
+const INFEASIBILITY_MARGIN: f64 = 1e6;
+
+/// What the method should do after a check.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Next {
+    /// Keep iterating.
+    Continue,
+    /// The inner (bound-constrained) problem is solved well enough: update μ.
+    UpdateMultiplier,
+    /// Stop with this verdict and message.
+    Stop(QpStatus, String),
+}
+
+/// Stopping logic shared by the methods.
+#[derive(Debug)]
+pub struct Monitor<'a> {
+    problem: &'a QpProblem,
+    tol: f64,
+    start: Instant,
+    time_limit: Option<Duration>,
+    max_iter: usize,
+    check_every: usize,
+    last_check: usize,
+    early_check_spent: bool,
+    last_multipliers: Vec<f64>,
+    length_scale: f64,
+    force_scale: f64,
+}
+
+impl<'a> Monitor<'a> {
+    /// A monitor for `problem`; the clock starts at `start`.
+    pub fn new(
+        problem: &'a QpProblem,
+        options: &SolveOptions,
+        settings: &DualSettings,
+        start: Instant,
+    ) -> Self {
+        Self {
+            problem,
+            tol: options.tol,
+            start,
+            time_limit: options.time_limit,
+            max_iter: options.max_iter.unwrap_or(settings.max_iter),
+            check_every: settings.check_every,
+            last_check: 0,
+            early_check_spent: false,
+            last_multipliers: vec![0.0; problem.rows()],
+            length_scale: f64::MIN_POSITIVE,
+            force_scale: norm_inf(&problem.load).max(f64::MIN_POSITIVE),
+        }
+    }
+
+    /// The requested tolerance.
+    pub fn tol(&self) -> f64 {
+        self.tol
+    }
+
+    /// Sets the scales of the cheap estimate from a primal point (e.g. x(0) = A⁺f).
+    pub fn calibrate(&mut self, x: &[f64]) {
+        self.length_scale = norm_inf(x).max(f64::MIN_POSITIVE);
+    }
+
+    /// Cheap estimate of penetration and complementarity from the dual gradient w = g − B x,
+    /// with the scales of the last full check.
+    pub fn estimate(&self, multipliers: &[f64], gradient: &[f64]) -> f64 {
+        let mut pen = 0.0_f64;
+        let mut comp = 0.0_f64;
+        for (l, w) in multipliers.iter().zip(gradient) {
+            pen = pen.max(-w);
+            comp = comp.max((l * w).abs());
+        }
+        (pen / self.length_scale).max(comp / (self.length_scale * self.force_scale))
+    }
+
+    /// Is a full check due at iteration `iter`, given the cheap estimate?
+    pub fn due(&mut self, iter: usize, estimate: f64) -> bool {
+        if iter >= self.last_check + self.check_every {
+            return true;
+        }
+        if estimate <= self.tol && !self.early_check_spent {
+            self.early_check_spent = true;
+            return true;
+        }
+        false
+    }
+
+    /// The verdict when a limit is reached at iteration `iter`, else `None`.
+    pub fn limit(&self, iter: usize) -> Option<(QpStatus, String)> {
+        if iter >= self.max_iter {
+            return Some((
+                QpStatus::MaxIterations,
+                format!("iteration limit {} reached", self.max_iter),
+            ));
+        }
+        if let Some(limit) = self.time_limit {
+            if self.start.elapsed() >= limit {
+                return Some((
+                    QpStatus::TimeLimit,
+                    format!("time limit {limit:?} reached after {iter} iterations"),
+                ));
+            }
+        }
+        None
+    }
+
+    /// Full check of (x, λ) at iteration `iter`.
+    pub fn check(
+        &mut self,
+        data: &DualData<'_>,
+        iter: usize,
+        multipliers: &[f64],
+        x: &[f64],
+    ) -> Next {
+        self.last_check = iter;
+        self.early_check_spent = false;
+        if x.iter().chain(multipliers).any(|v| !v.is_finite()) {
+            return Next::Stop(
+                QpStatus::NumericalError,
+                format!("non-finite iterate at iteration {iter}"),
+            );
+        }
+        let r = kkt_residuals(self.problem, x, multipliers);
+        let btl = mat_t_vec(&self.problem.constraints, multipliers);
+        self.length_scale = norm_inf(x).max(f64::MIN_POSITIVE);
+        self.force_scale = norm_inf(&self.problem.load)
+            .max(norm_inf(&btl))
+            .max(f64::MIN_POSITIVE);
+        if r.meet(self.tol) {
+            return Next::Stop(
+                QpStatus::Solved,
+                format!("KKT residuals {:.1e} ≤ tol {:.1e}", r.worst(), self.tol),
+            );
+        }
+        if let Some(message) = self.infeasibility(multipliers, x) {
+            return Next::Stop(QpStatus::PrimalInfeasible, message);
+        }
+        self.last_multipliers.copy_from_slice(multipliers);
+        let inner = r
+            .relative_penetration
+            .max(r.complementarity)
+            .max(-r.min_multiplier);
+        if data.floating() && r.stationarity > self.tol && inner <= r.stationarity {
+            return Next::UpdateMultiplier;
+        }
+        Next::Continue
+    }
+
+    /// A Farkas certificate from the growth of λ since the last check: δ = max(λ − λ_prev, 0)
+    /// with gᵀδ < −margin · ‖x‖₁ · ‖Bᵀδ‖∞ proves that no x of that size is feasible.
+    fn infeasibility(&self, multipliers: &[f64], x: &[f64]) -> Option<String> {
+        let delta: Vec<f64> = multipliers
+            .iter()
+            .zip(&self.last_multipliers)
+            .map(|(l, p)| (l - p).max(0.0))
+            .collect();
+        let size = norm_inf(&delta);
+        if size == 0.0 {
+            return None;
+        }
+        let btd = norm_inf(&mat_t_vec(&self.problem.constraints, &delta));
+        let gtd: f64 = self
+            .problem
+            .gap
+            .iter()
+            .zip(&delta)
+            .map(|(g, d)| g * d)
+            .sum();
+        let x_norm: f64 = x
+            .iter()
+            .map(|v| v.abs())
+            .sum::<f64>()
+            .max(self.length_scale);
+        (gtd < 0.0 && gtd < -INFEASIBILITY_MARGIN * x_norm * btd).then(|| {
+            format!(
+                "primal infeasible: the multipliers grow along δ ≥ 0 with gᵀδ/‖δ‖∞ = {:.3e} < 0 and ‖Bᵀδ‖∞/‖δ‖∞ = {:.1e}",
+                gtd / size,
+                btd / size
+            )
+        })
+    }
+}
+
+/// The outcome when a limit stops the method: x(λ) is formed and checked once more, so that a
+/// limit reached exactly at convergence still reports `solved`.
+pub fn finish_at_limit(
+    data: &DualData<'_>,
+    tol: f64,
+    iterations: usize,
+    multipliers: Vec<f64>,
+    status: QpStatus,
+    message: String,
+) -> Outcome {
+    let x = data.primal(&multipliers);
+    let r = kkt_residuals(data.problem, &x, &multipliers);
+    let (status, message) = if r.meet(tol) {
+        (
+            QpStatus::Solved,
+            format!("KKT residuals {:.1e} ≤ tol {tol:.1e}", r.worst()),
+        )
+    } else {
+        (
+            status,
+            format!("{message}; KKT residuals {:.1e}", r.worst()),
+        )
+    };
+    Outcome {
+        x,
+        multipliers,
+        status,
+        iterations,
+        message,
+    }
+}

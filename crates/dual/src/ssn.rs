@@ -1,0 +1,149 @@
+//! Primal–dual active set (a semismooth Newton method on min(λ, ν/σ) = 0) on the dense dual:
+//!
+//! ```text
+//! F = { i : λᵢ − νᵢ / Hᵢᵢ > 0 },   λ_Z = 0,
+//! [ H_FF  G_Fᵀ ] [ λ_F ]   [ d_F ]
+//! [ G_F    0   ] [  μ  ] = [  e  ],    ν = H λ − d + Gᵀ μ,
+//! ```
+//!
+//! repeated until F no longer changes; then (λ, μ) is exact up to round-off and
+//! x = A⁺(f − Bᵀλ) − R μ.  Each step costs one dense factorisation of order |F| (+ k).
+
+use std::collections::HashSet;
+
+use faer::linalg::solvers::Solve;
+use faer::{Mat, Side};
+use signorini_core::qp::QpStatus;
+
+use crate::condense::{dual_hessian, DenseSym};
+use crate::dual::{DualData, Outcome};
+use crate::error::DualError;
+use crate::monitor::{finish_at_limit, Monitor, Next};
+use crate::settings::DualSettings;
+
+/// Runs the active-set method until the set repeats or the monitor stops it.
+pub fn solve(
+    data: &mut DualData<'_>,
+    settings: &DualSettings,
+    monitor: &mut Monitor<'_>,
+) -> Result<Outcome, DualError> {
+    let hessian = dual_hessian(data, settings)?;
+    let load = data.dual_load();
+    let m = data.rows();
+    let k = data.modes.count();
+    data.penalty = 0.0;
+    let mut active: Vec<bool> = if data.floating() {
+        vec![true; m]
+    } else {
+        load.iter().map(|d| *d > 0.0).collect()
+    };
+    let mut seen: HashSet<Vec<bool>> = HashSet::new();
+    let mut lambda = vec![0.0; m];
+    let mut iter = 0;
+    loop {
+        if let Some((status, message)) = monitor.limit(iter) {
+            return Ok(finish_at_limit(
+                data,
+                monitor.tol(),
+                iter,
+                lambda,
+                status,
+                message,
+            ));
+        }
+        seen.insert(active.clone());
+        let Some((next_lambda, mu)) = newton_step(&hessian, &load, data, &active) else {
+            return Ok(Outcome {
+                x: data.base.clone(),
+                multipliers: lambda,
+                status: QpStatus::NumericalError,
+                iterations: iter,
+                message: format!(
+                    "singular active-set system on {} rows (redundant contact rows, or a rigid mode the active contacts do not hold; k = {k})",
+                    active.iter().filter(|a| **a).count()
+                ),
+            });
+        };
+        lambda = next_lambda;
+        data.multiplier = mu;
+        iter += 1;
+        let mut reduced = hessian.mul(&lambda);
+        reduced.iter_mut().zip(&load).for_each(|(r, d)| *r -= d);
+        crate::kernel::add_coupling_t(&data.modes, &data.multiplier, &mut reduced);
+        let next_active: Vec<bool> = (0..m)
+            .map(|i| lambda[i] - reduced[i] / hessian.diag(i).max(f64::MIN_POSITIVE) > 0.0)
+            .collect();
+        let lambda_clipped: Vec<f64> = lambda.iter().map(|l| l.max(0.0)).collect();
+        if next_active == active {
+            let x = data.primal(&lambda_clipped);
+            let (status, message) = match monitor.check(data, iter, &lambda_clipped, &x) {
+                Next::Stop(status, message) => (status, message),
+                _ => (
+                    QpStatus::Inaccurate,
+                    "active set settled but the KKT residuals miss the tolerance".to_string(),
+                ),
+            };
+            return Ok(Outcome {
+                x,
+                multipliers: lambda_clipped,
+                status,
+                iterations: iter,
+                message,
+            });
+        }
+        if seen.contains(&next_active) {
+            return Ok(finish_at_limit(
+                data,
+                monitor.tol(),
+                iter,
+                lambda_clipped,
+                QpStatus::MaxIterations,
+                "active set cycles".to_string(),
+            ));
+        }
+        active = next_active;
+    }
+}
+
+/// Solves the Newton system on the active rows; `None` if it is singular.
+fn newton_step(
+    hessian: &DenseSym,
+    load: &[f64],
+    data: &DualData<'_>,
+    active: &[bool],
+) -> Option<(Vec<f64>, Vec<f64>)> {
+    let rows: Vec<usize> = (0..active.len()).filter(|&i| active[i]).collect();
+    let p = rows.len();
+    let k = data.modes.count();
+    let size = p + k;
+    let matrix = Mat::<f64>::from_fn(size, size, |a, b| match (a < p, b < p) {
+        (true, true) => hessian.col(rows[b])[rows[a]],
+        (true, false) => data.modes.coupling[b - p][rows[a]],
+        (false, true) => data.modes.coupling[a - p][rows[b]],
+        (false, false) => 0.0,
+    });
+    let mut rhs = Mat::<f64>::from_fn(size, 1, |a, _| {
+        if a < p {
+            load[rows[a]]
+        } else {
+            data.modes.load[a - p]
+        }
+    });
+    if k == 0 {
+        match matrix.llt(Side::Lower) {
+            Ok(llt) => llt.solve_in_place(rhs.as_mut()),
+            Err(_) => matrix.partial_piv_lu().solve_in_place(rhs.as_mut()),
+        }
+    } else {
+        matrix.partial_piv_lu().solve_in_place(rhs.as_mut());
+    }
+    if (0..size).any(|a| !rhs[(a, 0)].is_finite()) {
+        return None;
+    }
+    let mut lambda = vec![0.0; active.len()];
+    for (a, &i) in rows.iter().enumerate() {
+        lambda[i] = rhs[(a, 0)];
+    }
+    let mu = (0..k).map(|j| rhs[(p + j, 0)]).collect();
+    Some((lambda, mu))
+}

@@ -1,0 +1,166 @@
+//! Sparse Cholesky with the contact DOFs ordered last, so that the trailing block of the factor
+//! is the Cholesky factor of the Schur complement on them:
+//!
+//! ```text
+//! P A Pᵀ = [ A_ii  A_ic ] = [ L_ii   0   ] [ L_iiᵀ  L_ciᵀ ]      S = A_cc − A_ci A_ii⁻¹ A_ic
+//!          [ A_ci  A_cc ]   [ L_ci  L_cc ] [   0    L_ccᵀ ],       = L_cc L_ccᵀ.
+//! ```
+//!
+//! Then H = B_c S⁻¹ B_cᵀ = Yᵀ Y with Y = L_cc⁻¹ B_cᵀ: no sparse solve at all, only dense work of
+//! order |c|² m.  The interior is ordered by AMD (the AMD order of A with the contact DOFs moved
+//! to the end).  The same factor serves every later solve with A.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    SymbolicCholeskyRaw, SymmetricOrdering,
+};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
+use signorini_core::linalg::{faer_view, LinalgError};
+use signorini_core::qp::CscMatrix;
+
+/// A Cholesky factor of A with the `touched` DOFs last, and its dense trailing block.
+#[derive(Debug)]
+pub struct TrailingCholesky {
+    symbolic: SymbolicCholesky<usize>,
+    values: Vec<f64>,
+    n: usize,
+    /// L_cc, |c| × |c| lower triangular; row/column k is `touched[k]`.
+    trailing: Mat<f64>,
+}
+
+impl TrailingCholesky {
+    /// Factors the symmetric positive definite `a` (lower triangle read) with the DOFs in
+    /// `touched` (distinct, in range) ordered last, in the given order.
+    pub fn factor(a: &CscMatrix, touched: &[usize]) -> Result<Self, LinalgError> {
+        let n = a.rows();
+        let view = faer_view(a)?;
+        let faer_error = |e: faer::sparse::FaerError| LinalgError::Faer(format!("{e:?}"));
+        let amd = factorize_symbolic_cholesky(
+            view.symbolic(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams::default(),
+        )
+        .map_err(faer_error)?;
+        let mut is_touched = vec![false; n];
+        for &j in touched {
+            is_touched[j] = true;
+        }
+        let mut forward: Vec<usize> = match amd.perm() {
+            Some(perm) => perm.arrays().0.to_vec(),
+            None => (0..n).collect(),
+        };
+        forward.retain(|&j| !is_touched[j]);
+        forward.extend_from_slice(touched);
+        let mut inverse = vec![0; n];
+        for (new, &old) in forward.iter().enumerate() {
+            inverse[old] = new;
+        }
+        let perm = PermRef::new_checked(&forward, &inverse, n);
+        let symbolic = factorize_symbolic_cholesky(
+            view.symbolic(),
+            Side::Lower,
+            SymmetricOrdering::Custom(perm),
+            CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                ..Default::default()
+            },
+        )
+        .map_err(faer_error)?;
+        let mut values = vec![0.0; symbolic.len_val()];
+        let mut buffer = MemBuffer::try_new(
+            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+        )
+        .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
+        symbolic
+            .factorize_numeric_llt(
+                &mut values,
+                view,
+                Side::Lower,
+                Default::default(),
+                Par::Seq,
+                MemStack::new(&mut buffer),
+                Default::default(),
+            )
+            .map_err(|e| match e {
+                faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => {
+                    LinalgError::NotPositiveDefinite { index, n }
+                }
+            })?;
+        let trailing = trailing_block(&symbolic, &values, n, touched.len())?;
+        Ok(Self {
+            symbolic,
+            values,
+            n,
+            trailing,
+        })
+    }
+
+    /// Size n of A.
+    pub fn dim(&self) -> usize {
+        self.n
+    }
+
+    /// L_cc: the Cholesky factor of the Schur complement on the touched DOFs.
+    pub fn trailing(&self) -> MatRef<'_, f64> {
+        self.trailing.as_ref()
+    }
+
+    /// Overwrites the column-major n × k block `rhs` with A⁻¹ rhs.
+    pub fn solve_many_in_place(&self, rhs: &mut [f64]) {
+        if self.n == 0 {
+            return;
+        }
+        let k = rhs.len() / self.n;
+        let mut buffer = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, Par::Seq));
+        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(rhs, self.n, k),
+            Par::Seq,
+            MemStack::new(&mut buffer),
+        );
+    }
+}
+
+/// Copies the last `size` columns of the supernodal factor into a dense lower-triangular block.
+fn trailing_block(
+    symbolic: &SymbolicCholesky<usize>,
+    values: &[f64],
+    n: usize,
+    size: usize,
+) -> Result<Mat<f64>, LinalgError> {
+    let SymbolicCholeskyRaw::Supernodal(supernodal) = symbolic.raw() else {
+        return Err(LinalgError::Faer(
+            "expected a supernodal factorisation".into(),
+        ));
+    };
+    let first = n - size;
+    let llt = SupernodalLltRef::new(supernodal, values);
+    let mut block = Mat::<f64>::zeros(size, size);
+    for s in 0..supernodal.n_supernodes() {
+        let node = llt.supernode(s);
+        let start = node.start();
+        let val = node.val();
+        let width = val.ncols();
+        if start + width <= first {
+            continue;
+        }
+        for local in 0..width {
+            let col = start + local;
+            if col < first {
+                continue;
+            }
+            for row_local in local..width {
+                block[(start + row_local - first, col - first)] = val[(row_local, local)];
+            }
+            for (p, &row) in node.pattern().iter().enumerate() {
+                block[(row - first, col - first)] = val[(width + p, local)];
+            }
+        }
+    }
+    Ok(block)
+}
