@@ -82,7 +82,11 @@ pub fn make_backend(kind: BackendKind) -> Result<Box<dyn QpBackend>, BackendErro
         BackendKind::Osqp => Ok(Box::new(signorini_osqp::OsqpBackend::default())),
         #[cfg(not(feature = "osqp"))]
         BackendKind::Osqp => Err(BackendError::NotCompiled("osqp")),
-        // Filled in when the dual crate lands.
-        other => Err(BackendError::NotCompiled(other.name())),
+        BackendKind::DualPgs => Ok(Box::new(signorini_dual::DualBackend::pgs(
+            Default::default(),
+        ))),
+        BackendKind::DualUzawa => Ok(Box::new(signorini_dual::DualBackend::uzawa(
+            Default::default(),
+        ))),
     }
 }
