@@ -46,7 +46,7 @@ pub(crate) fn clean_polygon(polygon: &[Point], tol: f64) -> Result<Vec<Point>, M
     let area = signed_area(&cleaned);
     let [x0, x1, y0, y1] = crate::geometry::bounding_box(&cleaned);
     let extent = (x1 - x0).max(y1 - y0);
-    if !(area.abs() > 1e-14 * extent * extent) {
+    if area.is_nan() || area.abs() <= 1e-14 * extent * extent {
         return Err(MeshError::DegeneratePolygon {
             reason: format!("zero area (signed area {area:e})"),
         });
@@ -112,10 +112,7 @@ fn push_subinterval(out: &mut Vec<Point>, p: Point, q: Point, hmax: f64) {
     let kf = k as f64;
     let at = |i: usize| {
         let t = i as f64;
-        [
-            a[0] + (b[0] - a[0]) * t / kf,
-            a[1] + (b[1] - a[1]) * t / kf,
-        ]
+        [a[0] + (b[0] - a[0]) * t / kf, a[1] + (b[1] - a[1]) * t / kf]
     };
     if forward {
         out.extend((1..k).map(at));
@@ -126,7 +123,12 @@ fn push_subinterval(out: &mut Vec<Point>, p: Point, q: Point, hmax: f64) {
 
 /// The discretised boundary of a counter-clockwise polygon (as returned by [`clean_polygon`]),
 /// as a closed counter-clockwise loop of distinct points (the last connects to the first).
-pub(crate) fn discretise(polygon: &[Point], hmax: f64, breakpoints: &[Point], tol: f64) -> Vec<Point> {
+pub(crate) fn discretise(
+    polygon: &[Point],
+    hmax: f64,
+    breakpoints: &[Point],
+    tol: f64,
+) -> Vec<Point> {
     let n = polygon.len();
     let mut out = Vec::new();
     for i in 0..n {
