@@ -46,7 +46,7 @@ pub(crate) fn clean_polygon(polygon: &[Point], tol: f64) -> Result<Vec<Point>, M
     let area = signed_area(&cleaned);
     let [x0, x1, y0, y1] = crate::geometry::bounding_box(&cleaned);
     let extent = (x1 - x0).max(y1 - y0);
-    if !(area.abs() > 1e-14 * extent * extent) {
+    if area.is_nan() || area.abs() <= 1e-14 * extent * extent {
         return Err(MeshError::DegeneratePolygon {
             reason: format!("zero area (signed area {area:e})"),
         });

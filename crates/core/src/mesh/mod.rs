@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 use crate::geometry::{bounding_box, distance, signed_area, Point};
 
 mod boundary;
+mod lattice;
 mod quads;
 mod quality;
 mod triangles;
@@ -176,7 +177,7 @@ pub enum MeshError {
 }
 
 /// Mean P1 triangle area produced by [`mesh_body`], as a multiple of hmax² (measured).
-const P1_AREA_PER_ELEMENT: f64 = 0.15;
+const P1_AREA_PER_ELEMENT: f64 = 0.3;
 
 /// Cheap estimate of the number of elements [`mesh_body`] creates, used to refuse oversized
 /// requests before allocating.  `usize::MAX` for a non-positive or non-finite `hmax` or an empty

@@ -50,7 +50,8 @@ impl Mesh {
                     .sum::<f64>()
                     * 0.5
             })
-            .sum()
+            .fold(CompensatedSum::default(), CompensatedSum::add)
+            .value()
     }
 
     /// Total length of the boundary edges.
@@ -58,6 +59,33 @@ impl Mesh {
         self.boundary
             .iter()
             .map(|&[a, b]| distance(self.nodes[a], self.nodes[b]))
-            .sum()
+            .fold(CompensatedSum::default(), CompensatedSum::add)
+            .value()
+    }
+}
+
+/// Neumaier's compensated sum: the error does not grow with the number of terms.
+#[derive(Default, Clone, Copy)]
+struct CompensatedSum {
+    sum: f64,
+    compensation: f64,
+}
+
+impl CompensatedSum {
+    fn add(self, x: f64) -> Self {
+        let sum = self.sum + x;
+        let lost = if self.sum.abs() >= x.abs() {
+            (self.sum - sum) + x
+        } else {
+            (x - sum) + self.sum
+        };
+        Self {
+            sum,
+            compensation: self.compensation + lost,
+        }
+    }
+
+    fn value(self) -> f64 {
+        self.sum + self.compensation
     }
 }

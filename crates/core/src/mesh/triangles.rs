@@ -7,23 +7,29 @@
 //! the same scene in m.  Boundary nodes are returned at their original coordinates (the snapped
 //! copies are only spade's view), interior nodes are mapped back.
 
-use std::collections::HashSet;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use spade::handles::{FixedFaceHandle, InnerTag};
+use spade::handles::FixedVertexHandle;
 use spade::{
     AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
 };
 
 use crate::geometry::{bounding_box, Point};
 
+use super::lattice::lattice_points;
 use super::{Cells, Mesh, MeshError, MeshLimits};
 
 type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
 
 /// Largest triangle area handed to spade, as a multiple of hmax² (an equilateral triangle of
 /// side hmax has 0.433 hmax²).  Long edges left over are split afterwards.
-pub(crate) const AREA_FACTOR: f64 = 0.3;
+pub(crate) const AREA_FACTOR: f64 = 0.5;
+
+/// Spacing of the interior seed lattice, as a multiple of hmax.
+const LATTICE: f64 = 0.9;
+
+/// Distance kept between seed points and the boundary, as a multiple of the lattice spacing.
+const GAP: f64 = 0.6;
 
 /// Snapping grid of the normalised coordinates.
 const GRID: f64 = 1.0 / (1u64 << 34) as f64;
@@ -46,7 +52,7 @@ impl Normaliser {
         )
     }
 
-    fn from_unit(&self, p: Point2<f64>) -> Point {
+    fn to_scene(&self, p: Point2<f64>) -> Point {
         [
             self.origin[0] + p.x * self.extent,
             self.origin[1] + p.y * self.extent,
@@ -102,7 +108,11 @@ fn triangulate(
     vertex_budget: usize,
 ) -> Result<Mesh, MeshError> {
     let n = boundary.len();
-    let vertices: Vec<Point2<f64>> = boundary.iter().map(|&p| normaliser.to_unit(p)).collect();
+    let mut vertices: Vec<Point2<f64>> = boundary.iter().map(|&p| normaliser.to_unit(p)).collect();
+    let unit: Vec<Point> = vertices.iter().map(|p| [p.x, p.y]).collect();
+    let seeds = lattice_points(&unit, LATTICE * h, GAP * LATTICE * h);
+    let expected = n + seeds.len();
+    vertices.extend(seeds.into_iter().map(|[x, y]| Point2::new(x, y)));
     let edges: Vec<[usize; 2]> = (0..n).map(|i| [i, (i + 1) % n]).collect();
     let mut conflicts = 0usize;
     let mut cdt = Cdt::try_bulk_load_cdt(vertices, edges, |_| conflicts += 1).map_err(|e| {
@@ -110,7 +120,7 @@ fn triangulate(
             reason: format!("constrained Delaunay triangulation failed: {e:?}"),
         }
     })?;
-    if conflicts > 0 || cdt.num_vertices() != n {
+    if conflicts > 0 || cdt.num_vertices() != expected {
         return Err(MeshError::DegeneratePolygon {
             reason: format!(
                 "boundary edges cross or touch ({conflicts} conflicts, {} of {n} boundary points \
@@ -134,27 +144,23 @@ fn triangulate(
             .with_max_additional_vertices(max_vertices.saturating_sub(cdt.num_vertices()))
     };
 
-    let mut excluded: HashSet<FixedFaceHandle<InnerTag>>;
+    let limit = limits.min_angle_deg;
+    let mut refine = true;
     let mut rounds = 0;
-    loop {
-        let t0 = std::time::Instant::now();
-        let result = cdt.refine(parameters(&cdt));
-        eprintln!(
-            "refine round {rounds}: {:.3}s, {} vertices",
-            t0.elapsed().as_secs_f64(),
-            cdt.num_vertices()
-        );
-        if !result.refinement_complete {
-            return Err(MeshError::RefinementIncomplete {
-                vertices: cdt.num_vertices(),
-                budget: max_vertices,
-            });
+    let inside = loop {
+        if refine {
+            let result = cdt.refine(parameters(&cdt));
+            if !result.refinement_complete {
+                return Err(MeshError::RefinementIncomplete {
+                    vertices: cdt.num_vertices(),
+                    budget: max_vertices,
+                });
+            }
         }
-        excluded = result.excluded_faces.into_iter().collect();
-        let long = long_edge_midpoints(&cdt, &excluded, threshold2);
-        eprintln!("  long {}", long.len());
+        let inside = inside_faces(&cdt, n)?;
+        let long = long_edge_midpoints(&cdt, &inside, threshold2);
         if long.is_empty() {
-            break;
+            break inside;
         }
         rounds += 1;
         if rounds > MAX_ROUNDS || cdt.num_vertices().saturating_add(long.len()) > max_vertices {
@@ -163,32 +169,94 @@ fn triangulate(
                 budget: max_vertices,
             });
         }
-        for p in long {
-            cdt.insert(p).map_err(|e| MeshError::Triangulation {
-                reason: format!("inserting an edge midpoint failed: {e:?}"),
-            })?;
+        let mut worst = 180.0_f64;
+        let mut inserted = Vec::with_capacity(long.len());
+        for (p, hint) in long {
+            let v = cdt
+                .insert_with_hint(p, hint)
+                .map_err(|e| MeshError::Triangulation {
+                    reason: format!("inserting an edge midpoint failed: {e:?}"),
+                })?;
+            inserted.push(v);
         }
-    }
-    Ok(extract(&cdt, &excluded, n, normaliser, boundary))
+        for v in inserted {
+            for edge in cdt.vertex(v).out_edges() {
+                if let Some(face) = edge.face().as_inner() {
+                    worst = worst.min(face_min_angle(face.positions()));
+                }
+            }
+        }
+        // Refine again (a full pass) only when splitting left an angle below the limit.
+        refine = worst < limit - 1e-9;
+    };
+    Ok(extract(&cdt, &inside, n, normaliser, boundary))
 }
 
-/// Midpoints of the non-boundary edges of kept faces longer than √threshold2.
+/// Marks the faces inside the polygon (indexed by face index): flood fill from the left sides
+/// of the boundary edges `i → i + 1` (vertices `0..n`), never crossing a constraint edge.
+fn inside_faces(cdt: &Cdt, n: usize) -> Result<Vec<bool>, MeshError> {
+    let mut inside = vec![false; cdt.num_all_faces()];
+    let mut stack = Vec::new();
+    for i in 0..n {
+        let from = FixedVertexHandle::from_index(i);
+        let to = FixedVertexHandle::from_index((i + 1) % n);
+        let edge =
+            cdt.get_edge_from_neighbors(from, to)
+                .ok_or_else(|| MeshError::Triangulation {
+                    reason: format!("boundary edge {i} is missing from the triangulation"),
+                })?;
+        if let Some(face) = edge.face().as_inner() {
+            if !inside[face.fix().index()] {
+                inside[face.fix().index()] = true;
+                stack.push(face.fix());
+            }
+        }
+    }
+    while let Some(face) = stack.pop() {
+        for edge in cdt.face(face).adjacent_edges() {
+            if edge.is_constraint_edge() {
+                continue;
+            }
+            if let Some(next) = edge.rev().face().as_inner() {
+                if !inside[next.fix().index()] {
+                    inside[next.fix().index()] = true;
+                    stack.push(next.fix());
+                }
+            }
+        }
+    }
+    Ok(inside)
+}
+
+/// Smallest angle (degrees) of a triangle.
+fn face_min_angle(p: [Point2<f64>; 3]) -> f64 {
+    let mut m = f64::INFINITY;
+    for k in 0..3 {
+        let (a, b, c) = (p[(k + 2) % 3], p[k], p[(k + 1) % 3]);
+        let u = [a.x - b.x, a.y - b.y];
+        let v = [c.x - b.x, c.y - b.y];
+        let cross = u[0] * v[1] - u[1] * v[0];
+        let dot = u[0] * v[0] + u[1] * v[1];
+        m = m.min(cross.abs().atan2(dot));
+    }
+    m.to_degrees()
+}
+
+/// Midpoints of the non-boundary edges of inside faces longer than √threshold2.
 fn long_edge_midpoints(
     cdt: &Cdt,
-    excluded: &HashSet<FixedFaceHandle<InnerTag>>,
+    inside: &[bool],
     threshold2: f64,
-) -> Vec<Point2<f64>> {
+) -> Vec<(Point2<f64>, FixedVertexHandle)> {
     cdt.undirected_edges()
         .filter(|e| !e.is_constraint_edge() && e.length_2() > threshold2)
         .filter(|e| {
             let d = e.as_directed();
-            [d, d.rev()].iter().any(|d| {
-                d.face()
-                    .as_inner()
-                    .is_some_and(|f| !excluded.contains(&f.fix()))
-            })
+            [d, d.rev()]
+                .iter()
+                .any(|d| d.face().as_inner().is_some_and(|f| inside[f.fix().index()]))
         })
-        .map(|e| e.center())
+        .map(|e| (e.center(), e.vertices()[0].fix()))
         .collect()
 }
 
@@ -196,14 +264,14 @@ fn long_edge_midpoints(
 /// coordinates), then the used Steiner points in spade's vertex order.
 fn extract(
     cdt: &Cdt,
-    excluded: &HashSet<FixedFaceHandle<InnerTag>>,
+    inside: &[bool],
     n: usize,
     normaliser: &Normaliser,
     boundary: &[Point],
 ) -> Mesh {
     let kept: Vec<[usize; 3]> = cdt
         .inner_faces()
-        .filter(|f| !excluded.contains(&f.fix()))
+        .filter(|f| inside[f.fix().index()])
         .map(|f| f.vertices().map(|v| v.fix().index()))
         .collect();
     let mut used = vec![false; cdt.num_vertices()];
@@ -218,7 +286,7 @@ fn extract(
     for (v, vertex) in cdt.vertices().enumerate().skip(n) {
         if used[v] {
             id[v] = nodes.len();
-            nodes.push(normaliser.from_unit(vertex.position()));
+            nodes.push(normaliser.to_scene(vertex.position()));
         }
     }
     let triangles: Vec<[usize; 3]> = kept.iter().map(|t| t.map(|v| id[v])).collect();
