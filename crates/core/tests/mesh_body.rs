@@ -369,6 +369,10 @@ fn awkward_polygons_mesh_validly() {
     let mesh = p1(&sliver, 0.1, &[]);
     let angle = check_mesh(&mesh, &sliver, 0.1);
     assert!(angle > 2.5, "sliver min angle {angle}");
+    // hmax larger than the body: no split at all.
+    let coarse = p1(&UPPER, 10.0, &[]);
+    check_mesh(&coarse, &UPPER, 10.0);
+    assert_eq!((coarse.nodes.len(), coarse.cells.len()), (4, 2));
     let tiny = [[1e-4, 1.0], [2.0 - 1e-5, 2.0], [1.0 + 1e-6, 1.0]];
     let mesh = p1(&UPPER, 0.2, &tiny);
     check_mesh(&mesh, &UPPER, 0.2);

@@ -4,6 +4,19 @@ use crate::geometry::{distance, orient, Point};
 
 use super::Mesh;
 
+/// ```
+/// use signorini_core::mesh::{Cells, Mesh};
+/// // Two triangles of the unit square.
+/// let mesh = Mesh {
+///     nodes: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+///     cells: Cells::Triangles(vec![[0, 1, 2], [0, 2, 3]]),
+///     boundary: vec![[0, 1], [1, 2], [2, 3], [3, 0]],
+/// };
+/// assert_eq!(mesh.max_edge(), 2f64.sqrt());
+/// assert!((mesh.min_angle_deg() - 45.0).abs() < 1e-12);
+/// assert_eq!(mesh.area(), 1.0);
+/// assert_eq!(mesh.boundary_length(), 4.0);
+/// ```
 impl Mesh {
     /// Corner points of cell `i`.
     fn corners(&self, i: usize) -> impl Iterator<Item = Point> + '_ {
