@@ -88,15 +88,24 @@ pub fn mesh_scene(scene: &Scene, limits: &MeshLimits) -> Result<Vec<Mesh>, Model
                 .filter(|n| n.body == b)
                 .map(|n| n.region),
         );
-        regions.extend(
-            scene
-                .contacts
-                .iter()
-                .filter(|c| c.bodies.contains(&b))
-                .filter_map(|c| c.region),
-        );
         for r in &regions {
             breaks.extend(mesh::box_crossings(&body.polygon, r, tol));
+        }
+        // A contact box only selects candidate nodes; a crossing just beside a corner (the thin
+        // box's side along a side edge) would force a sliver element, so those are skipped.
+        let near_corner = |p: &Point| {
+            body.polygon
+                .iter()
+                .any(|v| crate::geometry::distance(*v, *p) < 0.25 * body.hmax)
+        };
+        for c in scene.contacts.iter().filter(|c| c.bodies.contains(&b)) {
+            if let Some(r) = &c.region {
+                breaks.extend(
+                    mesh::box_crossings(&body.polygon, r, tol)
+                        .into_iter()
+                        .filter(|p| !near_corner(p)),
+                );
+            }
         }
         let geometry = BodyGeometry {
             polygon: &body.polygon,
