@@ -14,7 +14,7 @@ fn two_bodies(side: usize, with_kernel: bool) -> QpProblem {
     let n = 2 * per;
     let id = |body: usize, i: usize, j: usize| body * per + j * side + i;
     let mut a = Vec::new();
-    let mut edge = |p: usize, q: usize, w: f64, a: &mut Vec<(usize, usize, f64)>| {
+    let edge = |p: usize, q: usize, w: f64, a: &mut Vec<(usize, usize, f64)>| {
         a.push((p, p, w));
         a.push((q, q, w));
         a.push((p, q, -w));
