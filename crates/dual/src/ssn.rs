@@ -105,6 +105,23 @@ pub fn solve(
     }
 }
 
+/// A dense factorisation of the (shifted) Newton matrix.
+enum Dense {
+    /// Symmetric positive definite block (no kernel).
+    Cholesky(faer::linalg::solvers::Llt<f64>),
+    /// Indefinite bordered system, or a failed Cholesky.
+    Lu(faer::linalg::solvers::PartialPivLu<f64>),
+}
+
+impl Dense {
+    fn solve(&self, rhs: &mut Mat<f64>) {
+        match self {
+            Dense::Cholesky(llt) => llt.solve_in_place(rhs.as_mut()),
+            Dense::Lu(lu) => lu.solve_in_place(rhs.as_mut()),
+        }
+    }
+}
+
 /// Relative Tikhonov shift of the active block (× max Hᵢᵢ); removed again by refinement.
 const SHIFT: f64 = 1e-12;
 
@@ -147,23 +164,19 @@ fn newton_step(
             data.modes.load[a - p]
         }
     });
-    let solver: Box<dyn Fn(&mut Mat<f64>)> = if k == 0 {
+    let solver = if k == 0 {
         match shifted.llt(Side::Lower) {
-            Ok(llt) => Box::new(move |r: &mut Mat<f64>| llt.solve_in_place(r.as_mut())),
-            Err(_) => {
-                let lu = shifted.partial_piv_lu();
-                Box::new(move |r: &mut Mat<f64>| lu.solve_in_place(r.as_mut()))
-            }
+            Ok(llt) => Dense::Cholesky(llt),
+            Err(_) => Dense::Lu(shifted.partial_piv_lu()),
         }
     } else {
-        let lu = shifted.partial_piv_lu();
-        Box::new(move |r: &mut Mat<f64>| lu.solve_in_place(r.as_mut()))
+        Dense::Lu(shifted.partial_piv_lu())
     };
     let mut solution = rhs.clone();
-    solver(&mut solution);
+    solver.solve(&mut solution);
     for _ in 0..REFINEMENT_STEPS {
         let mut residual = &rhs - &matrix * &solution;
-        solver(&mut residual);
+        solver.solve(&mut residual);
         solution += residual;
     }
     if (0..size).any(|a| !solution[(a, 0)].is_finite()) {
