@@ -228,5 +228,19 @@ fn check_dimensions(problem: &QpProblem) -> Result<(), QpError> {
     if !problem.constraints.is_csc() {
         return Err(QpError::NotCsc("B"));
     }
+    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    for (name, values) in [
+        ("A", problem.stiffness.data()),
+        ("f", &problem.load[..]),
+        ("B", problem.constraints.data()),
+        ("g", &problem.gap[..]),
+    ] {
+        if !finite(values) {
+            return Err(QpError::NotFinite(name));
+        }
+    }
+    if !problem.kernel.iter().all(|r| finite(r)) {
+        return Err(QpError::NotFinite("kernel"));
+    }
     Ok(())
 }

@@ -12,7 +12,7 @@ use signorini_core::qp::CscMatrix;
 
 use crate::dual::DualData;
 use crate::error::DualError;
-use crate::inverse::{Factor, StiffnessInverse};
+use crate::inverse::StiffnessInverse;
 use crate::kernel::RigidModes;
 use crate::settings::{Condensation, DualSettings};
 
@@ -118,18 +118,16 @@ pub fn power_iteration(
 
 /// H = B A⁺ Bᵀ by the strategy of `settings`.
 pub fn dual_hessian(data: &DualData<'_>, settings: &DualSettings) -> Result<DenseSym, DualError> {
-    if let Factor::Trailing(chol) = data.inverse.factor() {
+    if data.inverse.contact_last() {
         return Ok(trailing_hessian(
-            chol.trailing(),
+            data.inverse.factor().trailing(),
             data.inverse.trailing(),
             &data.problem.constraints,
         ));
     }
     match settings.condensation {
-        Condensation::TrailingBlock => Err(DualError::Structure(
-            "the trailing-block condensation needs a factor with the contact DOFs last".into(),
-        )),
-        Condensation::MultiRhs => Ok(multi_rhs(
+        // Too many contact DOFs to order last: fall back to multi-RHS solves.
+        Condensation::TrailingBlock | Condensation::MultiRhs => Ok(multi_rhs(
             &data.inverse,
             &data.problem.constraints,
             settings.block_size,

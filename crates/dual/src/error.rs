@@ -22,6 +22,14 @@ pub enum DualError {
         /// Number of kernel vectors in the problem.
         kernel: usize,
     },
+    /// The factorisation went through, but a pivot nearly vanished.
+    #[error("stiffness A is numerically singular (smallest pivot ratio L_jj²/A_jj = {ratio:.1e}); {kernel} kernel vector(s) were given — a body held only by contact needs its rigid-body modes in `QpProblem::kernel`")]
+    NearlySingular {
+        /// minⱼ Lⱼⱼ² / Aⱼⱼ.
+        ratio: f64,
+        /// Number of kernel vectors in the problem.
+        kernel: usize,
+    },
     /// A given kernel vector is not in the null space of A.
     #[error("kernel vector {index} is not in the null space of A (‖A r‖∞ / (‖A‖ ‖r‖∞) = {residual:.2e})")]
     NotAKernelVector {

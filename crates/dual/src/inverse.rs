@@ -11,7 +11,6 @@
 //!
 //! which is all the FETI-style dual needs.  This keeps the factor as sparse as A's own.
 
-use signorini_core::linalg::SparseCholesky;
 use signorini_core::qp::CscMatrix;
 
 use crate::error::DualError;
@@ -20,46 +19,33 @@ use crate::trailing::TrailingCholesky;
 /// Marker in the full → reduced index map for a fixed DOF.
 const FIXED: usize = usize::MAX;
 
-/// The factor behind A⁺ (of A, or of A_ff when DOFs are fixed).
-#[derive(Debug)]
-pub enum Factor {
-    /// Fill-reducing (AMD) order, through the core wrapper.
-    Plain(SparseCholesky),
-    /// The DOFs B touches ordered last; the trailing block is the Schur complement's factor.
-    Trailing(Box<TrailingCholesky>),
-}
+/// Most contact DOFs ordered last (the dense trailing block has this many squared entries).
+pub const MAX_TRAILING: usize = 6000;
 
-impl Factor {
-    fn dim(&self) -> usize {
-        match self {
-            Factor::Plain(chol) => chol.dim(),
-            Factor::Trailing(chol) => chol.dim(),
-        }
-    }
-
-    fn solve_many_in_place(&self, block: &mut [f64]) {
-        match self {
-            Factor::Plain(chol) => chol.solve_many_in_place(block),
-            Factor::Trailing(chol) => chol.solve_many_in_place(block),
-        }
-    }
-}
+/// Pivot ratio minⱼ Lⱼⱼ²/Aⱼⱼ below which A counts as singular (a floating body whose rigid
+/// modes the factorisation got through by round-off).  Elastic stiffness matrices with
+/// condition numbers up to ~1e12 stay well above it.
+pub const SINGULAR_PIVOT_RATIO: f64 = 1e-13;
 
 /// A⁺ applied through a cached sparse Cholesky factor.
 #[derive(Debug)]
 pub struct StiffnessInverse {
-    factor: Factor,
+    factor: TrailingCholesky,
     /// Full index → reduced index (`FIXED` for fixed DOFs); empty when nothing is fixed.
     reduced: Vec<usize>,
-    /// With a [`Factor::Trailing`]: the full indices of the trailing DOFs, in trailing order.
+    /// Whether the DOFs B touches are ordered last.
+    contact_last: bool,
+    /// With `contact_last`: the full indices of the trailing DOFs, in trailing order.
     trailing: Vec<usize>,
     n: usize,
 }
 
 impl StiffnessInverse {
     /// Factors A with the DOFs in `fixed` removed (rows and columns).  With
-    /// `trailing_for = Some(B)`, the DOFs that B touches are ordered last
-    /// ([`Factor::Trailing`]).
+    /// `trailing_for = Some(B)`, the DOFs that B touches are ordered last, unless there are more
+    /// than [`MAX_TRAILING`] of them (the dense trailing block would be too large).
+    ///
+    /// A pivot ratio minⱼ Lⱼⱼ²/Aⱼⱼ below [`SINGULAR_PIVOT_RATIO`] counts as singular.
     pub fn new(
         a: &CscMatrix,
         fixed: &[usize],
@@ -89,33 +75,47 @@ impl StiffnessInverse {
         }
         let matrix = sub.as_ref().unwrap_or(a);
         let mut trailing = Vec::new();
-        let factor = match trailing_for {
-            Some(constraints) => {
-                let mut touched_reduced = Vec::new();
-                for (j, col) in constraints.outer_iterator().enumerate() {
-                    let r = if reduced.is_empty() { j } else { reduced[j] };
-                    if col.nnz() > 0 && r != FIXED {
-                        trailing.push(j);
-                        touched_reduced.push(r);
-                    }
+        let mut touched_reduced = Vec::new();
+        if let Some(constraints) = trailing_for {
+            for (j, col) in constraints.outer_iterator().enumerate() {
+                let r = if reduced.is_empty() { j } else { reduced[j] };
+                if col.nnz() > 0 && r != FIXED {
+                    trailing.push(j);
+                    touched_reduced.push(r);
                 }
-                Factor::Trailing(Box::new(
-                    TrailingCholesky::factor(matrix, &touched_reduced).map_err(singular)?,
-                ))
             }
-            None => Factor::Plain(SparseCholesky::factor(matrix).map_err(singular)?),
-        };
+        }
+        let contact_last = trailing_for.is_some() && trailing.len() <= MAX_TRAILING;
+        if !contact_last {
+            trailing.clear();
+            touched_reduced.clear();
+        }
+        let factor = TrailingCholesky::factor(matrix, &touched_reduced).map_err(singular)?;
+        let ratio = factor.min_pivot_ratio();
+        if ratio < SINGULAR_PIVOT_RATIO {
+            return Err(DualError::NearlySingular {
+                ratio,
+                kernel: kernel_count,
+            });
+        }
         Ok(Self {
             factor,
             reduced,
+            contact_last,
             trailing,
             n,
         })
     }
 
     /// The factor.
-    pub fn factor(&self) -> &Factor {
+    pub fn factor(&self) -> &TrailingCholesky {
         &self.factor
+    }
+
+    /// Whether the contact DOFs are ordered last (so [`TrailingCholesky::trailing`] is the
+    /// factor of the Schur complement on [`StiffnessInverse::trailing`]).
+    pub fn contact_last(&self) -> bool {
+        self.contact_last
     }
 
     /// Full indices of the trailing DOFs (empty for a [`Factor::Plain`]).

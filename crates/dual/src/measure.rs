@@ -13,7 +13,6 @@ use sprs::TriMat;
 
 use crate::condense::{multi_rhs, trailing_hessian};
 use crate::dual::DualData;
-use crate::inverse::Factor;
 use crate::schur::interior_schur;
 
 /// 5-point Laplacian on side × side nodes plus `m` rows: bound rows (1 DOF each) or
@@ -52,7 +51,18 @@ fn problem(side: usize, m: usize, segment_like: bool) -> QpProblem {
         }
     }
     let a: CscMatrix = a.to_csc();
-    QpProblem::try_new(a, vec![-1.0 / n as f64; n], b.to_csc(), vec![0.01; m]).unwrap()
+    // Bound rows: an obstacle 0.01 below.  3-DOF rows: gaps of both signs (about half the rows
+    // end up active, pushing the two lines apart).
+    let gap = (0..m)
+        .map(|r| {
+            if segment_like {
+                1e-3 * (r as f64).sin()
+            } else {
+                0.01
+            }
+        })
+        .collect();
+    QpProblem::try_new(a, vec![-1.0 / n as f64; n], b.to_csc(), gap).unwrap()
 }
 
 #[test]
@@ -77,11 +87,12 @@ fn measure_condensations() {
                 let data_c = DualData::new(&p, true).unwrap();
                 let c_factor = t3.elapsed();
                 let t4 = Instant::now();
-                let Factor::Trailing(chol) = data_c.inverse.factor() else {
-                    panic!("expected a trailing factor")
-                };
-                let hc =
-                    trailing_hessian(chol.trailing(), data_c.inverse.trailing(), &p.constraints);
+                assert!(data_c.inverse.contact_last());
+                let hc = trailing_hessian(
+                    data_c.inverse.factor().trailing(),
+                    data_c.inverse.trailing(),
+                    &p.constraints,
+                );
                 let c_time = t4.elapsed();
                 let touched = crate::condense::touched_columns(&data.inverse, &p.constraints).len();
                 let diff = |h: &[f64]| {
@@ -104,6 +115,49 @@ fn measure_condensations() {
                     ms(c_factor + c_time),
                     diff(&hb.values),
                     diff(&hc.values),
+                );
+            }
+        }
+    }
+}
+
+#[test]
+#[ignore = "measurement: run by hand with --release --nocapture"]
+fn measure_methods() {
+    use crate::{DualBackend, DualSettings};
+    use signorini_core::linalg::SparseCholesky;
+    use signorini_core::qp::{checked_status, kkt_residuals, QpBackend, SolveOptions};
+    println!(
+        "| n | m | rows | floor (factor + solve) | method | status | iterations | time | × floor |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for (side, m) in [(100, 50), (100, 500), (316, 50), (316, 500)] {
+        for segment_like in [false, true] {
+            let p = problem(side, m, segment_like);
+            let t = Instant::now();
+            let chol = SparseCholesky::factor(&p.stiffness).unwrap();
+            let mut x = p.load.clone();
+            chol.solve_in_place(&mut x);
+            let floor = t.elapsed().as_secs_f64();
+            for mut backend in [
+                DualBackend::pgs(DualSettings::default()),
+                DualBackend::uzawa(DualSettings::default()),
+                DualBackend::active_set(DualSettings::default()),
+            ] {
+                let options = SolveOptions::default();
+                let sol = backend.solve(&p, &options).unwrap();
+                let r = kkt_residuals(&p, &sol.x, &sol.multipliers);
+                let status = checked_status(sol.status, &r, options.tol);
+                let time = sol.solve_time.as_secs_f64();
+                println!(
+                    "| {} | {m} | {} | {:.1} ms | {} | {status} | {} | {:.1} ms | {:.1} |",
+                    side * side,
+                    if segment_like { "3-DOF" } else { "bound" },
+                    floor * 1e3,
+                    backend.name(),
+                    sol.iterations,
+                    time * 1e3,
+                    time / floor
                 );
             }
         }

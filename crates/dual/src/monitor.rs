@@ -35,7 +35,10 @@ pub struct Monitor<'a> {
     max_iter: usize,
     check_every: usize,
     last_check: usize,
-    early_check_spent: bool,
+    /// An early check (estimate ≤ tol) is allowed only below this estimate: halved after an
+    /// early check that failed, reset after a multiplier update.
+    early_floor: f64,
+    pending_estimate: f64,
     last_multipliers: Vec<f64>,
     length_scale: f64,
     force_scale: f64,
@@ -57,7 +60,8 @@ impl<'a> Monitor<'a> {
             max_iter: options.max_iter.unwrap_or(settings.max_iter),
             check_every: settings.check_every,
             last_check: 0,
-            early_check_spent: false,
+            early_floor: f64::INFINITY,
+            pending_estimate: f64::INFINITY,
             last_multipliers: vec![0.0; problem.rows()],
             length_scale: f64::MIN_POSITIVE,
             force_scale: norm_inf(&problem.load).max(f64::MIN_POSITIVE),
@@ -86,13 +90,20 @@ impl<'a> Monitor<'a> {
         (pen / self.length_scale).max(comp / (self.length_scale * self.force_scale))
     }
 
+    /// Stretches the period of the periodic full checks to at least `period` iterations (used
+    /// when an iteration is much cheaper than the solve a check needs).
+    pub fn stretch_period(&mut self, period: usize) {
+        self.check_every = self.check_every.max(period);
+    }
+
     /// Is a full check due at iteration `iter`, given the cheap estimate?
     pub fn due(&mut self, iter: usize, estimate: f64) -> bool {
+        self.pending_estimate = f64::INFINITY;
         if iter >= self.last_check + self.check_every {
             return true;
         }
-        if estimate <= self.tol && !self.early_check_spent {
-            self.early_check_spent = true;
+        if estimate <= self.tol && estimate < self.early_floor {
+            self.pending_estimate = estimate;
             return true;
         }
         false
@@ -126,7 +137,7 @@ impl<'a> Monitor<'a> {
         x: &[f64],
     ) -> Next {
         self.last_check = iter;
-        self.early_check_spent = false;
+        let early = self.pending_estimate;
         if x.iter().chain(multipliers).any(|v| !v.is_finite()) {
             return Next::Stop(
                 QpStatus::NumericalError,
@@ -154,7 +165,11 @@ impl<'a> Monitor<'a> {
             .max(r.complementarity)
             .max(-r.min_multiplier);
         if data.floating() && r.stationarity > self.tol && inner <= r.stationarity {
+            self.early_floor = f64::INFINITY;
             return Next::UpdateMultiplier;
+        }
+        if early.is_finite() {
+            self.early_floor = 0.5 * early;
         }
         Next::Continue
     }

@@ -53,11 +53,17 @@ pub fn interior_schur(data: &DualData<'_>, block: usize) -> Result<DenseSym, Dua
         }
     }
     let nc = touched.len();
-    let a_ii = interior_block(a, &part, interior)?;
-    let chol = SparseCholesky::factor(&a_ii).map_err(|source| DualError::Singular {
-        source,
-        kernel: data.modes.count(),
-    })?;
+    let chol = if interior > 0 {
+        let a_ii = interior_block(a, &part, interior)?;
+        Some(
+            SparseCholesky::factor(&a_ii).map_err(|source| DualError::Singular {
+                source,
+                kernel: data.modes.count(),
+            })?,
+        )
+    } else {
+        None
+    };
 
     // S, column by column block.
     let mut schur = Mat::<f64>::zeros(nc, nc);
@@ -78,7 +84,7 @@ pub fn interior_schur(data: &DualData<'_>, block: usize) -> Result<DenseSym, Dua
                 }
             }
         }
-        if interior > 0 {
+        if let Some(chol) = &chol {
             chol.solve_many_in_place(work);
         }
         for k in 0..count {

@@ -105,7 +105,35 @@ pub fn solve(
     }
 }
 
+/// A dense factorisation of the (shifted) Newton matrix.
+enum Dense {
+    /// Symmetric positive definite block (no kernel).
+    Cholesky(faer::linalg::solvers::Llt<f64>),
+    /// Indefinite bordered system, or a failed Cholesky.
+    Lu(faer::linalg::solvers::PartialPivLu<f64>),
+}
+
+impl Dense {
+    fn solve(&self, rhs: &mut Mat<f64>) {
+        match self {
+            Dense::Cholesky(llt) => llt.solve_in_place(rhs.as_mut()),
+            Dense::Lu(lu) => lu.solve_in_place(rhs.as_mut()),
+        }
+    }
+}
+
+/// Relative Tikhonov shift of the active block (× max Hᵢᵢ); removed again by refinement.
+const SHIFT: f64 = 1e-12;
+
+/// Refinement steps against the unshifted system.
+const REFINEMENT_STEPS: usize = 3;
+
 /// Solves the Newton system on the active rows; `None` if it is singular.
+///
+/// The active block is factored with a tiny shift ε I (ε = `SHIFT` · max Hᵢᵢ), so that
+/// duplicated or dependent contact rows (a singular but consistent H_FF) do not break the
+/// factorisation; a few steps of iterative refinement against the unshifted matrix then remove
+/// the shift's effect.
 fn newton_step(
     hessian: &DenseSym,
     load: &[f64],
@@ -116,34 +144,48 @@ fn newton_step(
     let p = rows.len();
     let k = data.modes.count();
     let size = p + k;
+    let max_diag = (0..hessian.size)
+        .map(|i| hessian.diag(i))
+        .fold(0.0, f64::max);
+    let shift = SHIFT * max_diag;
     let matrix = Mat::<f64>::from_fn(size, size, |a, b| match (a < p, b < p) {
         (true, true) => hessian.col(rows[b])[rows[a]],
         (true, false) => data.modes.coupling[b - p][rows[a]],
         (false, true) => data.modes.coupling[a - p][rows[b]],
         (false, false) => 0.0,
     });
-    let mut rhs = Mat::<f64>::from_fn(size, 1, |a, _| {
+    let shifted = Mat::<f64>::from_fn(size, size, |a, b| {
+        matrix[(a, b)] + if a == b && a < p { shift } else { 0.0 }
+    });
+    let rhs = Mat::<f64>::from_fn(size, 1, |a, _| {
         if a < p {
             load[rows[a]]
         } else {
             data.modes.load[a - p]
         }
     });
-    if k == 0 {
-        match matrix.llt(Side::Lower) {
-            Ok(llt) => llt.solve_in_place(rhs.as_mut()),
-            Err(_) => matrix.partial_piv_lu().solve_in_place(rhs.as_mut()),
+    let solver = if k == 0 {
+        match shifted.llt(Side::Lower) {
+            Ok(llt) => Dense::Cholesky(llt),
+            Err(_) => Dense::Lu(shifted.partial_piv_lu()),
         }
     } else {
-        matrix.partial_piv_lu().solve_in_place(rhs.as_mut());
+        Dense::Lu(shifted.partial_piv_lu())
+    };
+    let mut solution = rhs.clone();
+    solver.solve(&mut solution);
+    for _ in 0..REFINEMENT_STEPS {
+        let mut residual = &rhs - &matrix * &solution;
+        solver.solve(&mut residual);
+        solution += residual;
     }
-    if (0..size).any(|a| !rhs[(a, 0)].is_finite()) {
+    if (0..size).any(|a| !solution[(a, 0)].is_finite()) {
         return None;
     }
     let mut lambda = vec![0.0; active.len()];
     for (a, &i) in rows.iter().enumerate() {
-        lambda[i] = rhs[(a, 0)];
+        lambda[i] = solution[(a, 0)];
     }
-    let mu = (0..k).map(|j| rhs[(p + j, 0)]).collect();
+    let mu = (0..k).map(|j| solution[(p + j, 0)]).collect();
     Some((lambda, mu))
 }

@@ -30,6 +30,8 @@ pub struct TrailingCholesky {
     n: usize,
     /// L_cc, |c| × |c| lower triangular; row/column k is `touched[k]`.
     trailing: Mat<f64>,
+    /// minⱼ Lⱼⱼ² / Aⱼⱼ: near zero when A is (numerically) singular.
+    min_pivot_ratio: f64,
 }
 
 impl TrailingCholesky {
@@ -91,13 +93,27 @@ impl TrailingCholesky {
                     LinalgError::NotPositiveDefinite { index, n }
                 }
             })?;
-        let trailing = trailing_block(&symbolic, &values, n, touched.len())?;
+        let SymbolicCholeskyRaw::Supernodal(supernodal) = symbolic.raw() else {
+            return Err(LinalgError::Faer(
+                "expected a supernodal factorisation".into(),
+            ));
+        };
+        let llt = SupernodalLltRef::new(supernodal, &values);
+        let trailing = trailing_block(llt, n, touched.len());
+        let min_pivot_ratio = pivot_ratio(llt, a, &forward);
         Ok(Self {
             symbolic,
             values,
             n,
             trailing,
+            min_pivot_ratio,
         })
+    }
+
+    /// minⱼ Lⱼⱼ² / Aⱼⱼ over the pivots (1 for an empty matrix).  A singular A that the
+    /// factorisation got through by round-off shows a ratio near machine precision.
+    pub fn min_pivot_ratio(&self) -> f64 {
+        self.min_pivot_ratio
     }
 
     /// Size n of A.
@@ -126,22 +142,29 @@ impl TrailingCholesky {
     }
 }
 
+/// minⱼ Lⱼⱼ² / A_{fwd(j) fwd(j)}.
+fn pivot_ratio(llt: SupernodalLltRef<'_, usize, f64>, a: &CscMatrix, forward: &[usize]) -> f64 {
+    let mut ratio = 1.0_f64;
+    for s in 0..llt.symbolic().n_supernodes() {
+        let node = llt.supernode(s);
+        let val = node.val();
+        for local in 0..val.ncols() {
+            let old = forward[node.start() + local];
+            let a_jj = a.get(old, old).copied().unwrap_or(0.0);
+            let l_jj = val[(local, local)];
+            if a_jj > 0.0 {
+                ratio = ratio.min(l_jj * l_jj / a_jj);
+            }
+        }
+    }
+    ratio
+}
+
 /// Copies the last `size` columns of the supernodal factor into a dense lower-triangular block.
-fn trailing_block(
-    symbolic: &SymbolicCholesky<usize>,
-    values: &[f64],
-    n: usize,
-    size: usize,
-) -> Result<Mat<f64>, LinalgError> {
-    let SymbolicCholeskyRaw::Supernodal(supernodal) = symbolic.raw() else {
-        return Err(LinalgError::Faer(
-            "expected a supernodal factorisation".into(),
-        ));
-    };
+fn trailing_block(llt: SupernodalLltRef<'_, usize, f64>, n: usize, size: usize) -> Mat<f64> {
     let first = n - size;
-    let llt = SupernodalLltRef::new(supernodal, values);
     let mut block = Mat::<f64>::zeros(size, size);
-    for s in 0..supernodal.n_supernodes() {
+    for s in 0..llt.symbolic().n_supernodes() {
         let node = llt.supernode(s);
         let start = node.start();
         let val = node.val();
@@ -162,5 +185,5 @@ fn trailing_block(
             }
         }
     }
-    Ok(block)
+    block
 }

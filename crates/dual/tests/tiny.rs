@@ -131,3 +131,59 @@ fn bad_settings_are_an_error() {
         .solve(&p, &SolveOptions::default())
         .is_err());
 }
+
+#[test]
+fn time_limit_is_a_status() {
+    let p = common::laplacian_obstacle(30, 30, 20, 1.0);
+    let options = SolveOptions {
+        time_limit: Some(std::time::Duration::ZERO),
+        ..SolveOptions::default()
+    };
+    for mut b in backends() {
+        let sol = b.solve(&p, &options).unwrap();
+        assert_eq!(sol.status, QpStatus::TimeLimit, "{}", b.name());
+        assert!(sol.x.iter().all(|v| v.is_finite()));
+    }
+}
+
+#[test]
+fn nan_data_is_an_error_not_a_panic() {
+    let mut p = qp(1, &[(0, 0, 2.0)], vec![4.0], 1, &[(0, 0, 1.0)], vec![1.0]);
+    p.gap[0] = f64::NAN;
+    for mut b in backends() {
+        assert!(b.solve(&p, &SolveOptions::default()).is_err());
+    }
+}
+
+/// 30 rows on a 25-node line: some rows are duplicated (a singular but consistent H), which the
+/// active-set method must survive too.
+#[test]
+fn every_condensation_and_block_size_gives_the_same_answer() {
+    use signorini_dual::Condensation;
+    let p = common::laplacian_obstacle(25, 25, 30, 1.0);
+    let mut reference: Option<Vec<f64>> = None;
+    for condensation in [
+        Condensation::TrailingBlock,
+        Condensation::MultiRhs,
+        Condensation::InteriorSchur,
+    ] {
+        for block_size in [1, 7, 64] {
+            let mut b = DualBackend::active_set(DualSettings {
+                condensation,
+                block_size,
+                ..DualSettings::default()
+            });
+            let (sol, status) = solve(&mut b, &p, 1e-10);
+            assert_eq!(
+                status,
+                QpStatus::Solved,
+                "{condensation:?} {block_size} {:?}",
+                sol.message
+            );
+            match &reference {
+                None => reference = Some(sol.x),
+                Some(x) => assert!(common::rel_diff(x, &sol.x) < 1e-10),
+            }
+        }
+    }
+}
