@@ -5,11 +5,10 @@ use std::time::{Duration, Instant};
 use clarabel::algebra::CscMatrix as ClarabelCsc;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 use signorini_core::qp::{
-    QpBackend, QpError, QpProblem, QpScaling, QpSolution, QpStatus, SolveOptions,
+    csc_parts, QpBackend, QpError, QpProblem, QpScaling, QpSolution, QpStatus, SolveOptions,
 };
 
 use crate::settings::ClarabelSettings;
-use crate::validate::{check_problem, csc_parts};
 use crate::NAME;
 
 /// The clarabel interior-point solver behind [`QpBackend`].
@@ -56,7 +55,7 @@ impl QpBackend for ClarabelBackend {
         options: &SolveOptions,
     ) -> Result<QpSolution, QpError> {
         let start = Instant::now();
-        check_problem(problem)?;
+        problem.validate()?;
         let settings = self.settings.to_clarabel(options)?;
         if problem.dofs() == 0 {
             return Ok(no_unknowns(problem, start));

@@ -32,7 +32,6 @@
 
 mod backend;
 mod settings;
-mod validate;
 
 pub use backend::ClarabelBackend;
 pub use settings::{ClarabelSettings, ClarabelSettingsError, DirectSolver};

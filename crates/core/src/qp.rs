@@ -91,71 +91,81 @@ impl QpProblem {
         constraints: CscMatrix,
         gap: Vec<f64>,
     ) -> Result<Self, QpError> {
-        let n = stiffness.rows();
-        if stiffness.cols() != n {
-            return Err(QpError::Dimensions(format!(
-                "A is {}×{}, not square",
-                stiffness.rows(),
-                stiffness.cols()
-            )));
-        }
-        if load.len() != n {
-            return Err(QpError::Dimensions(format!(
-                "f has length {} but A is {n}×{n}",
-                load.len()
-            )));
-        }
-        if constraints.cols() != n {
-            return Err(QpError::Dimensions(format!(
-                "B has {} columns but A is {n}×{n}",
-                constraints.cols()
-            )));
-        }
-        if gap.len() != constraints.rows() {
-            return Err(QpError::Dimensions(format!(
-                "g has length {} but B has {} rows",
-                gap.len(),
-                constraints.rows()
-            )));
-        }
-        if !stiffness.is_csc() {
-            return Err(QpError::NotCsc("A"));
-        }
-        if !constraints.is_csc() {
-            return Err(QpError::NotCsc("B"));
-        }
-        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
-        if !finite(stiffness.data()) {
-            return Err(QpError::NotFinite("A"));
-        }
-        if !finite(&load) {
-            return Err(QpError::NotFinite("f"));
-        }
-        if !finite(constraints.data()) {
-            return Err(QpError::NotFinite("B"));
-        }
-        if !finite(&gap) {
-            return Err(QpError::NotFinite("g"));
-        }
-        Ok(Self {
+        let problem = Self {
             stiffness,
             load,
             constraints,
             gap,
             kernel: Vec::new(),
-        })
+        };
+        problem.validate()?;
+        Ok(problem)
     }
 
-    /// Attaches a known null-space basis of A (see [`QpProblem::kernel`]).
-    pub fn with_kernel(mut self, kernel: Vec<Vec<f64>>) -> Result<Self, QpError> {
-        if let Some(v) = kernel.iter().find(|v| v.len() != self.dofs()) {
+    /// Checks dimensions, CSC storage and finiteness.  The fields are public, so a backend calls
+    /// this before handing the data to a solver whose constructors assert.
+    pub fn validate(&self) -> Result<(), QpError> {
+        let n = self.stiffness.rows();
+        if self.stiffness.cols() != n {
             return Err(QpError::Dimensions(format!(
-                "kernel vector has length {} but A is {n}×{n}",
-                v.len(),
-                n = self.dofs()
+                "A is {}×{}, not square",
+                n,
+                self.stiffness.cols()
             )));
         }
+        if self.load.len() != n {
+            return Err(QpError::Dimensions(format!(
+                "f has length {} but A is {n}×{n}",
+                self.load.len()
+            )));
+        }
+        if self.constraints.cols() != n {
+            return Err(QpError::Dimensions(format!(
+                "B has {} columns but A is {n}×{n}",
+                self.constraints.cols()
+            )));
+        }
+        if self.gap.len() != self.constraints.rows() {
+            return Err(QpError::Dimensions(format!(
+                "g has length {} but B has {} rows",
+                self.gap.len(),
+                self.constraints.rows()
+            )));
+        }
+        if let Some(v) = self.kernel.iter().find(|v| v.len() != n) {
+            return Err(QpError::Dimensions(format!(
+                "kernel vector has length {} but A is {n}×{n}",
+                v.len()
+            )));
+        }
+        if !self.stiffness.is_csc() {
+            return Err(QpError::NotCsc("A"));
+        }
+        if !self.constraints.is_csc() {
+            return Err(QpError::NotCsc("B"));
+        }
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        if !finite(self.stiffness.data()) {
+            return Err(QpError::NotFinite("A"));
+        }
+        if !finite(&self.load) {
+            return Err(QpError::NotFinite("f"));
+        }
+        if !finite(self.constraints.data()) {
+            return Err(QpError::NotFinite("B"));
+        }
+        if !finite(&self.gap) {
+            return Err(QpError::NotFinite("g"));
+        }
+        if self.kernel.iter().any(|v| !finite(v)) {
+            return Err(QpError::NotFinite("kernel"));
+        }
+        Ok(())
+    }
+    /// Attaches a known null-space basis of A (see [`QpProblem::kernel`]).
+    pub fn with_kernel(mut self, kernel: Vec<Vec<f64>>) -> Result<Self, QpError> {
         self.kernel = kernel;
+        self.validate()?;
         Ok(self)
     }
 
@@ -393,17 +403,41 @@ pub fn kkt_residuals(problem: &QpProblem, x: &[f64], multipliers: &[f64]) -> Kkt
     }
 }
 
-/// The status to report: a backend's `Solved` stands only if the residuals meet `tol`
-/// (otherwise `Inaccurate`); any other verdict is kept.  Non-finite output is a numerical error.
+/// The status to report: a backend's `Solved` (or `Inaccurate`) stands as `Solved` only if the
+/// residuals meet `tol`, else `Inaccurate`, or `NumericalError` when they are not finite.  Any
+/// other verdict (limits, infeasibility certificates) is kept as the backend gave it.
 pub fn checked_status(reported: QpStatus, residuals: &KktResiduals, tol: f64) -> QpStatus {
-    if residuals.worst().is_infinite() {
-        return QpStatus::NumericalError;
-    }
     match reported {
+        QpStatus::Solved | QpStatus::Inaccurate if residuals.worst().is_infinite() => {
+            QpStatus::NumericalError
+        }
         QpStatus::Solved | QpStatus::Inaccurate if residuals.meet(tol) => QpStatus::Solved,
-        QpStatus::Solved => QpStatus::Inaccurate,
+        QpStatus::Solved | QpStatus::Inaccurate => QpStatus::Inaccurate,
         other => other,
     }
+}
+
+/// Column pointers, row indices and values of a CSC matrix, keeping only the entries with
+/// `keep(row, col)` (e.g. `|i, j| i <= j` for the upper triangle solvers want); rows stay sorted
+/// within each column.
+pub fn csc_parts(
+    matrix: &CscMatrix,
+    keep: impl Fn(usize, usize) -> bool,
+) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+    let mut colptr = Vec::with_capacity(matrix.cols() + 1);
+    let mut rows = Vec::with_capacity(matrix.nnz());
+    let mut values = Vec::with_capacity(matrix.nnz());
+    colptr.push(0);
+    for (col, column) in matrix.outer_iterator().enumerate() {
+        for (row, &value) in column.iter() {
+            if keep(row, col) {
+                rows.push(row);
+                values.push(value);
+            }
+        }
+        colptr.push(rows.len());
+    }
+    (colptr, rows, values)
 }
 
 /// Scalar scaling that makes a QP dimensionless: x = `displacement` · x̂, A = `stiffness` · Â,
@@ -533,6 +567,11 @@ mod tests {
         assert_eq!(
             checked_status(QpStatus::Solved, &nan, 1e-6),
             QpStatus::NumericalError
+        );
+        // An infeasibility certificate is kept even though its x is no solution.
+        assert_eq!(
+            checked_status(QpStatus::PrimalInfeasible, &nan, 1e-6),
+            QpStatus::PrimalInfeasible
         );
     }
 

@@ -6,12 +6,11 @@ use std::time::{Duration, Instant};
 
 use osqp::{CscMatrix as OsqpCsc, PolishStatus, Problem, SetupError, Status};
 use signorini_core::qp::{
-    kkt_residuals, norm_inf, QpBackend, QpError, QpProblem, QpScaling, QpSolution, QpStatus,
-    SolveOptions,
+    csc_parts, kkt_residuals, norm_inf, QpBackend, QpError, QpProblem, QpScaling, QpSolution,
+    QpStatus, SolveOptions,
 };
 
 use crate::settings::{OsqpSettings, Plan};
-use crate::validate::{check_problem, csc_parts};
 use crate::NAME;
 
 /// Lower bound standing for −∞ (OSQP treats |l| ≥ 1e30 as infinite).
@@ -68,7 +67,7 @@ impl QpBackend for OsqpBackend {
         options: &SolveOptions,
     ) -> Result<QpSolution, QpError> {
         let start = Instant::now();
-        check_problem(problem)?;
+        problem.validate()?;
         self.settings.validate()?;
         if problem.dofs() == 0 {
             return Ok(no_unknowns(problem, start));

@@ -40,7 +40,6 @@
 
 mod backend;
 mod settings;
-mod validate;
 
 pub use backend::OsqpBackend;
 pub use settings::{OsqpSettings, OsqpSettingsError};
