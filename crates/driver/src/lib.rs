@@ -4,5 +4,7 @@
 //! call them; `main.rs` only parses the command line.
 
 pub mod backends;
+pub mod compare;
+pub mod export;
 pub mod output;
 pub mod run;

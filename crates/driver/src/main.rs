@@ -46,6 +46,32 @@ enum Command {
         #[arg(long, default_value = "out")]
         out: PathBuf,
     },
+    /// Mesh and assemble once, then solve the same QP with several backends and compare them.
+    Compare {
+        #[command(flatten)]
+        common: Common,
+        /// Comma-separated backends.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "clarabel,osqp,dual-pgs,dual-uzawa"
+        )]
+        backends: Vec<String>,
+        /// Relative KKT tolerance every backend is asked to meet.
+        #[arg(long, default_value_t = 1e-9)]
+        tol: f64,
+        /// Output directory for compare.json and compare.csv (created if missing).
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+    },
+    /// Write the scene's QP (A, f, B, g as Matrix Market) and its DOF and row maps.
+    Export {
+        #[command(flatten)]
+        common: Common,
+        /// Output directory (created if missing).
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+    },
     /// Validate a scene without solving it.
     Check {
         #[command(flatten)]
@@ -129,6 +155,62 @@ fn solve(common: &Common, backend: &str, tol: f64, out: &std::path::Path) -> Res
     }
 }
 
+fn compare(common: &Common, names: &[String], tol: f64, out: &std::path::Path) -> Result<ExitCode> {
+    check_tol(tol)?;
+    let kinds: Vec<BackendKind> = names.iter().map(|n| n.parse()).collect::<Result<_, _>>()?;
+    anyhow::ensure!(!kinds.is_empty(), "--backends names no backend");
+    for k in &kinds {
+        anyhow::ensure!(
+            k.available(),
+            "backend \"{k}\" is not compiled in; rebuild with `--features {k}`"
+        );
+    }
+    let scene = run::load_scene(common.scene.as_deref())?;
+    let options = SolveOptions {
+        tol,
+        ..SolveOptions::default()
+    };
+    let bar = indicatif::ProgressBar::new(kinds.len() as u64).with_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let report = signorini::compare::compare(&scene, &kinds, &options, &limits(common), |name| {
+        bar.set_message(name.to_string());
+        bar.inc(1);
+    })?;
+    bar.finish_and_clear();
+    let written = signorini::compare::write(out, &report)
+        .with_context(|| format!("writing comparison to {}", out.display()))?;
+    print!("{}", signorini::compare::table(&report));
+    for p in &written {
+        println!("  wrote {}", p.display());
+    }
+    let all_solved = report.backends.iter().all(|r| r.status == "solved");
+    Ok(if all_solved {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(2)
+    })
+}
+
+fn export(common: &Common, out: &std::path::Path) -> Result<ExitCode> {
+    let scene = run::load_scene(common.scene.as_deref())?;
+    let prepared = run::prepare(&scene, &limits(common))?;
+    let qp = prepared.model.qp()?;
+    let written = signorini::export::export(out, &scene, &prepared.model, &qp)
+        .with_context(|| format!("exporting to {}", out.display()))?;
+    println!(
+        "{}: {} unknowns, {} contact rows",
+        scene.title,
+        qp.dofs(),
+        qp.rows()
+    );
+    for p in &written {
+        println!("  wrote {}", p.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
 fn check(common: &Common) -> Result<ExitCode> {
     let scene = run::load_scene(common.scene.as_deref())?;
     let limits = limits(common);
@@ -166,6 +248,13 @@ fn main() -> ExitCode {
             tol,
             out,
         } => solve(common, backend, *tol, out),
+        Command::Compare {
+            common,
+            backends,
+            tol,
+            out,
+        } => compare(common, backends, *tol, out),
+        Command::Export { common, out } => export(common, out),
         Command::Check { common } => check(common),
     };
     match result {

@@ -1,0 +1,247 @@
+//! `signorini compare`: mesh and assemble once, then the same QP through several backends, each
+//! timed against the floor (one unconstrained sparse factorisation + solve of the same A, timed
+//! in the same run) and compared with the most accurate answer.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use serde::Serialize;
+use signorini_core::mesh::MeshLimits;
+use signorini_core::qp::{KktResiduals, QpStatus, SolveOptions};
+use signorini_core::scene::Scene;
+use signorini_core::solve::{self, Solution};
+
+use crate::backends::{make_backend, BackendKind};
+use crate::output::{self, OutputError};
+use crate::run::{self, RunError};
+
+/// One backend's row of the comparison.
+#[derive(Debug, Clone, Serialize)]
+pub struct CompareRow {
+    /// Backend name.
+    pub backend: String,
+    /// Core-checked status.
+    pub status: String,
+    /// Backend iterations.
+    pub iterations: usize,
+    /// Solve wall-clock time, seconds.
+    pub solve_s: f64,
+    /// `solve_s` / `floor_s`.
+    pub ratio_to_floor: f64,
+    /// ½uᵀAu − fᵀu.
+    pub objective: f64,
+    /// Largest nodal displacement difference to the reference backend.
+    pub max_du: f64,
+    /// Number of active contact rows.
+    pub active: usize,
+    /// Core-computed residuals.
+    pub residuals: KktResiduals,
+    /// The backend's note, if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub message: Option<String>,
+}
+
+/// `compare.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct CompareReport {
+    /// Scene title.
+    pub scene: String,
+    /// Free DOFs.
+    pub dofs: usize,
+    /// Contact rows.
+    pub constraints: usize,
+    /// Requested tolerance.
+    pub tolerance: f64,
+    /// Meshing time, seconds.
+    pub mesh_s: f64,
+    /// Assembly time, seconds.
+    pub assemble_s: f64,
+    /// One unconstrained factorisation + solve of A, seconds (median of three).
+    pub floor_s: f64,
+    /// The backend `max_du` is measured against: the solved one with the smallest residuals.
+    pub reference: Option<String>,
+    /// One row per backend.
+    pub backends: Vec<CompareRow>,
+}
+
+fn nodal_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.chunks(2)
+        .zip(b.chunks(2))
+        .map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1]))
+        .fold(0.0, f64::max)
+}
+
+/// Runs every backend in `kinds` on the scene; `progress` is told each backend's name first.
+pub fn compare(
+    scene: &Scene,
+    kinds: &[BackendKind],
+    options: &SolveOptions,
+    limits: &MeshLimits,
+    mut progress: impl FnMut(&str),
+) -> Result<CompareReport, RunError> {
+    let prepared = run::prepare(scene, limits)?;
+    let model = &prepared.model;
+    let qp = model.qp().map_err(solve::SolveError::from)?;
+    let mut floors: Vec<Duration> = (0..3)
+        .map(|_| solve::floor_time(&qp))
+        .collect::<Result<_, _>>()
+        .map_err(solve::SolveError::from)?;
+    floors.sort();
+    let floor_s = floors[1].as_secs_f64();
+
+    let mut solutions: Vec<Solution> = Vec::with_capacity(kinds.len());
+    for &kind in kinds {
+        progress(kind.name());
+        let mut backend = make_backend(kind).map_err(|e| {
+            RunError::Solve(solve::SolveError::Qp(
+                signorini_core::qp::QpError::Unavailable {
+                    backend: kind.name(),
+                    reason: e.to_string(),
+                },
+            ))
+        })?;
+        solutions.push(solve::solve_problem(model, &qp, backend.as_mut(), options)?);
+    }
+    let reference = solutions
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.status == QpStatus::Solved)
+        .min_by(|(_, a), (_, b)| a.residuals.worst().total_cmp(&b.residuals.worst()))
+        .map(|(i, _)| i);
+    let force_scale = model.load.iter().map(|f| f.abs()).sum::<f64>();
+    let backends = solutions
+        .iter()
+        .map(|s| {
+            let largest = s.multipliers.iter().copied().fold(force_scale, f64::max);
+            CompareRow {
+                backend: s.backend.clone(),
+                status: s.status.as_str().to_string(),
+                iterations: s.iterations,
+                solve_s: s.solve_time.as_secs_f64(),
+                ratio_to_floor: s.solve_time.as_secs_f64() / floor_s,
+                objective: s.objective,
+                max_du: reference
+                    .map(|r| nodal_difference(&s.displacement, &solutions[r].displacement))
+                    .unwrap_or(f64::NAN),
+                active: s
+                    .multipliers
+                    .iter()
+                    .filter(|l| signorini_core::report::is_active(**l, largest))
+                    .count(),
+                residuals: s.residuals,
+                message: s.message.clone(),
+            }
+        })
+        .collect();
+    Ok(CompareReport {
+        scene: scene.title.clone(),
+        dofs: model.free.len(),
+        constraints: model.rows(),
+        tolerance: options.tol,
+        mesh_s: prepared.mesh_s,
+        assemble_s: prepared.assemble_s,
+        floor_s,
+        reference: reference.map(|r| solutions[r].backend.clone()),
+        backends,
+    })
+}
+
+/// The comparison as a fixed-width text table.
+pub fn table(report: &CompareReport) -> String {
+    let mut t = format!(
+        "{}\n  {} DOFs, {} contact rows; floor (factor + solve of A) {:.3} ms; reference: {}\n",
+        report.scene,
+        report.dofs,
+        report.constraints,
+        report.floor_s * 1e3,
+        report.reference.as_deref().unwrap_or("none solved")
+    );
+    t.push_str(&format!(
+        "  {:<11} {:<17} {:>6} {:>10} {:>8} {:>13} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9}\n",
+        "backend",
+        "status",
+        "iter",
+        "solve ms",
+        "÷floor",
+        "objective",
+        "max|Δu|",
+        "active",
+        "penetr.",
+        "station.",
+        "compl.",
+        "min λ"
+    ));
+    for r in &report.backends {
+        t.push_str(&format!(
+            "  {:<11} {:<17} {:>6} {:>10.3} {:>8.2} {:>13.6e} {:>9.1e} {:>6} {:>9.1e} {:>9.1e} {:>9.1e} {:>9.1e}\n",
+            r.backend,
+            r.status,
+            r.iterations,
+            r.solve_s * 1e3,
+            r.ratio_to_floor,
+            r.objective,
+            r.max_du,
+            r.active,
+            r.residuals.max_penetration,
+            r.residuals.stationarity,
+            r.residuals.complementarity,
+            r.residuals.min_multiplier
+        ));
+    }
+    t
+}
+
+/// Writes `compare.json` and `compare.csv` into `dir` (created if missing), atomically.
+pub fn write(dir: &Path, report: &CompareReport) -> Result<Vec<PathBuf>, OutputError> {
+    std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let json = dir.join("compare.json");
+    output::write_atomically(&json, |w| {
+        serde_json::to_writer_pretty(&mut *w, report).map_err(std::io::Error::other)?;
+        writeln!(w)
+    })?;
+    let csv_path = dir.join("compare.csv");
+    output::write_atomically(&csv_path, |w| {
+        let mut csv = csv::Writer::from_writer(w);
+        csv.write_record([
+            "backend",
+            "status",
+            "iterations",
+            "solve_s",
+            "floor_s",
+            "ratio_to_floor",
+            "objective",
+            "max_du",
+            "active",
+            "max_penetration",
+            "stationarity",
+            "complementarity",
+            "min_multiplier",
+            "dofs",
+            "constraints",
+        ])?;
+        for r in &report.backends {
+            csv.write_record([
+                r.backend.clone(),
+                r.status.clone(),
+                r.iterations.to_string(),
+                format!("{:e}", r.solve_s),
+                format!("{:e}", report.floor_s),
+                format!("{:e}", r.ratio_to_floor),
+                format!("{:e}", r.objective),
+                format!("{:e}", r.max_du),
+                r.active.to_string(),
+                format!("{:e}", r.residuals.max_penetration),
+                format!("{:e}", r.residuals.stationarity),
+                format!("{:e}", r.residuals.complementarity),
+                format!("{:e}", r.residuals.min_multiplier),
+                report.dofs.to_string(),
+                report.constraints.to_string(),
+            ])?;
+        }
+        csv.flush()
+    })?;
+    Ok(vec![json, csv_path])
+}

@@ -1,0 +1,135 @@
+//! `signorini export`: the reduced QP of a scene as Matrix Market files plus the DOF and row
+//! maps, so that any outside QP solver can be run on exactly our problem.
+//!
+//! Files: `A.mtx` (stiffness, coordinate real general, both triangles), `f.mtx` (load, array),
+//! `B.mtx` (contact rows, coordinate), `g.mtx` (gaps, array), `dofs.csv` (unknown → body, node,
+//! component, coordinates), `rows.csv` (row → pair, slave body and node, position, gap) and
+//! `README.txt` stating the problem `min ½xᵀAx − fᵀx s.t. Bx ≤ g`.  Values are the user's units
+//! (not the internal nondimensional ones).
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use signorini_core::model::Model;
+use signorini_core::qp::QpProblem;
+use signorini_core::scene::Scene;
+
+use crate::output::{self, OutputError};
+
+fn write_dense(w: &mut dyn Write, v: &[f64]) -> std::io::Result<()> {
+    writeln!(w, "%%MatrixMarket matrix array real general")?;
+    writeln!(w, "% written by signorini")?;
+    writeln!(w, "{} 1", v.len())?;
+    for x in v {
+        // `{:e}` of an f64 is the shortest text that reads back to the same value.
+        writeln!(w, "{x:e}")?;
+    }
+    Ok(())
+}
+
+/// Writes the exported files into `dir` (created if missing), each atomically.
+pub fn export(
+    dir: &Path,
+    scene: &Scene,
+    model: &Model,
+    qp: &QpProblem,
+) -> Result<Vec<PathBuf>, OutputError> {
+    std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let mut written = Vec::new();
+    let mut put = |name: &str, f: &mut dyn FnMut(&mut dyn Write) -> std::io::Result<()>| {
+        let path = dir.join(name);
+        output::write_atomically(&path, |w| f(w))?;
+        written.push(path);
+        Ok::<(), OutputError>(())
+    };
+    put("A.mtx", &mut |w| {
+        sprs::io::write_matrix_market_to_bufwrite(w, &qp.stiffness)
+    })?;
+    put("f.mtx", &mut |w| write_dense(w, &qp.load))?;
+    put("B.mtx", &mut |w| {
+        sprs::io::write_matrix_market_to_bufwrite(w, &qp.constraints)
+    })?;
+    put("g.mtx", &mut |w| write_dense(w, &qp.gap))?;
+    put("dofs.csv", &mut |w| {
+        let mut csv = csv::Writer::from_writer(w);
+        csv.write_record(["unknown", "body", "node", "component", "x", "y"])?;
+        for (k, &d) in model.free.iter().enumerate() {
+            let node = d / 2;
+            let body = (0..model.meshes.len())
+                .rev()
+                .find(|&b| model.dofs.node_offset(b) <= node)
+                .unwrap_or(0);
+            let local = node - model.dofs.node_offset(body);
+            let p = model.meshes[body].nodes[local];
+            csv.write_record([
+                k.to_string(),
+                scene.bodies[body].name.clone(),
+                local.to_string(),
+                ["x", "y"][d % 2].to_string(),
+                format!("{:e}", p[0]),
+                format!("{:e}", p[1]),
+            ])?;
+        }
+        csv.flush()
+    })?;
+    put("rows.csv", &mut |w| {
+        let mut csv = csv::Writer::from_writer(w);
+        csv.write_record([
+            "row",
+            "pair",
+            "slave",
+            "slave_node",
+            "x",
+            "y",
+            "alpha",
+            "nx",
+            "ny",
+            "gap",
+        ])?;
+        let mut row = 0;
+        for pair in &model.contacts {
+            for r in &pair.rows {
+                csv.write_record([
+                    row.to_string(),
+                    (pair.pair + 1).to_string(),
+                    scene.bodies[pair.slave].name.clone(),
+                    r.slave_node.to_string(),
+                    format!("{:e}", r.position[0]),
+                    format!("{:e}", r.position[1]),
+                    format!("{:e}", r.alpha),
+                    format!("{:e}", r.normal[0]),
+                    format!("{:e}", r.normal[1]),
+                    format!("{:e}", qp.gap[row]),
+                ])?;
+                row += 1;
+            }
+        }
+        csv.flush()
+    })?;
+    put("README.txt", &mut |w| {
+        writeln!(w, "Scene: {}", scene.title)?;
+        writeln!(w, "Problem: minimise 1/2 x'Ax - f'x subject to Bx <= g")?;
+        writeln!(
+            w,
+            "n = {} unknowns (free DOFs, see dofs.csv), m = {} contact rows (see rows.csv).",
+            qp.dofs(),
+            qp.rows()
+        )?;
+        writeln!(
+            w,
+            "A is symmetric (both triangles stored); the multipliers of Bx <= g are the contact forces."
+        )?;
+        if !qp.kernel.is_empty() {
+            writeln!(
+                w,
+                "A is singular: {} rigid-body mode(s) of floating bodies are held only by contact.",
+                qp.kernel.len()
+            )?;
+        }
+        Ok(())
+    })?;
+    Ok(written)
+}

@@ -1,0 +1,123 @@
+//! `signorini compare` and `signorini export` end to end: every backend on one QP, and the
+//! exported Matrix Market files read back equal to the problem they came from.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use signorini::run;
+use signorini_core::mesh::MeshLimits;
+
+fn fixture(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../fixtures/seed/{name}.toml"))
+}
+
+fn signorini(args: &[&str], cwd: &Path) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_signorini"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("run signorini")
+}
+
+fn read_dense(path: &Path) -> Vec<f64> {
+    let text = std::fs::read_to_string(path).expect("read");
+    let mut lines = text.lines().filter(|l| !l.starts_with('%'));
+    let header: Vec<usize> = lines
+        .next()
+        .expect("size line")
+        .split_whitespace()
+        .map(|t| t.parse().expect("size"))
+        .collect();
+    let v: Vec<f64> = lines.map(|l| l.trim().parse().expect("value")).collect();
+    assert_eq!(header, vec![v.len(), 1]);
+    v
+}
+
+#[test]
+fn exported_problem_reads_back_equal() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = fixture("exp6b");
+    let o = signorini(
+        &["export", scene_path.to_str().unwrap(), "--out", "x"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = dir.path().join("x");
+
+    let scene = run::load_scene(Some(&scene_path)).unwrap();
+    let prepared = run::prepare(&scene, &MeshLimits::default()).unwrap();
+    let qp = prepared.model.qp().unwrap();
+
+    for (name, m) in [("A.mtx", &qp.stiffness), ("B.mtx", &qp.constraints)] {
+        let read: sprs::TriMat<f64> = sprs::io::read_matrix_market(out.join(name)).unwrap();
+        let read: sprs::CsMat<f64> = read.to_csc();
+        assert_eq!(read.shape(), m.shape(), "{name}");
+        assert_eq!(read.nnz(), m.nnz(), "{name}");
+        for (v, (i, j)) in m.iter() {
+            assert_eq!(read.get(i, j), Some(v), "{name} ({i},{j})");
+        }
+    }
+    assert_eq!(read_dense(&out.join("f.mtx")), qp.load);
+    assert_eq!(read_dense(&out.join("g.mtx")), qp.gap);
+    let dofs = std::fs::read_to_string(out.join("dofs.csv")).unwrap();
+    assert_eq!(dofs.lines().count(), qp.dofs() + 1);
+    assert!(dofs.lines().nth(1).unwrap().contains(','));
+    let rows = std::fs::read_to_string(out.join("rows.csv")).unwrap();
+    assert_eq!(rows.lines().count(), qp.rows() + 1);
+    // 6b prescribes ux = −0.08 on the middle body: the lifted load is in f, not in extra rows.
+    assert!(qp.load.iter().any(|f| *f != 0.0));
+}
+
+#[test]
+fn compare_runs_every_backend_on_one_problem() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = fixture("exp2b");
+    let o = signorini(
+        &[
+            "compare",
+            scene_path.to_str().unwrap(),
+            "--out",
+            "c",
+            "--tol",
+            "1e-9",
+        ],
+        dir.path(),
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    for b in ["clarabel", "osqp", "dual-pgs", "dual-uzawa"] {
+        assert!(stdout.contains(b), "table lacks {b}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("c/compare.json")).unwrap())
+            .unwrap();
+    assert!(json["floor_s"].as_f64().unwrap() > 0.0);
+    let rows = json["backends"].as_array().unwrap();
+    assert_eq!(rows.len(), 4);
+    let scale = 0.4; // exp2b's largest displacement is about 0.39
+    for r in rows {
+        assert_eq!(r["status"], "solved", "{r}");
+        assert!(r["ratio_to_floor"].as_f64().unwrap() > 0.0);
+        assert!(r["max_du"].as_f64().unwrap() <= 1e-6 * scale, "{r}");
+        assert_eq!(r["active"], rows[0]["active"]);
+    }
+    let csv = std::fs::read_to_string(dir.path().join("c/compare.csv")).unwrap();
+    assert!(csv.starts_with("backend,status,iterations,solve_s,floor_s,ratio_to_floor"));
+    assert_eq!(csv.lines().count(), 5);
+}
+
+#[test]
+fn compare_refuses_unknown_backends_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = signorini(
+        &["compare", "--backends", "clarabel,cplex", "--out", "c"],
+        dir.path(),
+    );
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("cplex"));
+    assert!(!dir.path().join("c").exists());
+}
