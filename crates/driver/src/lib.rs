@@ -7,4 +7,5 @@ pub mod backends;
 pub mod compare;
 pub mod export;
 pub mod output;
+pub mod plots;
 pub mod run;
