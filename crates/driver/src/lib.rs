@@ -9,3 +9,4 @@ pub mod export;
 pub mod output;
 pub mod plots;
 pub mod run;
+pub mod sweep;

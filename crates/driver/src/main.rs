@@ -64,6 +64,39 @@ enum Command {
         #[arg(long, default_value = "out")]
         out: PathBuf,
     },
+    /// Refine the mesh and time every backend and tolerance; write sweep.csv and plots.
+    Sweep {
+        #[command(flatten)]
+        common: Common,
+        /// Comma-separated mesh sizes, e.g. 0.2,0.1,0.05.
+        #[arg(long, value_delimiter = ',', required = true)]
+        hmax: Vec<f64>,
+        /// Comma-separated bodies whose hmax is swept (default: all).
+        #[arg(long, value_delimiter = ',')]
+        bodies: Vec<String>,
+        /// Comma-separated backends.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "clarabel,osqp,dual-pgs,dual-uzawa"
+        )]
+        backends: Vec<String>,
+        /// Comma-separated tolerances.
+        #[arg(long, value_delimiter = ',', default_value = "1e-9")]
+        tol: Vec<f64>,
+        /// Runs per point (medians are reported).
+        #[arg(long, default_value_t = 1)]
+        repeat: usize,
+        /// Seconds one solve may take; a backend that exceeds it is skipped on finer meshes.
+        #[arg(long)]
+        time_limit: Option<f64>,
+        /// Keep the points already in DIR/sweep.csv and run only the missing ones.
+        #[arg(long)]
+        resume: bool,
+        /// Output directory for sweep.csv and the plots (created if missing).
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+    },
     /// Write the scene's QP (A, f, B, g as Matrix Market) and its DOF and row maps.
     Export {
         #[command(flatten)]
@@ -193,6 +226,102 @@ fn compare(common: &Common, names: &[String], tol: f64, out: &std::path::Path) -
     })
 }
 
+#[allow(clippy::too_many_arguments)]
+fn sweep(
+    common: &Common,
+    hmax: &[f64],
+    bodies: &[String],
+    names: &[String],
+    tols: &[f64],
+    repeat: usize,
+    time_limit: Option<f64>,
+    resume: bool,
+    out: &std::path::Path,
+) -> Result<ExitCode> {
+    let backends = parse_backends(names)?;
+    if let Some(t) = time_limit {
+        anyhow::ensure!(
+            t.is_finite() && t > 0.0,
+            "--time-limit must be positive, got {t}"
+        );
+    }
+    let scene = run::load_scene(common.scene.as_deref())?;
+    let plan = signorini::sweep::SweepPlan {
+        hmax: hmax.to_vec(),
+        bodies: bodies.to_vec(),
+        backends,
+        tols: tols.to_vec(),
+        repeat,
+        time_limit: time_limit.map(std::time::Duration::from_secs_f64),
+        resume,
+    };
+    let bar = indicatif::ProgressBar::new(0).with_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} [{elapsed}] {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let (csv, points) = signorini::sweep::sweep(
+        &scene,
+        &plan,
+        &SolveOptions::default(),
+        &limits(common),
+        out,
+        |done, total, what| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+            bar.set_message(what.to_string());
+        },
+    )?;
+    bar.finish_and_clear();
+    println!("{}: {} points", scene.title, points.len());
+    println!(
+        "  {:>8} {:>9} {:<11} {:>8} {:<15} {:>6} {:>10} {:>10} {:>8} {:>9} {:>9}",
+        "hmax",
+        "dofs",
+        "backend",
+        "tol",
+        "status",
+        "iter",
+        "solve s",
+        "floor s",
+        "÷floor",
+        "err ref",
+        "err fine"
+    );
+    for p in &points {
+        println!(
+            "  {:>8} {:>9} {:<11} {:>8.0e} {:<15} {:>6} {:>10.4} {:>10.4} {:>8.2} {:>9.1e} {:>9.1e}",
+            p.hmax,
+            p.dofs,
+            p.backend,
+            p.tol,
+            p.status,
+            p.iterations,
+            p.solve_s,
+            p.floor_s,
+            p.ratio_to_floor,
+            p.error_vs_reference.unwrap_or(f64::NAN),
+            p.error_vs_finest.unwrap_or(f64::NAN)
+        );
+    }
+    println!("  wrote {}", csv.display());
+    for p in signorini::sweep::plot(&points, out, &scene.title)? {
+        println!("  wrote {}", p.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn parse_backends(names: &[String]) -> Result<Vec<BackendKind>> {
+    let kinds: Vec<BackendKind> = names.iter().map(|n| n.parse()).collect::<Result<_, _>>()?;
+    anyhow::ensure!(!kinds.is_empty(), "--backends names no backend");
+    for k in &kinds {
+        anyhow::ensure!(
+            k.available(),
+            "backend \"{k}\" is not compiled in; rebuild with `--features {k}`"
+        );
+    }
+    Ok(kinds)
+}
+
 fn export(common: &Common, out: &std::path::Path) -> Result<ExitCode> {
     let scene = run::load_scene(common.scene.as_deref())?;
     let prepared = run::prepare(&scene, &limits(common))?;
@@ -255,6 +384,27 @@ fn main() -> ExitCode {
             out,
         } => compare(common, backends, *tol, out),
         Command::Export { common, out } => export(common, out),
+        Command::Sweep {
+            common,
+            hmax,
+            bodies,
+            backends,
+            tol,
+            repeat,
+            time_limit,
+            resume,
+            out,
+        } => sweep(
+            common,
+            hmax,
+            bodies,
+            backends,
+            tol,
+            *repeat,
+            *time_limit,
+            *resume,
+            out,
+        ),
         Command::Check { common } => check(common),
     };
     match result {
