@@ -5,10 +5,11 @@ use std::time::{Duration, Instant};
 use clarabel::algebra::CscMatrix as ClarabelCsc;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 use signorini_core::qp::{
-    csc_parts, QpBackend, QpError, QpProblem, QpScaling, QpSolution, QpStatus, SolveOptions,
+    checked_status, csc_parts, kkt_residuals, QpBackend, QpError, QpProblem, QpScaling, QpSolution,
+    QpStatus, SolveOptions,
 };
 
-use crate::settings::ClarabelSettings;
+use crate::settings::{ClarabelSettings, MIN_TOL};
 use crate::NAME;
 
 /// The clarabel interior-point solver behind [`QpBackend`].
@@ -60,12 +61,56 @@ impl QpBackend for ClarabelBackend {
         if problem.dofs() == 0 {
             return Ok(no_unknowns(problem, start));
         }
-        let mut solution = if self.settings.rescale {
-            let scaling = QpScaling::of(problem);
-            scaling.unscale(solve_with_clarabel(&scaling.scale(problem), settings)?)
-        } else {
-            solve_with_clarabel(problem, settings)?
+        let run = |settings: DefaultSettings<f64>| -> Result<QpSolution, QpError> {
+            if self.settings.rescale {
+                let scaling = QpScaling::of(problem);
+                Ok(scaling.unscale(solve_with_clarabel(&scaling.scale(problem), settings)?))
+            } else {
+                solve_with_clarabel(problem, settings)
+            }
         };
+        let meets = |s: &QpSolution| {
+            let r = kkt_residuals(problem, &s.x, &s.multipliers);
+            checked_status(s.status, &r, options.tol) == QpStatus::Solved
+        };
+        let mut solution = run(settings.clone())?;
+        let mut iterations = solution.iterations;
+        // Continuation: clarabel judges convergence on its equilibrated data, the core on the
+        // original; when clarabel is content but the core is not (badly conditioned data, e.g. a
+        // 10⁶ stiffness contrast), tighten its tolerances, then try without equilibration.
+        if self.settings.continuation && solution.status == QpStatus::Solved && !meets(&solution) {
+            let mut attempt = settings;
+            let mut stages = 0;
+            loop {
+                if attempt.tol_gap_abs > MIN_TOL * 1.01 {
+                    attempt.tol_gap_abs = (attempt.tol_gap_abs * 1e-2).max(MIN_TOL);
+                    attempt.tol_gap_rel = (attempt.tol_gap_rel * 1e-2).max(MIN_TOL);
+                    attempt.tol_feas = (attempt.tol_feas * 1e-2).max(MIN_TOL);
+                } else if attempt.equilibrate_enable {
+                    attempt.equilibrate_enable = false;
+                } else {
+                    break;
+                }
+                stages += 1;
+                let next = run(attempt.clone())?;
+                iterations += next.iterations;
+                let better = kkt_residuals(problem, &next.x, &next.multipliers).worst()
+                    < kkt_residuals(problem, &solution.x, &solution.multipliers).worst();
+                let done = meets(&next);
+                if better {
+                    solution = next;
+                }
+                if done {
+                    break;
+                }
+            }
+            let note = format!("{stages} continuation stage(s) after clarabel's first answer");
+            solution.message = Some(match solution.message.take() {
+                Some(m) => format!("{m}; {note}"),
+                None => note,
+            });
+        }
+        solution.iterations = iterations;
         solution.solve_time = start.elapsed();
         Ok(solution)
     }

@@ -55,6 +55,9 @@ pub struct ClarabelSettings {
     /// Rescale the problem with [`signorini_core::qp::QpScaling`] (A, f, g to O(1)) before
     /// handing it over, and the answer back.  Default `true`.
     pub rescale: bool,
+    /// Re-solve with tolerances ×10⁻² (down to 1e-15), then without equilibration, while
+    /// clarabel reports solved but the core's residuals miss `tol`.  Default `true`.
+    pub continuation: bool,
     /// Print clarabel's iteration log (also on when [`SolveOptions::verbose`]).  Default `false`.
     pub verbose: bool,
 }
@@ -69,6 +72,7 @@ impl Default for ClarabelSettings {
             direct_solver: DirectSolver::Auto,
             presolve: true,
             rescale: true,
+            continuation: true,
             verbose: false,
         }
     }
@@ -109,7 +113,7 @@ impl From<ClarabelSettingsError> for QpError {
 }
 
 /// Smallest tolerance handed to clarabel: below this its stopping tests cannot be met in f64.
-const MIN_TOL: f64 = 1e-15;
+pub(crate) const MIN_TOL: f64 = 1e-15;
 
 impl ClarabelSettings {
     /// Checks every field; called by the backend before each solve.

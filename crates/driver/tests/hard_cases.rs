@@ -227,15 +227,15 @@ fn same_backend_difference(a: &Case, b: &Case) -> f64 {
 #[test]
 fn stiffness_contrast() {
     let case = solve_all("hard", "stiffness-contrast");
-    // Measured: only the dual methods reach 1e-10.  clarabel stops with its own criteria met
-    // but the core's stationarity at 2e-6 (inaccurate); OSQP wrongly reports the strictly
-    // convex problem dual infeasible (its infeasibility test, ε_dinf = 1e-4, misfires on the
-    // ill-conditioned A).  Both are backend findings, not physics.
+    // Measured: clarabel needs its continuation (tighter tolerances after its first answer) to
+    // meet the core's residuals; OSQP (with ε_inf = 1e-8; its default 1e-4 falsely claimed dual
+    // infeasibility) runs into its iteration cap with residuals it honestly reports as
+    // inaccurate: ADMM on a 10⁶ stiffness contrast.  The dual methods solve.
     check_statuses(
         &case,
         [
+            QpStatus::Solved,
             QpStatus::Inaccurate,
-            QpStatus::DualInfeasible,
             QpStatus::Solved,
             QpStatus::Solved,
             QpStatus::Solved,
@@ -262,9 +262,13 @@ fn stiffness_contrast() {
             run.backend
         );
     }
-    // The inaccurate clarabel answer is still close in displacement (it is only the stiff
-    // body's equilibrium that is off).
+    // The inaccurate OSQP answer is still close in displacement (it is the stiff body's
+    // equilibrium that is off), and clarabel agrees with the dual reference.
     let reference = &case.run("dual-ssn").solution.displacement;
+    for b in ["clarabel", "osqp"] {
+        let u = &case.run(b).solution.displacement;
+        assert!(max_diff(u, reference) <= 1e-4 * max_abs(reference), "{b}");
+    }
     let clarabel = &case.run("clarabel").solution.displacement;
     assert!(max_diff(clarabel, reference) <= 1e-6 * max_abs(reference));
 }
@@ -272,13 +276,12 @@ fn stiffness_contrast() {
 #[test]
 fn nearly_incompressible() {
     let case = solve_all("hard", "nearly-incompressible");
-    // Measured: OSQP wrongly reports dual infeasibility (same misfire as stiffness-contrast);
-    // every other backend solves.
+    // Every backend solves (OSQP since its infeasibility threshold is 1e-8, not 1e-4).
     check_statuses(
         &case,
         [
             QpStatus::Solved,
-            QpStatus::DualInfeasible,
+            QpStatus::Solved,
             QpStatus::Solved,
             QpStatus::Solved,
             QpStatus::Solved,

@@ -74,7 +74,10 @@ fn sweep_writes_every_point_and_resume_skips_them() {
     assert_eq!(again.len(), 8);
     // The six kept rows are unchanged apart from error_vs_finest, which is recomputed.
     for (a, b) in points.iter().take(6).zip(&again) {
-        assert_eq!((a.hmax, &a.backend, a.tol, a.solve_s), (b.hmax, &b.backend, b.tol, b.solve_s));
+        assert_eq!(
+            (a.hmax, &a.backend, a.tol, a.solve_s),
+            (b.hmax, &b.backend, b.tol, b.solve_s)
+        );
     }
 }
 

@@ -40,6 +40,10 @@ pub struct OsqpSettings {
     pub eps_abs: Option<f64>,
     /// Relative tolerance ε_rel.  Default `0` (OSQP's own default is 1e-3).
     pub eps_rel: f64,
+    /// Threshold of OSQP's primal and dual infeasibility certificates (`eps_prim_inf`,
+    /// `eps_dual_inf`).  Default `1e-8` (OSQP's 1e-4 reports well-posed but ill-conditioned
+    /// contact problems as infeasible).
+    pub eps_infeasible: f64,
     /// Polish: after ADMM converges, guess the active set and solve its equality-constrained
     /// KKT system directly.  Default `true`.
     pub polish: bool,
@@ -78,6 +82,7 @@ impl Default for OsqpSettings {
         Self {
             eps_abs: None,
             eps_rel: 0.0,
+            eps_infeasible: 1e-8,
             polish: true,
             continuation: true,
             continuation_start: 1e-3,
@@ -142,6 +147,7 @@ impl OsqpSettings {
         if let Some(eps) = self.eps_abs {
             positive("eps_abs", eps)?;
         }
+        positive("eps_infeasible", self.eps_infeasible)?;
         if !(self.eps_rel.is_finite() && self.eps_rel >= 0.0) {
             return Err(OsqpSettingsError::OutOfRange {
                 name: "eps_rel",
@@ -193,6 +199,10 @@ impl OsqpSettings {
         let settings = osqp::Settings::default()
             .eps_abs(eps_start)
             .eps_rel(self.eps_rel)
+            // OSQP's default certificate thresholds (1e-4) misfire on badly conditioned but
+            // well-posed problems (ν → 0.5, stiffness contrast 1e6): a false "dual infeasible".
+            .eps_prim_inf(self.eps_infeasible)
+            .eps_dual_inf(self.eps_infeasible)
             .polish(self.polish)
             .polish_refine_iter(self.polish_refine_iter.min(i32::MAX as u32))
             .max_iter(max_iter)
