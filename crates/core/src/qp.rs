@@ -481,6 +481,18 @@ impl QpScaling {
         }
     }
 
+    /// Turns `problem` into the dimensionless Â, f̂, B, ĝ without a copy.
+    pub fn scale_in_place(&self, problem: &mut QpProblem) {
+        let force = self.stiffness * self.displacement;
+        problem
+            .stiffness
+            .data_mut()
+            .iter_mut()
+            .for_each(|v| *v /= self.stiffness);
+        problem.load.iter_mut().for_each(|v| *v /= force);
+        problem.gap.iter_mut().for_each(|v| *v /= self.displacement);
+    }
+
     /// The dimensionless problem Â, f̂, B, ĝ.
     pub fn scale(&self, problem: &QpProblem) -> QpProblem {
         let force = self.stiffness * self.displacement;

@@ -57,39 +57,97 @@ pub struct Solution {
     pub message: Option<String>,
 }
 
+/// A QP in dimensionless form, together with the units that bring its answers back.  Holding
+/// only this (not the unscaled problem too) keeps one copy of A in memory.
+#[derive(Debug, Clone)]
+pub struct ScaledQp {
+    /// Â, f̂, B, ĝ: what backends see.
+    pub problem: QpProblem,
+    /// x = displacement · x̂, λ = stiffness · displacement · λ̂.
+    pub scaling: QpScaling,
+}
+
+impl ScaledQp {
+    /// Scales `problem` in place (see [`QpScaling::of`]).
+    pub fn new(mut problem: QpProblem) -> Self {
+        let scaling = QpScaling::of(&problem);
+        scaling.scale_in_place(&mut problem);
+        Self { problem, scaling }
+    }
+}
+
 /// Solves the model: a direct solve without contact rows, else `backend` on the scaled QP.
 pub fn solve_model(
     model: &Model,
     backend: &mut dyn QpBackend,
     options: &SolveOptions,
 ) -> Result<Solution, SolveError> {
-    let qp = model.qp()?;
-    solve_problem(model, &qp, backend, options)
+    let qp = ScaledQp::new(model.qp()?);
+    solve_scaled(model, &qp, backend, options)
 }
 
-/// As [`solve_model`], on an already reduced QP of the model (built once, solved many times).
+/// As [`solve_model`], on an already reduced QP of the model (convenience: scales a copy).
 pub fn solve_problem(
     model: &Model,
     qp: &QpProblem,
     backend: &mut dyn QpBackend,
     options: &SolveOptions,
 ) -> Result<Solution, SolveError> {
-    if qp.rows() == 0 {
-        return solve_direct(model, qp, options);
+    solve_scaled(model, &ScaledQp::new(qp.clone()), backend, options)
+}
+
+/// Solves the scaled QP of the model (built once, solved many times).  Residuals are computed on
+/// the scaled data: the dimensionless ones are unit-free, the penetration is brought back to
+/// length units.
+pub fn solve_scaled(
+    model: &Model,
+    qp: &ScaledQp,
+    backend: &mut dyn QpBackend,
+    options: &SolveOptions,
+) -> Result<Solution, SolveError> {
+    let problem = &qp.problem;
+    let units = qp.scaling;
+    let energy = units.stiffness * units.displacement * units.displacement;
+    if problem.rows() == 0 {
+        if !problem.kernel.is_empty() {
+            return Err(SolveError::Floating {
+                modes: problem.kernel.len(),
+            });
+        }
+        let start = Instant::now();
+        let mut x = problem.load.clone();
+        if problem.dofs() > 0 {
+            SparseCholesky::factor(&problem.stiffness)?.solve_in_place(&mut x);
+        }
+        let elapsed = start.elapsed();
+        let residuals = kkt_residuals(problem, &x, &[]).with_length_scale(units.displacement);
+        let status = checked_status(QpStatus::Solved, &residuals, options.tol);
+        let objective = problem.objective(&x) * energy;
+        x.iter_mut().for_each(|v| *v *= units.displacement);
+        return Ok(Solution {
+            backend: DIRECT.to_string(),
+            objective,
+            displacement: model.expand(&x),
+            multipliers: Vec::new(),
+            status,
+            iterations: 0,
+            residuals,
+            solve_time: elapsed,
+            message: None,
+        });
     }
-    let scaling = QpScaling::of(qp);
-    let scaled = scaling.scale(qp);
     let start = Instant::now();
-    let raw = backend.solve(&scaled, options)?;
+    let raw = backend.solve(problem, options)?;
     let elapsed = start.elapsed();
-    let solution = scaling.unscale(raw);
-    let residuals = kkt_residuals(qp, &solution.x, &solution.multipliers);
-    let status = checked_status(solution.status, &residuals, options.tol);
-    let objective = if solution.x.iter().all(|v| v.is_finite()) {
-        qp.objective(&solution.x)
+    let residuals =
+        kkt_residuals(problem, &raw.x, &raw.multipliers).with_length_scale(units.displacement);
+    let status = checked_status(raw.status, &residuals, options.tol);
+    let objective = if raw.x.iter().all(|v| v.is_finite()) {
+        problem.objective(&raw.x) * energy
     } else {
         f64::NAN
     };
+    let solution = units.unscale(raw);
     Ok(Solution {
         backend: backend.name().to_string(),
         displacement: model.expand(&solution.x),
@@ -100,38 +158,6 @@ pub fn solve_problem(
         objective,
         solve_time: elapsed,
         message: solution.message,
-    })
-}
-
-fn solve_direct(
-    model: &Model,
-    qp: &QpProblem,
-    options: &SolveOptions,
-) -> Result<Solution, SolveError> {
-    if !qp.kernel.is_empty() {
-        return Err(SolveError::Floating {
-            modes: qp.kernel.len(),
-        });
-    }
-    let start = Instant::now();
-    let mut x = qp.load.clone();
-    if qp.dofs() > 0 {
-        let chol = SparseCholesky::factor(&qp.stiffness)?;
-        chol.solve_in_place(&mut x);
-    }
-    let elapsed = start.elapsed();
-    let residuals = kkt_residuals(qp, &x, &[]);
-    let status = checked_status(QpStatus::Solved, &residuals, options.tol);
-    Ok(Solution {
-        backend: DIRECT.to_string(),
-        objective: qp.objective(&x),
-        displacement: model.expand(&x),
-        multipliers: Vec::new(),
-        status,
-        iterations: 0,
-        residuals,
-        solve_time: elapsed,
-        message: None,
     })
 }
 

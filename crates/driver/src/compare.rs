@@ -81,9 +81,9 @@ pub fn compare(
 ) -> Result<CompareReport, RunError> {
     let prepared = run::prepare(scene, limits)?;
     let model = &prepared.model;
-    let qp = model.qp().map_err(solve::SolveError::from)?;
+    let qp = solve::ScaledQp::new(model.qp().map_err(solve::SolveError::from)?);
     let mut floors: Vec<Duration> = (0..3)
-        .map(|_| solve::floor_time(&qp))
+        .map(|_| solve::floor_time(&qp.problem))
         .collect::<Result<_, _>>()
         .map_err(solve::SolveError::from)?;
     floors.sort();
@@ -100,7 +100,7 @@ pub fn compare(
                 },
             ))
         })?;
-        solutions.push(solve::solve_problem(model, &qp, backend.as_mut(), options)?);
+        solutions.push(solve::solve_scaled(model, &qp, backend.as_mut(), options)?);
     }
     let reference = solutions
         .iter()

@@ -298,11 +298,13 @@ pub fn sweep(
             continue;
         };
         let model = &prepared.model;
-        let qp = model
-            .qp()
-            .map_err(|e| RunError::from(solve::SolveError::from(e)))?;
+        let qp = solve::ScaledQp::new(
+            model
+                .qp()
+                .map_err(|e| RunError::from(solve::SolveError::from(e)))?,
+        );
         let floors: Vec<f64> = (0..repeat)
-            .map(|_| solve::floor_time(&qp).map(|d| d.as_secs_f64()))
+            .map(|_| solve::floor_time(&qp.problem).map(|d| d.as_secs_f64()))
             .collect::<Result<_, _>>()
             .map_err(|e| RunError::from(solve::SolveError::from(e)))?;
         let (mesh_s, assemble_s, floor_s) =
@@ -338,7 +340,7 @@ pub fn sweep(
             let mut times = Vec::with_capacity(repeat);
             let mut last: Option<Solution> = None;
             for _ in 0..repeat {
-                let sol = solve::solve_problem(model, &qp, backend.as_mut(), &point_options)
+                let sol = solve::solve_scaled(model, &qp, backend.as_mut(), &point_options)
                     .map_err(RunError::from)?;
                 times.push(sol.solve_time.as_secs_f64());
                 let stop = sol.status == QpStatus::TimeLimit;
