@@ -1,1 +1,0 @@
-//! Plots of a sweep (`sweep.csv`) as SVG files.
