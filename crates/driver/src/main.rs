@@ -304,7 +304,10 @@ fn sweep(
         );
     }
     println!("  wrote {}", csv.display());
-    for p in signorini::sweep::plot(&points, out, &scene.title)? {
+    let rows = signorini::plots::read_sweep(&csv)?;
+    // Plot titles get the part of the scene title before any colon, to stay on one line.
+    let short = scene.title.split(':').next().unwrap_or(&scene.title).trim();
+    for p in signorini::plots::plot_sweep(&rows, out, short)? {
         println!("  wrote {}", p.display());
     }
     Ok(ExitCode::SUCCESS)

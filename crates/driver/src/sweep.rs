@@ -91,7 +91,7 @@ pub struct Point {
     pub error_vs_finest: Option<f64>,
     /// Largest nodal displacement.
     pub max_displacement: f64,
-    /// Peak resident memory during the point's mesh, MiB.
+    /// Peak resident memory while the point was solved (model included), MiB.
     pub peak_rss_mb: f64,
     /// Core residual: penetration (length).
     pub max_penetration: f64,
@@ -284,7 +284,6 @@ pub fn sweep(
             continue;
         }
         let s = with_hmax(scene, &plan.bodies, h);
-        reset_peak_rss();
         let mut mesh_times = Vec::with_capacity(repeat);
         let mut assemble_times = Vec::with_capacity(repeat);
         let mut prepared = None;
@@ -337,6 +336,8 @@ pub fn sweep(
                 time_limit: plan.time_limit,
                 ..options.clone()
             };
+            // Peak memory of this point: the model (resident now) plus what the backend adds.
+            reset_peak_rss();
             let mut times = Vec::with_capacity(repeat);
             let mut last: Option<Solution> = None;
             for _ in 0..repeat {
@@ -437,10 +438,4 @@ pub fn fill_error_vs_finest(points: &mut [Point]) {
         }
         p.error_vs_finest = err.is_finite().then_some(err);
     }
-}
-
-/// Draws the sweep's plots into `dir` (see [`crate::plots`]); returns the files written.
-pub fn plot(points: &[Point], dir: &Path, title: &str) -> Result<Vec<PathBuf>, OutputError> {
-    let _ = (points, dir, title);
-    Ok(Vec::new())
 }

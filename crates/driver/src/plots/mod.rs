@@ -432,7 +432,7 @@ fn work_precision(rows: &[SweepRow], backends: &[&str], title: &str) -> Option<F
             &format!("work–precision at hmax = {finest} ({dofs} DOFs)"),
         ),
         x_desc: "solve time (s)".into(),
-        y_desc: "error vs reference (scene length unit)".into(),
+        y_desc: "error vs reference (max |Δu| / max |u|)".into(),
         curves,
         hline: None,
         notes,
