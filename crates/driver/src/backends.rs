@@ -16,15 +16,18 @@ pub enum BackendKind {
     DualPgs,
     /// Uzawa / projected gradient on the dual.
     DualUzawa,
+    /// Primal–dual active set (semismooth Newton) on the condensed dual.
+    DualSsn,
 }
 
 impl BackendKind {
     /// Every backend, in the order reports list them.
-    pub const ALL: [BackendKind; 4] = [
+    pub const ALL: [BackendKind; 5] = [
         BackendKind::Clarabel,
         BackendKind::Osqp,
         BackendKind::DualPgs,
         BackendKind::DualUzawa,
+        BackendKind::DualSsn,
     ];
 
     /// The command-line name.
@@ -34,6 +37,7 @@ impl BackendKind {
             BackendKind::Osqp => "osqp",
             BackendKind::DualPgs => "dual-pgs",
             BackendKind::DualUzawa => "dual-uzawa",
+            BackendKind::DualSsn => "dual-ssn",
         }
     }
 
@@ -56,7 +60,7 @@ impl fmt::Display for BackendKind {
 #[derive(Debug, thiserror::Error)]
 pub enum BackendError {
     /// Unknown name.
-    #[error("unknown backend \"{0}\" (known: clarabel, osqp, dual-pgs, dual-uzawa)")]
+    #[error("unknown backend \"{0}\" (known: clarabel, osqp, dual-pgs, dual-uzawa, dual-ssn)")]
     Unknown(String),
     /// Known but not in this build.
     #[error("backend \"{0}\" is not compiled in; rebuild with `--features {0}`")]
@@ -86,6 +90,9 @@ pub fn make_backend(kind: BackendKind) -> Result<Box<dyn QpBackend>, BackendErro
             Default::default(),
         ))),
         BackendKind::DualUzawa => Ok(Box::new(signorini_dual::DualBackend::uzawa(
+            Default::default(),
+        ))),
+        BackendKind::DualSsn => Ok(Box::new(signorini_dual::DualBackend::active_set(
             Default::default(),
         ))),
     }

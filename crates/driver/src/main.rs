@@ -36,7 +36,7 @@ enum Command {
     Solve {
         #[command(flatten)]
         common: Common,
-        /// QP backend: clarabel, osqp, dual-pgs or dual-uzawa.
+        /// QP backend: clarabel, osqp, dual-pgs, dual-uzawa or dual-ssn.
         #[arg(long, default_value = "clarabel")]
         backend: String,
         /// Relative KKT tolerance the answer must meet to count as solved.
