@@ -18,6 +18,7 @@
 //! contact rows and g the initial gaps.  Backends implement [`qp::QpBackend`].
 
 pub mod contact;
+pub mod examples;
 pub mod fem;
 pub mod geometry;
 pub mod linalg;

@@ -1,0 +1,150 @@
+//! Small QPs with hand-known optima (and an infeasible one), the same for every backend's tests.
+//!
+//! ```
+//! use signorini_core::examples::scalar;
+//! let k = scalar(1.0); // min x² − 4x s.t. x ≤ 1
+//! assert_eq!((k.x[0], k.multipliers[0]), (1.0, 2.0));
+//! ```
+
+use crate::qp::QpProblem;
+use sprs::TriMat;
+
+/// A QP with its known optimum.
+pub struct Known {
+    /// The problem.
+    pub problem: QpProblem,
+    /// Its minimiser.
+    pub x: Vec<f64>,
+    /// Its multipliers.
+    pub multipliers: Vec<f64>,
+}
+
+/// Builds a CSC matrix from dense rows.
+pub fn csc(rows: usize, cols: usize, dense: &[&[f64]]) -> sprs::CsMat<f64> {
+    let mut t = TriMat::new((rows, cols));
+    for (i, row) in dense.iter().enumerate() {
+        for (j, &v) in row.iter().enumerate() {
+            if v != 0.0 {
+                t.add_triplet(i, j, v);
+            }
+        }
+    }
+    t.to_csc()
+}
+
+fn qp(a: sprs::CsMat<f64>, f: Vec<f64>, b: sprs::CsMat<f64>, g: Vec<f64>) -> QpProblem {
+    QpProblem::try_new(a, f, b, g)
+        .unwrap_or_else(|e| unreachable!("hand-built example is valid: {e}"))
+}
+
+/// min x² − 4x  s.t. x ≤ bound: x = min(2, bound), λ = 2·max(0, 2 − bound).
+pub fn scalar(bound: f64) -> Known {
+    let problem = qp(
+        csc(1, 1, &[&[2.0]]),
+        vec![4.0],
+        csc(1, 1, &[&[1.0]]),
+        vec![bound],
+    );
+    let x = bound.min(2.0);
+    Known {
+        problem,
+        x: vec![x],
+        multipliers: vec![4.0 - 2.0 * x],
+    }
+}
+
+/// A = [[2, −1], [−1, 2]], f = (1, 1) (free optimum (1, 1)); x₀ + x₁ ≤ 1 active,
+/// x₀ − x₁ ≤ 10 inactive: x = (½, ½), λ = (½, 0).
+pub fn two_rows() -> Known {
+    let problem = qp(
+        csc(2, 2, &[&[2.0, -1.0], &[-1.0, 2.0]]),
+        vec![1.0, 1.0],
+        csc(2, 2, &[&[1.0, 1.0], &[1.0, -1.0]]),
+        vec![1.0, 10.0],
+    );
+    Known {
+        problem,
+        x: vec![0.5, 0.5],
+        multipliers: vec![0.5, 0.0],
+    }
+}
+
+/// The same as [`two_rows`] with A and f multiplied by `factor` (λ scales with it).
+pub fn two_rows_scaled(factor: f64) -> Known {
+    let mut k = two_rows();
+    k.problem.stiffness = k.problem.stiffness.map(|v| v * factor);
+    k.problem.load.iter_mut().for_each(|v| *v *= factor);
+    k.multipliers.iter_mut().for_each(|v| *v *= factor);
+    k
+}
+
+/// No constraints (m = 0): x = A⁻¹ f = (1, 1).
+pub fn unconstrained() -> Known {
+    let problem = qp(
+        csc(2, 2, &[&[2.0, -1.0], &[-1.0, 2.0]]),
+        vec![1.0, 1.0],
+        sprs::CsMat::zero((0, 2)).to_csc(),
+        vec![],
+    );
+    Known {
+        problem,
+        x: vec![1.0, 1.0],
+        multipliers: vec![],
+    }
+}
+
+/// x ≤ −1 and −x ≤ −1 (x ≥ 1): no feasible point.
+pub fn infeasible() -> QpProblem {
+    qp(
+        csc(1, 1, &[&[1.0]]),
+        vec![0.0],
+        csc(2, 1, &[&[1.0], &[-1.0]]),
+        vec![-1.0, -1.0],
+    )
+}
+
+/// Tridiagonal stiffness of `nodes` unit springs in series, node 0 tied to a fixed support,
+/// the last node free.
+pub fn spring_chain_stiffness(nodes: usize) -> sprs::CsMat<f64> {
+    let mut t = TriMat::new((nodes, nodes));
+    for i in 0..nodes {
+        t.add_triplet(i, i, if i + 1 == nodes { 1.0 } else { 2.0 });
+        if i + 1 < nodes {
+            t.add_triplet(i, i + 1, -1.0);
+            t.add_triplet(i + 1, i, -1.0);
+        }
+    }
+    t.to_csc()
+}
+
+/// A chain of 10 unit springs, its end node pushed by a unit force against a wall 5 units away.
+/// Free, the end would move 10; in contact u_i = (i + 1)/2 and the wall force is λ = ½.
+pub fn spring_chain() -> Known {
+    let nodes = 10;
+    let mut load = vec![0.0; nodes];
+    load[nodes - 1] = 1.0;
+    let mut b = TriMat::new((1, nodes));
+    b.add_triplet(0, nodes - 1, 1.0);
+    let problem = qp(spring_chain_stiffness(nodes), load, b.to_csc(), vec![5.0]);
+    Known {
+        problem,
+        x: (0..nodes).map(|i| (i + 1) as f64 * 0.5).collect(),
+        multipliers: vec![0.5],
+    }
+}
+
+/// A 1-D Laplacian chain of `nodes` springs, uniform load, with `contacts` evenly spaced nodes
+/// held below a gap that makes most of them active.
+pub fn laplacian_with_bounds(nodes: usize, contacts: usize) -> QpProblem {
+    let stiffness = spring_chain_stiffness(nodes);
+    let h = 1.0 / nodes as f64;
+    let load = vec![h * h; nodes];
+    let mut b = TriMat::new((contacts, nodes));
+    let mut gap = Vec::with_capacity(contacts);
+    for c in 0..contacts {
+        let node = (c + 1) * nodes / (contacts + 1);
+        b.add_triplet(c, node, 1.0);
+        gap.push(0.05 * (1.0 + (c % 3) as f64 * 0.1));
+    }
+    qp(stiffness, load, b.to_csc(), gap)
+}
