@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 
 use signorini_core::mesh::Mesh;
 
-mod svg;
+pub(crate) mod svg;
 mod vtu;
 
 #[cfg(test)]

@@ -27,8 +27,9 @@ const Y_LABELS: u32 = 70;
 const UNDEFORMED: RGBColor = RGBColor(200, 200, 200);
 /// Colour of boundary edges in contact (pressure > 0 at both ends).
 const CONTACT: RGBColor = RGBColor(200, 0, 0);
-/// One colour per body (cycled): a colour-blind friendly qualitative palette.
-const PALETTE: [RGBColor; 8] = [
+/// One colour per body or backend (cycled): a colour-blind friendly qualitative palette, shared
+/// by every plot.
+pub(crate) const PALETTE: [RGBColor; 8] = [
     RGBColor(0, 114, 178),
     RGBColor(230, 159, 0),
     RGBColor(0, 158, 115),

@@ -35,23 +35,13 @@ pub fn write_vtu(path: &Path, bodies: &[BodyField]) -> Result<(), OutputError> {
     write_atomically(path, |w| write_grid(w, bodies))
 }
 
-/// Writes a whitespace-separated list, a fixed number of values per line.
+/// Writes a whitespace-separated list of floats (round-trip `{:e}`), `per_line` to a line.
 fn write_list<T: LowerExp>(
     w: &mut dyn Write,
     values: impl IntoIterator<Item = T>,
     per_line: usize,
 ) -> io::Result<()> {
-    for (i, v) in values.into_iter().enumerate() {
-        let sep = if i == 0 {
-            "          "
-        } else if i % per_line == 0 {
-            "\n          "
-        } else {
-            " "
-        };
-        write!(w, "{sep}{v:e}")?;
-    }
-    writeln!(w)
+    write_items(w, values, per_line, |w, v| write!(w, "{v:e}"))
 }
 
 /// Writes a whitespace-separated list of integers.
@@ -60,6 +50,16 @@ fn write_ints<T: std::fmt::Display>(
     values: impl IntoIterator<Item = T>,
     per_line: usize,
 ) -> io::Result<()> {
+    write_items(w, values, per_line, |w, v| write!(w, "{v}"))
+}
+
+/// Writes items `per_line` to a line, indented, each with `put`.
+fn write_items<T>(
+    w: &mut dyn Write,
+    values: impl IntoIterator<Item = T>,
+    per_line: usize,
+    mut put: impl FnMut(&mut dyn Write, T) -> io::Result<()>,
+) -> io::Result<()> {
     for (i, v) in values.into_iter().enumerate() {
         let sep = if i == 0 {
             "          "
@@ -68,7 +68,8 @@ fn write_ints<T: std::fmt::Display>(
         } else {
             " "
         };
-        write!(w, "{sep}{v}")?;
+        w.write_all(sep.as_bytes())?;
+        put(w, v)?;
     }
     writeln!(w)
 }

@@ -1,5 +1,6 @@
 //! Drawing of one log–log figure into an SVG string with plotters.
 
+use crate::output::svg::PALETTE;
 use plotters::coord::combinators::WithKeyPoints;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -22,18 +23,6 @@ const LEGEND_FONT: u32 = 15;
 const LEGEND_ROW: f64 = 21.0;
 /// Grey of the legend entry explaining hollow markers and of the reference line at 1.
 const GREY: RGBColor = RGBColor(120, 120, 120);
-/// One colour per backend (cycled): the palette of the deformed-mesh plot
-/// (`output::svg`), colour-blind friendly.
-const PALETTE: [RGBColor; 8] = [
-    RGBColor(0, 114, 178),
-    RGBColor(230, 159, 0),
-    RGBColor(0, 158, 115),
-    RGBColor(204, 121, 167),
-    RGBColor(86, 180, 233),
-    RGBColor(213, 94, 0),
-    RGBColor(120, 120, 20),
-    RGBColor(60, 60, 60),
-];
 /// Number of marker shapes (circle, square, triangle up, diamond, triangle down).
 const SHAPES: usize = 5;
 
