@@ -18,7 +18,7 @@ seed_h=0.2,0.15,0.1,0.08
 "$bin" sweep "$body2" --bodies lower --hmax "$seed_h",0.04,0.02,0.01,0.005 \
   --backends "$backends" --tol 1e-8 --time-limit 120 --out "$out/exp3-body2"
 
-"$bin" sweep "$both" --hmax "$seed_h",0.04,0.02,0.01,0.007,0.005,0.0035 \
+"$bin" sweep "$both" --hmax "$seed_h",0.04,0.02,0.01,0.007,0.005,0.0033 \
   --backends "$backends" --tol 1e-8 --time-limit 120 --out "$out/exp3-both"
 
 "$bin" sweep "$both" --hmax 0.02 --backends "$backends" \

@@ -57,6 +57,9 @@ pub enum ModelError {
     /// The reduced QP failed its checks.
     #[error(transparent)]
     Qp(#[from] QpError),
+    /// The reduced QP was already moved out of the model.
+    #[error("the model's QP was already taken by a solve")]
+    QpTaken,
 }
 
 /// Meshes every body.  Break points make the mesh exact where it matters: other bodies' corners
@@ -132,8 +135,11 @@ pub struct Model {
     pub materials: Vec<Material>,
     /// Global numbering.
     pub dofs: Dofs,
-    /// Full stiffness K on all DOFs (block diagonal over bodies).
-    pub stiffness: CscMatrix,
+    /// The columns of the full stiffness K at the fixed DOFs (all DOFs × `fixed_dofs`), enough
+    /// for the support reactions K_D·u; the rest of K lives on only as the reduced QP.
+    pub supports: CscMatrix,
+    /// Fixed DOFs in increasing order (the columns of `supports`).
+    pub fixed_dofs: Vec<usize>,
     /// Applied nodal forces on all DOFs.
     pub load: Vec<f64>,
     /// Prescribed value of each DOF, `None` for a free DOF.
@@ -152,6 +158,8 @@ pub struct Model {
     pub kernel: Vec<Vec<f64>>,
     /// What was assembled.
     pub effects: Vec<Effect>,
+    /// The reduced QP (see [`Model::qp`]); `None` once taken by [`Model::take_qp`].
+    reduced: Option<QpProblem>,
 }
 
 /// Assembles the model on given meshes.
@@ -229,11 +237,26 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Model, ModelError> {
         effects.push(Effect::Contact);
     }
 
+    let free_index = free_index(&free, dofs.len());
+    let (a, lift_f) = restrict(&stiffness, &fixed, &free_index, true);
+    let (b_free, lift_g) = restrict(&constraints, &fixed, &free_index, false);
+    let f = free
+        .iter()
+        .zip(&lift_f)
+        .map(|(&d, l)| load[d] - l)
+        .collect();
+    let g = gap.iter().zip(&lift_g).map(|(g, l)| g - l).collect();
+    let reduced = QpProblem::try_new(a, f, b_free, g)?.with_kernel(kernel.clone())?;
+    let fixed_dofs: Vec<usize> = (0..dofs.len()).filter(|d| fixed[*d].is_some()).collect();
+    let supports = columns(&stiffness, &fixed_dofs);
+    drop(stiffness);
+
     Ok(Model {
         meshes,
         materials,
         dofs,
-        stiffness,
+        supports,
+        fixed_dofs,
         load,
         fixed,
         free,
@@ -243,7 +266,35 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Model, ModelError> {
         floating,
         kernel,
         effects,
+        reduced: Some(reduced),
     })
+}
+
+/// Index of each DOF among the free ones (`usize::MAX` for a fixed DOF).
+fn free_index(free: &[usize], n: usize) -> Vec<usize> {
+    let mut index = vec![usize::MAX; n];
+    for (k, &d) in free.iter().enumerate() {
+        index[d] = k;
+    }
+    index
+}
+
+/// The listed columns of a CSC matrix, as a new CSC matrix.
+fn columns(m: &CscMatrix, list: &[usize]) -> CscMatrix {
+    let mut col_ptr = Vec::with_capacity(list.len() + 1);
+    col_ptr.push(0);
+    let mut row_idx = Vec::new();
+    let mut values = Vec::new();
+    for &j in list {
+        if let Some(col) = m.outer_view(j) {
+            for (i, v) in col.iter() {
+                row_idx.push(i);
+                values.push(*v);
+            }
+        }
+        col_ptr.push(row_idx.len());
+    }
+    CscMatrix::new_csc((m.rows(), list.len()), col_ptr, row_idx, values)
 }
 
 /// Keeps the free columns of a CSC matrix (and the free rows too when `rows_too`), renumbered;
@@ -298,27 +349,23 @@ impl Model {
 
     /// Index of each DOF among the free ones (`usize::MAX` for a fixed DOF).
     pub fn free_index(&self) -> Vec<usize> {
-        let mut index = vec![usize::MAX; self.dofs.len()];
-        for (k, &d) in self.free.iter().enumerate() {
-            index[d] = k;
-        }
-        index
+        free_index(&self.free, self.dofs.len())
     }
 
-    /// The reduced QP: A = K_FF, f = f_F − K_FD u_D, B = B_F, g = g − B_D u_D, with the known
-    /// null space of A attached.
+    /// A copy of the reduced QP: A = K_FF, f = f_F − K_FD u_D, B = B_F, g = g − B_D u_D, with
+    /// the known null space of A attached.  Solvers use [`Model::take_qp`] to avoid the copy.
     pub fn qp(&self) -> Result<QpProblem, ModelError> {
-        let free_index = self.free_index();
-        let (a, lift_f) = restrict(&self.stiffness, &self.fixed, &free_index, true);
-        let (b, lift_g) = restrict(&self.constraints, &self.fixed, &free_index, false);
-        let f = self
-            .free
-            .iter()
-            .zip(&lift_f)
-            .map(|(&d, l)| self.load[d] - l)
-            .collect();
-        let g = self.gap.iter().zip(&lift_g).map(|(g, l)| g - l).collect();
-        Ok(QpProblem::try_new(a, f, b, g)?.with_kernel(self.kernel.clone())?)
+        self.reduced.clone().ok_or(ModelError::QpTaken)
+    }
+
+    /// Moves the reduced QP out of the model (one copy of A in memory); later calls fail.
+    pub fn take_qp(&mut self) -> Result<QpProblem, ModelError> {
+        self.reduced.take().ok_or(ModelError::QpTaken)
+    }
+
+    /// Support reactions K_D·u at the fixed DOFs (in `fixed_dofs` order), internal force only.
+    pub fn support_forces(&self, u: &[f64]) -> Vec<f64> {
+        crate::qp::mat_t_vec(&self.supports, u)
     }
 
     /// Full displacement vector from the free unknowns and the prescribed values.

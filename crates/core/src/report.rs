@@ -282,7 +282,11 @@ pub fn run_report(
 ) -> RunReport {
     let u = &solution.displacement;
     // r = K u − f − (contact forces): the support reactions (nonzero on fixed DOFs only).
-    let ku = mat_vec(&model.stiffness, u);
+    // K u at the fixed DOFs (K is symmetric: its fixed columns are its fixed rows).
+    let mut ku = vec![0.0; model.dofs.len()];
+    for (&d, v) in model.fixed_dofs.iter().zip(model.support_forces(u)) {
+        ku[d] = v;
+    }
     let contact = contact_forces(model, &solution.multipliers);
     let mut bodies = Vec::with_capacity(model.meshes.len());
     let mut imbalance = 0.0_f64;

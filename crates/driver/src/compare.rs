@@ -79,9 +79,9 @@ pub fn compare(
     limits: &MeshLimits,
     mut progress: impl FnMut(&str),
 ) -> Result<CompareReport, RunError> {
-    let prepared = run::prepare(scene, limits)?;
+    let mut prepared = run::prepare(scene, limits)?;
+    let qp = solve::ScaledQp::new(prepared.model.take_qp()?);
     let model = &prepared.model;
-    let qp = solve::ScaledQp::new(model.qp().map_err(solve::SolveError::from)?);
     let mut floors: Vec<Duration> = (0..3)
         .map(|_| solve::floor_time(&qp.problem))
         .collect::<Result<_, _>>()

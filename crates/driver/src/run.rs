@@ -87,8 +87,10 @@ pub fn solve_scene(
     limits: &MeshLimits,
 ) -> Result<Outcome, RunError> {
     let start = Instant::now();
-    let prepared = prepare(scene, limits)?;
-    let solution = solve::solve_model(&prepared.model, backend, options)?;
+    let mut prepared = prepare(scene, limits)?;
+    let qp = solve::ScaledQp::new(prepared.model.take_qp()?);
+    let solution = solve::solve_scaled(&prepared.model, &qp, backend, options)?;
+    drop(qp);
     let fields = report::body_fields(&prepared.model, &solution);
     let timings = Timings {
         mesh: prepared.mesh_s,

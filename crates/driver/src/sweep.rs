@@ -293,15 +293,11 @@ pub fn sweep(
             assemble_times.push(p.assemble_s);
             prepared = Some(p);
         }
-        let Some(prepared) = prepared else {
+        let Some(mut prepared) = prepared else {
             continue;
         };
+        let qp = solve::ScaledQp::new(prepared.model.take_qp().map_err(RunError::from)?);
         let model = &prepared.model;
-        let qp = solve::ScaledQp::new(
-            model
-                .qp()
-                .map_err(|e| RunError::from(solve::SolveError::from(e)))?,
-        );
         let floors: Vec<f64> = (0..repeat)
             .map(|_| solve::floor_time(&qp.problem).map(|d| d.as_secs_f64()))
             .collect::<Result<_, _>>()
