@@ -398,7 +398,8 @@ pub fn kkt_residuals(problem: &QpProblem, x: &[f64], multipliers: &[f64]) -> Kkt
         max_penetration,
         relative_penetration: max_penetration / length_scale,
         stationarity,
-        complementarity: complementarity / (force_scale * length_scale),
+        // F·X can underflow to 0 when both are tiny: keep the quotient finite.
+        complementarity: complementarity / (force_scale * length_scale).max(TINY),
         min_multiplier,
     }
 }
@@ -559,6 +560,16 @@ mod tests {
         b.add_triplet(0, 0, 1.0);
         b.add_triplet(0, 1, 1.0);
         QpProblem::try_new(a.to_csc(), vec![1.0, 1.0], b.to_csc(), vec![1.0]).unwrap()
+    }
+
+    #[test]
+    fn all_zero_problem_has_finite_zero_residuals() {
+        let mut a = TriMat::new((1, 1));
+        a.add_triplet(0, 0, 1.0);
+        let b = TriMat::new((0, 1));
+        let p = QpProblem::try_new(a.to_csc(), vec![0.0], b.to_csc(), vec![]).unwrap();
+        let r = kkt_residuals(&p, &[0.0], &[]);
+        assert_eq!(r, KktResiduals::default());
     }
 
     #[test]

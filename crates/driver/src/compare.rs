@@ -80,6 +80,9 @@ pub fn compare(
     mut progress: impl FnMut(&str),
 ) -> Result<CompareReport, RunError> {
     let mut prepared = run::prepare(scene, limits)?;
+    if prepared.model.rows() == 0 {
+        return Err(RunError::NoContact(format!("scene \"{}\"", scene.title)));
+    }
     let qp = solve::ScaledQp::new(prepared.model.take_qp()?);
     let model = &prepared.model;
     let mut floors: Vec<Duration> = (0..3)

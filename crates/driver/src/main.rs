@@ -152,6 +152,13 @@ fn solve(common: &Common, backend: &str, tol: f64, out: &std::path::Path) -> Res
         );
     }
     for c in &r.contacts {
+        if c.constraints == 0 {
+            eprintln!(
+                "warning: contact {} – {} gave no constraint row: no boundary node of either body is within one element of the other (give the pair a region box if they are meant to touch)",
+                c.bodies[0], c.bodies[1]
+            );
+            continue;
+        }
         println!(
             "  contact {} – {} (slave {}): normal force {:.6e}",
             c.bodies[0], c.bodies[1], c.slave, c.normal_force

@@ -31,6 +31,9 @@ pub enum RunError {
     /// Writing a file failed.
     #[error(transparent)]
     Output(#[from] OutputError),
+    /// Backends were asked to compete on a problem without contact rows, where none runs.
+    #[error("{0} has no contact constraint row, so it is one linear solve and no QP backend runs: nothing to compare (add a [[contact]] pair, or check its region)")]
+    NoContact(String),
 }
 
 /// Reads the scene at `path`, or the embedded default when `None`.

@@ -296,6 +296,9 @@ pub fn sweep(
         let Some(mut prepared) = prepared else {
             continue;
         };
+        if prepared.model.rows() == 0 {
+            return Err(RunError::NoContact(format!("the mesh at hmax {h}")).into());
+        }
         let qp = solve::ScaledQp::new(prepared.model.take_qp().map_err(RunError::from)?);
         let model = &prepared.model;
         let floors: Vec<f64> = (0..repeat)

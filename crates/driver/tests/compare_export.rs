@@ -121,3 +121,29 @@ fn compare_refuses_unknown_backends_before_any_work() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("cplex"));
     assert!(!dir.path().join("c").exists());
 }
+
+#[test]
+fn compare_refuses_a_scene_without_contact_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(fixture("exp2b")).unwrap();
+    let cut = text.find("[[contact]]").unwrap();
+    let end = text.find("[[probe]]").unwrap();
+    std::fs::write(
+        dir.path().join("free.toml"),
+        format!("{}{}", &text[..cut], &text[end..]),
+    )
+    .unwrap();
+    for cmd in [
+        vec!["compare", "free.toml"],
+        vec!["sweep", "free.toml", "--hmax", "0.3"],
+    ] {
+        let mut args = cmd.clone();
+        args.extend(["--out", "c"]);
+        let o = signorini(&args, dir.path());
+        assert!(!o.status.success(), "{cmd:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains("no contact constraint row"), "{err}");
+        assert!(!dir.path().join("c/compare.json").exists());
+        assert!(!dir.path().join("c/sweep.csv").exists());
+    }
+}
