@@ -33,7 +33,7 @@ pub enum Effect {
 #[derive(Debug, thiserror::Error)]
 pub enum ModelError {
     /// Meshing failed or was refused.
-    #[error("body \"{body}\": {source}")]
+    #[error("body \"{body}\" cannot be meshed")]
     Mesh {
         /// Body name.
         body: String,

@@ -38,7 +38,7 @@ pub const REGION_TOLERANCE: f64 = 1e-8;
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
     /// The file could not be read.
-    #[error("cannot read scene file {path}: {source}")]
+    #[error("cannot read scene file {path}")]
     Read {
         /// The path given.
         path: String,

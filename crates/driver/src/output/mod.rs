@@ -44,7 +44,7 @@ pub struct BodyField<'a> {
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
     /// The file (or its temporary sibling) could not be created, written or renamed.
-    #[error("cannot write {}: {source}", path.display())]
+    #[error("cannot write {}", path.display())]
     Io {
         /// The file that was to be written.
         path: PathBuf,

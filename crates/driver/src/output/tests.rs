@@ -223,7 +223,11 @@ fn failing_writer_leaves_nothing_and_keeps_old_file() {
         Err(io::Error::other("boom"))
     })
     .unwrap_err();
-    assert!(err.to_string().contains("boom"), "{err}");
+    // The cause travels in the error's source chain (the CLI prints the whole chain).
+    let cause = std::error::Error::source(&err)
+        .map(|s| s.to_string())
+        .unwrap_or_default();
+    assert!(cause.contains("boom"), "{err}: {cause}");
     assert!(dir_entries(dir.path()).is_empty());
 
     write_atomically(&path, |w| w.write_all(b"old")).unwrap();
