@@ -85,6 +85,8 @@ pub fn compare(
     }
     let qp = solve::ScaledQp::new(prepared.model.take_qp()?);
     let model = &prepared.model;
+    // Warm-up first (page faults of the first large allocation), then the median of three.
+    solve::floor_time(&qp.problem).map_err(solve::SolveError::from)?;
     let mut floors: Vec<Duration> = (0..3)
         .map(|_| solve::floor_time(&qp.problem))
         .collect::<Result<_, _>>()

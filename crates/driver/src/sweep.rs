@@ -301,6 +301,10 @@ pub fn sweep(
         }
         let qp = solve::ScaledQp::new(prepared.model.take_qp().map_err(RunError::from)?);
         let model = &prepared.model;
+        // One untimed factorisation first: the first touch of a large factor's memory costs page
+        // faults that later solves (the backends') do not pay; timing it cold inflated the floor
+        // twofold at 10⁶ DOFs.
+        solve::floor_time(&qp.problem).map_err(|e| RunError::from(solve::SolveError::from(e)))?;
         let floors: Vec<f64> = (0..repeat)
             .map(|_| solve::floor_time(&qp.problem).map(|d| d.as_secs_f64()))
             .collect::<Result<_, _>>()
