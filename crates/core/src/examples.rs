@@ -148,3 +148,36 @@ pub fn laplacian_with_bounds(nodes: usize, contacts: usize) -> QpProblem {
     }
     qp(stiffness, load, b.to_csc(), gap)
 }
+
+/// Largest entrywise difference (infinite when the lengths differ).
+pub fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    if a.len() != b.len() {
+        return f64::INFINITY;
+    }
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+impl Known {
+    /// `None` when `x` and `multipliers` match the optimum to `tol` relative to its largest
+    /// entry (λ relative to the larger of its own and, up to 1, x's scale); otherwise what differs.
+    pub fn mismatch(&self, x: &[f64], multipliers: &[f64], tol: f64) -> Option<String> {
+        let xs = self.x.iter().fold(1e-300_f64, |m, v| m.max(v.abs()));
+        let ls = self
+            .multipliers
+            .iter()
+            .fold(1e-300_f64, |m, v| m.max(v.abs()));
+        if max_diff(x, &self.x) > tol * xs {
+            return Some(format!("x = {x:?}, expected {:?}", self.x));
+        }
+        if max_diff(multipliers, &self.multipliers) > tol * ls.max(xs.min(1.0)) {
+            return Some(format!(
+                "λ = {multipliers:?}, expected {:?}",
+                self.multipliers
+            ));
+        }
+        None
+    }
+}
