@@ -4,6 +4,7 @@
 //! call them; `main.rs` only parses the command line.
 
 pub mod backends;
+pub mod check;
 pub mod compare;
 pub mod export;
 pub mod output;
