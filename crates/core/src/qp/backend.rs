@@ -1,0 +1,71 @@
+//! The backend contract: options in, a solution out.
+
+use std::time::Duration;
+
+use super::problem::{QpError, QpProblem};
+use super::status::QpStatus;
+
+/// Settings common to every backend.  Backend-specific knobs live in the backend crates.
+#[derive(Debug, Clone)]
+pub struct SolveOptions {
+    /// Relative KKT tolerance the answer must meet to be called `solved` (see [`KktResiduals`]).
+    /// Default `1e-9`.
+    pub tol: f64,
+    /// Iteration cap; `None` lets the backend choose.  Default `None`.
+    pub max_iter: Option<usize>,
+    /// Wall-clock limit; `None` for none.  Default `None`.
+    pub time_limit: Option<Duration>,
+    /// Print the backend's own progress.  Default `false`.
+    pub verbose: bool,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        Self {
+            tol: 1e-9,
+            max_iter: None,
+            time_limit: None,
+            verbose: false,
+        }
+    }
+}
+
+/// A backend's answer: primal x, multipliers λ ≥ 0 (one per constraint row), and how it went.
+#[derive(Debug, Clone)]
+pub struct QpSolution {
+    /// Primal solution x (length n).
+    pub x: Vec<f64>,
+    /// Multipliers λ of B x ≤ g (length m), the contact forces.
+    pub multipliers: Vec<f64>,
+    /// The backend's own verdict (to be passed through [`checked_status`]).
+    pub status: QpStatus,
+    /// Iterations the backend took (its own notion of an iteration).
+    pub iterations: usize,
+    /// Wall-clock time inside the backend, including its setup and factorisations.
+    pub solve_time: Duration,
+    /// Free-form note from the backend (why it stopped, what it detected).
+    pub message: Option<String>,
+}
+
+/// A QP algorithm.
+///
+/// ```
+/// use signorini_core::qp::{QpBackend, QpProblem, QpSolution, QpStatus, QpError, SolveOptions};
+/// /// A "backend" that only knows the unconstrained answer of a 1×1 problem.
+/// struct Scalar;
+/// impl QpBackend for Scalar {
+///     fn name(&self) -> &'static str { "scalar" }
+///     fn solve(&mut self, p: &QpProblem, _: &SolveOptions) -> Result<QpSolution, QpError> {
+///         let a = p.stiffness.data()[0];
+///         Ok(QpSolution { x: vec![p.load[0] / a], multipliers: vec![], status: QpStatus::Solved,
+///             iterations: 1, solve_time: Default::default(), message: None })
+///     }
+/// }
+/// ```
+pub trait QpBackend: Send {
+    /// Short name used on the command line and in reports (`"clarabel"`, `"dual-pgs"`, …).
+    fn name(&self) -> &'static str;
+    /// Solves the problem.  `Err` only when the backend cannot run at all.
+    fn solve(&mut self, problem: &QpProblem, options: &SolveOptions)
+        -> Result<QpSolution, QpError>;
+}

@@ -1,0 +1,35 @@
+//! The quadratic program every backend solves, and the one residual check used for all of them.
+//!
+//! ```text
+//! minimise   ½ xᵀ A x − fᵀ x
+//! subject to B x ≤ g
+//! ```
+//!
+//! `A` (`stiffness`, n×n) is the symmetric positive (semi-)definite stiffness on the free degrees
+//! of freedom, `f` (`load`) the load vector after Dirichlet lifting, `B` (`constraints`, m×n) the
+//! node-to-segment contact rows and `g` (`gap`) the initial normal gaps.  The KKT conditions are
+//!
+//! ```text
+//! A x − f + Bᵀ λ = 0,   B x ≤ g,   λ ≥ 0,   λᵢ (g − B x)ᵢ = 0,
+//! ```
+//!
+//! with λ the contact forces.  [`kkt_residuals`] measures how far a pair (x, λ) is from them, the
+//! same way for every backend, and [`checked_status`] turns a backend's own verdict into the
+//! status the program reports: `solved` only when these residuals meet the requested tolerance.
+
+mod backend;
+mod ops;
+mod problem;
+mod residuals;
+mod scaling;
+mod status;
+
+#[cfg(test)]
+mod tests;
+
+pub use backend::{QpBackend, QpSolution, SolveOptions};
+pub use ops::{csc_parts, dot, mat_t_vec, mat_vec, norm_inf};
+pub use problem::{CscMatrix, QpError, QpProblem};
+pub use residuals::{kkt_residuals, kkt_residuals_with, KktResiduals, ResidualScales};
+pub use scaling::QpScaling;
+pub use status::{checked_status, QpStatus};

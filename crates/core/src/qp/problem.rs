@@ -1,0 +1,169 @@
+//! The QP's data: matrices, vectors and their checks.
+
+use sprs::CsMat;
+
+use super::ops::{dot, mat_vec};
+
+/// Sparse matrix type of the QP: compressed sparse columns, `f64` values.
+pub type CscMatrix = CsMat<f64>;
+
+/// Why a QP could not even be attempted (as opposed to a solve that did not converge, which is a
+/// [`QpStatus`]).
+#[derive(Debug, thiserror::Error)]
+pub enum QpError {
+    /// Matrix or vector dimensions disagree.
+    #[error("QP dimensions disagree: {0}")]
+    Dimensions(String),
+    /// A matrix is not stored in compressed-sparse-column form.
+    #[error("QP matrix `{0}` must be in CSC storage")]
+    NotCsc(&'static str),
+    /// An entry is NaN or infinite.
+    #[error("QP data `{0}` holds a NaN or infinite entry")]
+    NotFinite(&'static str),
+    /// The backend was not compiled in or cannot run on this problem.
+    #[error("backend `{backend}` cannot run: {reason}")]
+    Unavailable {
+        /// Backend name.
+        backend: &'static str,
+        /// What is missing.
+        reason: String,
+    },
+    /// The backend failed in a way it could not express as a status.
+    #[error("backend `{backend}` failed: {reason}")]
+    Backend {
+        /// Backend name.
+        backend: &'static str,
+        /// The backend's message.
+        reason: String,
+    },
+}
+
+/// `min ½ xᵀ A x − fᵀ x  s.t.  B x ≤ g`, all matrices in CSC.
+#[derive(Debug, Clone)]
+pub struct QpProblem {
+    /// A: symmetric stiffness on the free DOFs, n×n, both triangles stored.
+    pub stiffness: CscMatrix,
+    /// f: load vector, length n.
+    pub load: Vec<f64>,
+    /// B: contact constraint rows, m×n.
+    pub constraints: CscMatrix,
+    /// g: right-hand side of the constraints (initial gaps), length m.
+    pub gap: Vec<f64>,
+    /// A basis of the null space of A known from the model (rigid-body modes of bodies that only
+    /// contact holds), each vector of length n; empty when A is positive definite.
+    pub kernel: Vec<Vec<f64>>,
+}
+
+impl QpProblem {
+    /// Checks dimensions, storage and finiteness, then builds the problem.
+    ///
+    /// ```
+    /// use signorini_core::qp::QpProblem;
+    /// use sprs::TriMat;
+    /// let mut a = TriMat::new((1, 1));
+    /// a.add_triplet(0, 0, 2.0);
+    /// let mut b = TriMat::new((1, 1));
+    /// b.add_triplet(0, 0, 1.0);
+    /// let qp = QpProblem::try_new(a.to_csc(), vec![4.0], b.to_csc(), vec![1.0]).unwrap();
+    /// assert_eq!((qp.dofs(), qp.rows()), (1, 1));
+    /// ```
+    pub fn try_new(
+        stiffness: CscMatrix,
+        load: Vec<f64>,
+        constraints: CscMatrix,
+        gap: Vec<f64>,
+    ) -> Result<Self, QpError> {
+        let problem = Self {
+            stiffness,
+            load,
+            constraints,
+            gap,
+            kernel: Vec::new(),
+        };
+        problem.validate()?;
+        Ok(problem)
+    }
+
+    /// Checks dimensions, CSC storage and finiteness.  The fields are public, so a backend calls
+    /// this before handing the data to a solver whose constructors assert.
+    pub fn validate(&self) -> Result<(), QpError> {
+        let n = self.stiffness.rows();
+        if self.stiffness.cols() != n {
+            return Err(QpError::Dimensions(format!(
+                "A is {}×{}, not square",
+                n,
+                self.stiffness.cols()
+            )));
+        }
+        if self.load.len() != n {
+            return Err(QpError::Dimensions(format!(
+                "f has length {} but A is {n}×{n}",
+                self.load.len()
+            )));
+        }
+        if self.constraints.cols() != n {
+            return Err(QpError::Dimensions(format!(
+                "B has {} columns but A is {n}×{n}",
+                self.constraints.cols()
+            )));
+        }
+        if self.gap.len() != self.constraints.rows() {
+            return Err(QpError::Dimensions(format!(
+                "g has length {} but B has {} rows",
+                self.gap.len(),
+                self.constraints.rows()
+            )));
+        }
+        if let Some(v) = self.kernel.iter().find(|v| v.len() != n) {
+            return Err(QpError::Dimensions(format!(
+                "kernel vector has length {} but A is {n}×{n}",
+                v.len()
+            )));
+        }
+        if !self.stiffness.is_csc() {
+            return Err(QpError::NotCsc("A"));
+        }
+        if !self.constraints.is_csc() {
+            return Err(QpError::NotCsc("B"));
+        }
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        if !finite(self.stiffness.data()) {
+            return Err(QpError::NotFinite("A"));
+        }
+        if !finite(&self.load) {
+            return Err(QpError::NotFinite("f"));
+        }
+        if !finite(self.constraints.data()) {
+            return Err(QpError::NotFinite("B"));
+        }
+        if !finite(&self.gap) {
+            return Err(QpError::NotFinite("g"));
+        }
+        if self.kernel.iter().any(|v| !finite(v)) {
+            return Err(QpError::NotFinite("kernel"));
+        }
+        Ok(())
+    }
+    /// Attaches a known null-space basis of A (see [`QpProblem::kernel`]).
+    pub fn with_kernel(mut self, kernel: Vec<Vec<f64>>) -> Result<Self, QpError> {
+        self.kernel = kernel;
+        self.validate()?;
+        Ok(self)
+    }
+
+    /// Number of unknowns n.
+    pub fn dofs(&self) -> usize {
+        self.stiffness.rows()
+    }
+
+    /// Number of constraint rows m.
+    pub fn rows(&self) -> usize {
+        self.constraints.rows()
+    }
+
+    /// The objective ½ xᵀ A x − fᵀ x.
+    pub fn objective(&self, x: &[f64]) -> f64 {
+        let ax = mat_vec(&self.stiffness, x);
+        0.5 * dot(x, &ax) - dot(&self.load, x)
+    }
+}

@@ -1,0 +1,187 @@
+//! The one residual check used for every backend.
+
+use serde::Serialize;
+
+use super::ops::{mat_t_vec, mat_vec, norm_inf};
+use super::problem::QpProblem;
+
+/// How far (x, λ) is from the KKT conditions.  All but `max_penetration` are dimensionless.
+///
+/// Every measure is taken against fixed scales of the problem's data (see [`ResidualScales`]),
+/// never against the answer itself, so a wrong x cannot scale its own residual down, and every
+/// backend is judged by the same yardstick.  With the force scale F and the length scale X:
+/// * `max_penetration` = max(0, maxᵢ (Bx − g)ᵢ), in the problem's length unit;
+/// * `relative_penetration` = `max_penetration` / X;
+/// * `stationarity` = ‖Ax − f + Bᵀλ‖∞ / F;
+/// * `complementarity` = maxᵢ |λᵢ (g − Bx)ᵢ| / (F X);
+/// * `min_multiplier` = min(0, minᵢ λᵢ) / F (zero when every λᵢ ≥ 0).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
+pub struct KktResiduals {
+    /// Largest constraint violation max(0, Bx − g), in length units.
+    pub max_penetration: f64,
+    /// `max_penetration` relative to the length scale X.
+    pub relative_penetration: f64,
+    /// Relative equilibrium residual ‖Ax − f + Bᵀλ‖∞ / F.
+    pub stationarity: f64,
+    /// Relative complementarity maxᵢ |λᵢ sᵢ| / (F X).
+    pub complementarity: f64,
+    /// Most negative multiplier relative to F (≤ 0).
+    pub min_multiplier: f64,
+}
+
+impl KktResiduals {
+    /// The worst of the four dimensionless measures.
+    pub fn worst(&self) -> f64 {
+        let m = self
+            .relative_penetration
+            .max(self.stationarity)
+            .max(self.complementarity)
+            .max(-self.min_multiplier);
+        if m.is_nan() {
+            f64::INFINITY
+        } else {
+            m
+        }
+    }
+
+    /// True when every dimensionless measure is at most `tol` (and none is NaN).
+    pub fn meet(&self, tol: f64) -> bool {
+        self.worst() <= tol
+    }
+
+    /// Multiplies the length-valued field by `length` (to report in the user's units).
+    pub fn with_length_scale(mut self, length: f64) -> Self {
+        self.max_penetration *= length;
+        self
+    }
+}
+
+/// Smallest scale used as a denominator, so that an all-zero problem gives zero residuals.
+const TINY: f64 = 1e-300;
+
+/// The fixed scales residuals are measured against, computed from A, f and g only.
+///
+/// * k̄ = mean |Aⱼⱼ|, the stiffness unit (1 when A has no diagonal);
+/// * G = max(0, −minᵢ gᵢ), the deepest initial overlap;
+/// * X = max(‖f‖₁ / k̄, G) — the displacement the total load would give a spring of stiffness k̄
+///   (independent of the mesh size, unlike ‖f‖∞, which shrinks with the elements), or the
+///   overlap to be undone; when both are zero, ‖g‖∞, and 1 when g is zero too;
+/// * F = max(‖f‖∞, k̄ G) — the largest nodal load, or the force of a k̄ spring over the overlap;
+///   when both are zero, k̄ X.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ResidualScales {
+    /// Force scale F (per DOF).
+    pub force: f64,
+    /// Length scale X.
+    pub length: f64,
+}
+
+impl ResidualScales {
+    /// The scales of `problem` (see the type's docs).
+    ///
+    /// ```
+    /// use signorini_core::qp::{QpProblem, ResidualScales};
+    /// use sprs::TriMat;
+    /// let mut a = TriMat::new((2, 2)); a.add_triplet(0, 0, 4.0); a.add_triplet(1, 1, 4.0);
+    /// let b = TriMat::new((0, 2));
+    /// let qp = QpProblem::try_new(a.to_csc(), vec![1.0, -3.0], b.to_csc(), vec![]).unwrap();
+    /// let s = ResidualScales::of(&qp);
+    /// assert_eq!((s.force, s.length), (3.0, 1.0));
+    /// ```
+    pub fn of(problem: &QpProblem) -> Self {
+        let n = problem.dofs();
+        let diag_sum: f64 = (0..n)
+            .map(|j| problem.stiffness.get(j, j).copied().unwrap_or(0.0).abs())
+            .sum();
+        let stiffness = if n > 0 && diag_sum > 0.0 && diag_sum.is_finite() {
+            diag_sum / n as f64
+        } else {
+            1.0
+        };
+        let overlap = problem.gap.iter().fold(0.0_f64, |m, g| m.max(-g));
+        let load_1: f64 = problem.load.iter().map(|v| v.abs()).sum();
+        let mut length = (load_1 / stiffness).max(overlap);
+        if length == 0.0 {
+            length = norm_inf(&problem.gap);
+        }
+        if length == 0.0 {
+            length = 1.0;
+        }
+        let mut force = norm_inf(&problem.load).max(stiffness * overlap);
+        if force == 0.0 {
+            force = stiffness * length;
+        }
+        Self {
+            force: force.max(TINY),
+            length: length.max(TINY),
+        }
+    }
+}
+
+/// The KKT residuals of (x, λ) for `problem`; see [`KktResiduals`] for the definitions.
+///
+/// ```
+/// use signorini_core::qp::{kkt_residuals, QpProblem};
+/// use sprs::TriMat;
+/// // min x² − 4x  s.t. x ≤ 1  →  x = 1, λ = 2.
+/// let mut a = TriMat::new((1, 1)); a.add_triplet(0, 0, 2.0);
+/// let mut b = TriMat::new((1, 1)); b.add_triplet(0, 0, 1.0);
+/// let qp = QpProblem::try_new(a.to_csc(), vec![4.0], b.to_csc(), vec![1.0]).unwrap();
+/// let r = kkt_residuals(&qp, &[1.0], &[2.0]);
+/// assert!(r.meet(1e-15));
+/// assert!(!kkt_residuals(&qp, &[1.1], &[2.0]).meet(1e-3));
+/// ```
+pub fn kkt_residuals(problem: &QpProblem, x: &[f64], multipliers: &[f64]) -> KktResiduals {
+    kkt_residuals_with(problem, &ResidualScales::of(problem), x, multipliers)
+}
+
+/// As [`kkt_residuals`], with the scales computed once by the caller (e.g. a backend that checks
+/// the residuals every iteration).
+pub fn kkt_residuals_with(
+    problem: &QpProblem,
+    scales: &ResidualScales,
+    x: &[f64],
+    multipliers: &[f64],
+) -> KktResiduals {
+    if x.len() != problem.dofs()
+        || multipliers.len() != problem.rows()
+        || x.iter().chain(multipliers).any(|v| !v.is_finite())
+    {
+        return KktResiduals {
+            max_penetration: f64::INFINITY,
+            relative_penetration: f64::INFINITY,
+            stationarity: f64::INFINITY,
+            complementarity: f64::INFINITY,
+            min_multiplier: f64::NEG_INFINITY,
+        };
+    }
+    let ax = mat_vec(&problem.stiffness, x);
+    let bx = mat_vec(&problem.constraints, x);
+    let btl = mat_t_vec(&problem.constraints, multipliers);
+    let (force_scale, length_scale) = (scales.force, scales.length);
+
+    let stationarity = ax
+        .iter()
+        .zip(&problem.load)
+        .zip(&btl)
+        .map(|((a, f), b)| (a - f + b).abs())
+        .fold(0.0, f64::max)
+        / force_scale;
+    let mut max_penetration = 0.0_f64;
+    let mut complementarity = 0.0_f64;
+    for ((bxi, gi), li) in bx.iter().zip(&problem.gap).zip(multipliers) {
+        let slack = gi - bxi;
+        max_penetration = max_penetration.max(-slack);
+        complementarity = complementarity.max((li * slack).abs());
+    }
+    let min_multiplier = multipliers.iter().copied().fold(0.0, f64::min) / force_scale;
+    let finite_or_inf = |v: f64| if v.is_finite() { v } else { f64::INFINITY };
+    KktResiduals {
+        max_penetration,
+        relative_penetration: finite_or_inf(max_penetration / length_scale),
+        stationarity: finite_or_inf(stationarity),
+        // F·X can underflow to 0 when both are tiny: keep the quotient finite.
+        complementarity: finite_or_inf(complementarity / (force_scale * length_scale).max(TINY)),
+        min_multiplier,
+    }
+}

@@ -1,0 +1,79 @@
+//! Nondimensionalisation of a QP before any backend sees it.
+
+use super::backend::QpSolution;
+use super::ops::norm_inf;
+use super::problem::QpProblem;
+
+/// Scalar scaling that makes a QP dimensionless: x = `displacement` · x̂, A = `stiffness` · Â,
+/// f = `stiffness`·`displacement` · f̂, g = `displacement` · ĝ, λ = `stiffness`·`displacement` · λ̂.
+///
+/// Backends only ever see the scaled problem, so results do not depend on the user's units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct QpScaling {
+    /// Stiffness unit (the mean diagonal of A).
+    pub stiffness: f64,
+    /// Displacement unit (‖f‖∞ / stiffness unit, or the largest finite gap when unloaded).
+    pub displacement: f64,
+}
+
+impl QpScaling {
+    /// Scales chosen from the problem's data; all-zero data gives unit scales.
+    pub fn of(problem: &QpProblem) -> Self {
+        let n = problem.dofs();
+        let diag_sum: f64 = (0..n)
+            .map(|j| problem.stiffness.get(j, j).copied().unwrap_or(0.0).abs())
+            .sum();
+        let stiffness = if n > 0 && diag_sum > 0.0 {
+            diag_sum / n as f64
+        } else {
+            1.0
+        };
+        let load = norm_inf(&problem.load);
+        let displacement = if load > 0.0 {
+            load / stiffness
+        } else {
+            let gap = norm_inf(&problem.gap);
+            if gap > 0.0 {
+                gap
+            } else {
+                1.0
+            }
+        };
+        Self {
+            stiffness,
+            displacement,
+        }
+    }
+
+    /// Turns `problem` into the dimensionless Â, f̂, B, ĝ without a copy.
+    pub fn scale_in_place(&self, problem: &mut QpProblem) {
+        let force = self.stiffness * self.displacement;
+        problem
+            .stiffness
+            .data_mut()
+            .iter_mut()
+            .for_each(|v| *v /= self.stiffness);
+        problem.load.iter_mut().for_each(|v| *v /= force);
+        problem.gap.iter_mut().for_each(|v| *v /= self.displacement);
+    }
+
+    /// The dimensionless problem Â, f̂, B, ĝ.
+    pub fn scale(&self, problem: &QpProblem) -> QpProblem {
+        let force = self.stiffness * self.displacement;
+        QpProblem {
+            stiffness: problem.stiffness.map(|v| v / self.stiffness),
+            load: problem.load.iter().map(|v| v / force).collect(),
+            constraints: problem.constraints.clone(),
+            gap: problem.gap.iter().map(|v| v / self.displacement).collect(),
+            kernel: problem.kernel.clone(),
+        }
+    }
+
+    /// Brings a solution of the scaled problem back to the original units.
+    pub fn unscale(&self, mut solution: QpSolution) -> QpSolution {
+        let force = self.stiffness * self.displacement;
+        solution.x.iter_mut().for_each(|v| *v *= self.displacement);
+        solution.multipliers.iter_mut().for_each(|v| *v *= force);
+        solution
+    }
+}

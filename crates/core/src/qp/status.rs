@@ -1,0 +1,60 @@
+//! What became of a solve, and the status the program reports after its own residual check.
+
+use serde::Serialize;
+
+use super::residuals::KktResiduals;
+
+/// What became of a solve.  Not converging is data, not an error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum QpStatus {
+    /// The KKT residuals meet the requested tolerance.
+    Solved,
+    /// The backend stopped but the residuals miss the tolerance.
+    Inaccurate,
+    /// The iteration limit was reached first.
+    MaxIterations,
+    /// The time limit was reached first.
+    TimeLimit,
+    /// No x satisfies B x ≤ g.
+    PrimalInfeasible,
+    /// The objective is unbounded below (e.g. a floating body pushed away from contact).
+    DualInfeasible,
+    /// A factorisation or step broke down, or the answer held NaN.
+    NumericalError,
+}
+
+impl QpStatus {
+    /// The word used in reports (`"solved"`, `"max-iterations"`, …).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            QpStatus::Solved => "solved",
+            QpStatus::Inaccurate => "inaccurate",
+            QpStatus::MaxIterations => "max-iterations",
+            QpStatus::TimeLimit => "time-limit",
+            QpStatus::PrimalInfeasible => "primal-infeasible",
+            QpStatus::DualInfeasible => "dual-infeasible",
+            QpStatus::NumericalError => "numerical-error",
+        }
+    }
+}
+
+impl std::fmt::Display for QpStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// The status to report: a backend's `Solved` (or `Inaccurate`) stands as `Solved` only if the
+/// residuals meet `tol`, else `Inaccurate`, or `NumericalError` when they are not finite.  Any
+/// other verdict (limits, infeasibility certificates) is kept as the backend gave it.
+pub fn checked_status(reported: QpStatus, residuals: &KktResiduals, tol: f64) -> QpStatus {
+    match reported {
+        QpStatus::Solved | QpStatus::Inaccurate if residuals.worst().is_infinite() => {
+            QpStatus::NumericalError
+        }
+        QpStatus::Solved | QpStatus::Inaccurate if residuals.meet(tol) => QpStatus::Solved,
+        QpStatus::Solved | QpStatus::Inaccurate => QpStatus::Inaccurate,
+        other => other,
+    }
+}

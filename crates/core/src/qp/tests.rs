@@ -1,0 +1,152 @@
+//! Unit tests of the QP contract.
+
+use super::*;
+use sprs::TriMat;
+use std::time::Duration;
+
+fn tiny() -> QpProblem {
+    // min ½(x0² + x1²) − x0 − x1  s.t.  x0 + x1 ≤ 1   →  x = (½, ½), λ = ½
+    let mut a = TriMat::new((2, 2));
+    a.add_triplet(0, 0, 1.0);
+    a.add_triplet(1, 1, 1.0);
+    let mut b = TriMat::new((1, 2));
+    b.add_triplet(0, 0, 1.0);
+    b.add_triplet(0, 1, 1.0);
+    QpProblem::try_new(a.to_csc(), vec![1.0, 1.0], b.to_csc(), vec![1.0]).unwrap()
+}
+
+#[test]
+fn all_zero_problem_has_finite_zero_residuals() {
+    let mut a = TriMat::new((1, 1));
+    a.add_triplet(0, 0, 1.0);
+    let b = TriMat::new((0, 1));
+    let p = QpProblem::try_new(a.to_csc(), vec![0.0], b.to_csc(), vec![]).unwrap();
+    let r = kkt_residuals(&p, &[0.0], &[]);
+    assert_eq!(r, KktResiduals::default());
+}
+
+#[test]
+fn exact_optimum_has_zero_residuals() {
+    let r = kkt_residuals(&tiny(), &[0.5, 0.5], &[0.5]);
+    assert_eq!(r.worst(), 0.0);
+}
+
+#[test]
+fn each_violation_is_seen() {
+    // tiny(): k̄ = 1, ‖f‖₁ = 2, ‖f‖∞ = 1, g = [1] → X = 2, F = 1 (see ResidualScales).
+    let p = tiny();
+    let s = ResidualScales::of(&p);
+    assert_eq!((s.force, s.length), (1.0, 2.0));
+    // Bx − g = 0.4 → 0.4 / X.
+    let pen = kkt_residuals(&p, &[0.7, 0.7], &[0.3]);
+    assert!((pen.max_penetration - 0.4).abs() < 1e-15);
+    assert!((pen.relative_penetration - 0.2).abs() < 1e-15);
+    // Ax − f + Bᵀλ = (−0.5, −0.5) → 0.5 / F.
+    assert!((kkt_residuals(&p, &[0.5, 0.5], &[0.0]).stationarity - 0.5).abs() < 1e-15);
+    // λ s = 0.6 · 0.2 → 0.12 / (F X).
+    let comp = kkt_residuals(&p, &[0.4, 0.4], &[0.6]).complementarity;
+    assert!((comp - 0.06).abs() < 1e-15, "{comp}");
+    let neg = kkt_residuals(&p, &[1.0, 1.0], &[-0.5]);
+    assert!((neg.min_multiplier + 0.5).abs() < 1e-15);
+    let nan = kkt_residuals(&p, &[f64::NAN, 0.5], &[0.5]);
+    assert_eq!(
+        checked_status(QpStatus::Solved, &nan, 1e-6),
+        QpStatus::NumericalError
+    );
+    // An infeasibility certificate is kept even though its x is no solution.
+    assert_eq!(
+        checked_status(QpStatus::PrimalInfeasible, &nan, 1e-6),
+        QpStatus::PrimalInfeasible
+    );
+}
+
+#[test]
+fn solved_is_downgraded_when_residuals_miss() {
+    let p = tiny();
+    let r = kkt_residuals(&p, &[0.5, 0.5 + 1e-6], &[0.5]);
+    assert_eq!(
+        checked_status(QpStatus::Solved, &r, 1e-9),
+        QpStatus::Inaccurate
+    );
+    assert_eq!(checked_status(QpStatus::Solved, &r, 1e-3), QpStatus::Solved);
+    assert_eq!(
+        checked_status(QpStatus::MaxIterations, &r, 1e-3),
+        QpStatus::MaxIterations
+    );
+}
+
+#[test]
+fn scaling_round_trips_and_preserves_residuals() {
+    let mut p = tiny();
+    p.stiffness = p.stiffness.map(|v| v * 2e11);
+    p.load = p.load.iter().map(|v| v * 2e11 * 1e-5).collect();
+    p.gap = p.gap.iter().map(|v| v * 1e-5).collect();
+    let s = QpScaling::of(&p);
+    let scaled = s.scale(&p);
+    assert!((scaled.load[0] - 1.0).abs() < 1e-12);
+    let sol = QpSolution {
+        x: vec![0.5, 0.5],
+        multipliers: vec![0.5],
+        status: QpStatus::Solved,
+        iterations: 0,
+        solve_time: Duration::ZERO,
+        message: None,
+    };
+    let back = s.unscale(sol);
+    let r = kkt_residuals(&p, &back.x, &back.multipliers);
+    assert!(r.meet(1e-14), "{r:?}");
+    assert!((back.x[0] - 0.5e-5).abs() < 1e-18);
+}
+
+#[test]
+fn rejects_bad_dimensions_and_nan() {
+    let p = tiny();
+    let err = QpProblem::try_new(
+        p.stiffness.clone(),
+        vec![1.0],
+        p.constraints.clone(),
+        vec![1.0],
+    );
+    assert!(matches!(err, Err(QpError::Dimensions(_))));
+    let err = QpProblem::try_new(
+        p.stiffness.clone(),
+        vec![1.0, f64::NAN],
+        p.constraints.clone(),
+        vec![1.0],
+    );
+    assert!(matches!(err, Err(QpError::NotFinite("f"))));
+}
+
+#[test]
+fn scales_do_not_depend_on_the_answer() {
+    // Three DOFs, the third free of the constraint: the same penetration of 0.1 must give the
+    // same relative penetration however large the unconstrained component of a wrong x is.
+    // (When X was ‖x‖∞, x₂ = 1e9 shrank it to 1e-10 and a tolerance of 1e-9 was met.)
+    let mut a = TriMat::new((3, 3));
+    for j in 0..3 {
+        a.add_triplet(j, j, 1.0);
+    }
+    let mut b = TriMat::new((1, 3));
+    b.add_triplet(0, 0, 1.0);
+    let p = QpProblem::try_new(a.to_csc(), vec![2.0, 0.0, 0.0], b.to_csc(), vec![1.0]).unwrap();
+    let small = kkt_residuals(&p, &[1.1, 0.0, 0.0], &[0.9]);
+    let huge = kkt_residuals(&p, &[1.1, 0.0, 1e9], &[0.9]);
+    assert_eq!(small.relative_penetration, huge.relative_penetration);
+    assert!((small.relative_penetration - 0.05).abs() < 1e-15);
+    assert!(!huge.meet(1e-9));
+}
+
+#[test]
+fn overlap_sets_the_scales_of_an_unloaded_problem() {
+    // No load, an initial overlap of 0.5 on a spring of stiffness 4: X = 0.5, F = 2.
+    let mut a = TriMat::new((1, 1));
+    a.add_triplet(0, 0, 4.0);
+    let mut b = TriMat::new((1, 1));
+    b.add_triplet(0, 0, 1.0);
+    let p = QpProblem::try_new(a.to_csc(), vec![0.0], b.to_csc(), vec![-0.5]).unwrap();
+    let s = ResidualScales::of(&p);
+    assert_eq!((s.force, s.length), (2.0, 0.5));
+    // The optimum x = −0.5, λ = 2 meets any tolerance; x = 0 penetrates by the whole overlap.
+    assert!(kkt_residuals(&p, &[-0.5], &[2.0]).meet(1e-15));
+    assert!((kkt_residuals(&p, &[0.0], &[0.0]).relative_penetration - 1.0).abs() < 1e-15);
+}
