@@ -133,6 +133,10 @@ pub struct RunReport {
     /// The backend's note, if any.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub message: Option<String>,
+    /// The backend's own verdict before the core's residual check (`status` is the program's).
+    pub backend_status: String,
+    /// What the program noticed and worked around, one line each (empty when nothing).
+    pub warnings: Vec<String>,
 }
 
 /// Per-body fields for output files.
@@ -407,5 +411,7 @@ pub fn run_report(
             imbalance
         },
         message: solution.message.clone(),
+        backend_status: solution.backend_status.as_str().to_string(),
+        warnings: Vec::new(),
     }
 }

@@ -43,8 +43,11 @@ pub struct Solution {
     pub displacement: Vec<f64>,
     /// Contact multipliers λ (one per row, force per unit thickness).
     pub multipliers: Vec<f64>,
-    /// Final status (core-checked).
+    /// Final status: the backend's verdict checked against the core's residuals and the
+    /// finiteness of every number in the answer (see [`checked_status`]).
     pub status: QpStatus,
+    /// The backend's own verdict, before the core's check (`solved` for the direct solve).
+    pub backend_status: QpStatus,
     /// Backend iterations (0 for a direct solve).
     pub iterations: usize,
     /// KKT residuals (penetration in length units, the rest dimensionless).
@@ -130,11 +133,13 @@ pub fn solve_scaled(
             displacement: model.expand(&x),
             multipliers: Vec::new(),
             status,
+            backend_status: QpStatus::Solved,
             iterations: 0,
             residuals,
             solve_time: elapsed,
             message: None,
-        });
+        }
+        .checked_finite());
     }
     let start = Instant::now();
     let raw = backend.solve(problem, options)?;
@@ -147,18 +152,46 @@ pub fn solve_scaled(
     } else {
         f64::NAN
     };
+    let backend_status = raw.status;
     let solution = units.unscale(raw);
     Ok(Solution {
         backend: backend.name().to_string(),
         displacement: model.expand(&solution.x),
         multipliers: solution.multipliers,
         status,
+        backend_status,
         iterations: solution.iterations,
         residuals,
         objective,
         solve_time: elapsed,
         message: solution.message,
-    })
+    }
+    .checked_finite())
+}
+
+impl Solution {
+    /// Demotes a `solved` answer to `numerical-error` when any number of it is not finite: the
+    /// scaled problem may be solved exactly and still overflow when brought back to the user's
+    /// units (E = 1e-200 under a traction of 1e200 gives displacements of 1e400).
+    pub fn checked_finite(mut self) -> Self {
+        if self.status != QpStatus::Solved {
+            return self;
+        }
+        let bad = |v: &[f64]| v.iter().filter(|x| !x.is_finite()).count();
+        let (du, dl) = (bad(&self.displacement), bad(&self.multipliers));
+        if du + dl > 0 || !self.objective.is_finite() {
+            self.status = QpStatus::NumericalError;
+            let note = format!(
+                "the answer overflows in the scene's units: {du} displacement(s), {dl} multiplier(s){} not finite",
+                if self.objective.is_finite() { "" } else { " and the objective" }
+            );
+            self.message = Some(match self.message.take() {
+                Some(m) => format!("{note}; backend: {m}"),
+                None => note,
+            });
+        }
+        self
+    }
 }
 
 /// The timing floor: one unconstrained sparse factorisation + solve of the same A, timed here.

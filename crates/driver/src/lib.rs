@@ -6,6 +6,7 @@
 pub mod backends;
 pub mod check;
 pub mod compare;
+pub mod exit;
 pub mod export;
 pub mod output;
 pub mod plots;

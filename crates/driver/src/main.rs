@@ -1,20 +1,27 @@
 //! `signorini`: frictionless contact of elastic bodies in 2D, solved by several QP backends.
+//!
+//! Exit codes (see `docs/scene.md`): 0 solved or valid, 1 bad input or usage, 2 not solved,
+//! 3 I/O or resource error.
 
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::time::Duration;
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use signorini::backends::{make_backend, BackendKind};
+use signorini::exit::{classify, Exit};
 use signorini::run;
-use signorini_core::mesh::{estimate_elements, MeshLimits};
+use signorini_core::mesh::MeshLimits;
 use signorini_core::qp::{QpStatus, SolveOptions};
 
 #[derive(Parser)]
 #[command(
     name = "signorini",
     version,
-    about = "2D frictionless contact of elastic bodies by FEM, through several QP backends"
+    about = "2D frictionless contact of elastic bodies by FEM, through several QP backends",
+    after_help = "Exit codes: 0 solved (or valid), 1 bad input or usage, 2 not solved, 3 I/O or resource error.\nThe scene and result formats: docs/scene.md."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -23,11 +30,45 @@ struct Cli {
 
 #[derive(clap::Args)]
 struct Common {
-    /// Scene file (TOML, see SCENE.md); the seed's Experiment 2b when omitted.
+    /// Scene file (TOML, see docs/scene.md); the seed's Experiment 2b when omitted.
     scene: Option<PathBuf>,
-    /// Largest number of elements a scene may ask for before it is refused.
+    /// Largest total number of elements (all bodies) a scene may ask for before it is refused.
     #[arg(long, default_value_t = 5_000_000)]
     max_elements: usize,
+}
+
+/// Seconds a backend may take: positive; values from 1e9 s (31 years) up mean no limit.
+fn parse_time_limit(text: &str) -> Result<f64, String> {
+    let t: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a number of seconds"))?;
+    if t.is_finite() && t > 0.0 || t == f64::INFINITY {
+        Ok(t)
+    } else {
+        Err(format!("must be a positive number of seconds, got {text}"))
+    }
+}
+
+/// The limit as a duration; `None` (no limit) for 1e9 s and more, where a `Duration` would be of
+/// no use (and `Duration::from_secs_f64` panics beyond its range).
+fn time_limit(seconds: Option<f64>) -> Option<Duration> {
+    seconds
+        .filter(|t| *t < 1e9)
+        .and_then(|t| Duration::try_from_secs_f64(t).ok())
+}
+
+/// A tolerance in (0, 1).
+fn parse_tol(text: &str) -> Result<f64, String> {
+    let t: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a number"))?;
+    if t.is_finite() && t > 0.0 && t < 1.0 {
+        Ok(t)
+    } else {
+        Err(format!("must lie in (0, 1), got {text}"))
+    }
 }
 
 #[derive(Subcommand)]
@@ -40,8 +81,11 @@ enum Command {
         #[arg(long, default_value = "clarabel")]
         backend: String,
         /// Relative KKT tolerance the answer must meet to count as solved.
-        #[arg(long, default_value_t = 1e-9)]
+        #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
         tol: f64,
+        /// Seconds the backend may take; it then stops with status time-limit.
+        #[arg(long, value_parser = parse_time_limit)]
+        time_limit: Option<f64>,
         /// Output directory (created if missing).
         #[arg(long, default_value = "out")]
         out: PathBuf,
@@ -58,8 +102,11 @@ enum Command {
         )]
         backends: Vec<String>,
         /// Relative KKT tolerance every backend is asked to meet.
-        #[arg(long, default_value_t = 1e-9)]
+        #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
         tol: f64,
+        /// Seconds each backend may take; it then stops with status time-limit.
+        #[arg(long, value_parser = parse_time_limit)]
+        time_limit: Option<f64>,
         /// Output directory for compare.json and compare.csv (created if missing).
         #[arg(long, default_value = "out")]
         out: PathBuf,
@@ -82,13 +129,13 @@ enum Command {
         )]
         backends: Vec<String>,
         /// Comma-separated tolerances.
-        #[arg(long, value_delimiter = ',', default_value = "1e-9")]
+        #[arg(long, value_delimiter = ',', default_value = "1e-9", value_parser = parse_tol)]
         tol: Vec<f64>,
-        /// Runs per point (medians are reported).
-        #[arg(long, default_value_t = 1)]
-        repeat: usize,
+        /// Runs per point (medians are reported); at least 1.
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+        repeat: u32,
         /// Seconds one solve may take; a backend that exceeds it is skipped on finer meshes.
-        #[arg(long)]
+        #[arg(long, value_parser = parse_time_limit)]
         time_limit: Option<f64>,
         /// Keep the points already in DIR/sweep.csv and run only the missing ones.
         #[arg(long)]
@@ -105,7 +152,7 @@ enum Command {
         #[arg(long, default_value = "out")]
         out: PathBuf,
     },
-    /// Validate a scene without solving it.
+    /// Validate a scene exactly as solve does (parse, estimate, mesh, assemble), without solving.
     Check {
         #[command(flatten)]
         common: Common,
@@ -119,95 +166,116 @@ fn limits(common: &Common) -> MeshLimits {
     }
 }
 
-fn check_tol(tol: f64) -> Result<()> {
-    anyhow::ensure!(
-        tol.is_finite() && tol > 0.0 && tol < 1.0,
-        "--tol must lie in (0, 1), got {tol}"
-    );
-    Ok(())
+/// Standard output with write errors turned into errors (a closed pipe or a full disk is a clean
+/// failure with exit code 3, never a panic as `println!` would give).
+struct Console(std::io::Stdout);
+
+impl Console {
+    fn new() -> Self {
+        Console(std::io::stdout())
+    }
+
+    fn line(&mut self, text: impl std::fmt::Display) -> Result<()> {
+        writeln!(self.0, "{text}").context("writing to standard output")
+    }
+
+    fn finish(mut self) -> Result<()> {
+        self.0.flush().context("writing to standard output")
+    }
 }
 
-fn solve(common: &Common, backend: &str, tol: f64, out: &std::path::Path) -> Result<ExitCode> {
-    check_tol(tol)?;
+/// Prints to standard error, ignoring failure: there is nowhere left to report it.
+fn warn(text: impl std::fmt::Display) {
+    let _ = writeln!(std::io::stderr(), "{text}");
+}
+
+fn solve(
+    common: &Common,
+    backend: &str,
+    tol: f64,
+    time_limit_s: Option<f64>,
+    out: &std::path::Path,
+) -> Result<Exit> {
     let kind: BackendKind = backend.parse()?;
     let mut backend = make_backend(kind)?;
     let scene = run::load_scene(common.scene.as_deref())?;
     let options = SolveOptions {
         tol,
+        time_limit: time_limit(time_limit_s),
         ..SolveOptions::default()
     };
     let outcome = run::solve_scene(&scene, backend.as_mut(), &options, &limits(common))?;
     let written = run::write_outputs(out, &scene, &outcome)
         .with_context(|| format!("writing results to {}", out.display()))?;
     let r = &outcome.report;
-    println!("{}", r.scene);
-    println!(
+    let mut con = Console::new();
+    con.line(&r.scene)?;
+    con.line(format_args!(
         "  {} DOFs, {} contact rows ({} active); backend {}: {} in {} iterations",
         r.dofs, r.constraints, r.active_constraints, r.backend, r.status, r.iterations
-    );
+    ))?;
     for b in &r.bodies {
-        println!(
+        con.line(format_args!(
             "  body {:<10} {:>7} nodes {:>7} elements  max |u| = {:.6e}  reaction = [{:.4e}, {:.4e}]",
             b.name, b.nodes, b.elements, b.max_displacement, b.reaction[0], b.reaction[1]
-        );
+        ))?;
     }
     for c in &r.contacts {
-        if c.constraints == 0 {
-            eprintln!(
-                "warning: contact {} – {} gave no constraint row: no boundary node of either body is within one element of the other (give the pair a region box if they are meant to touch)",
-                c.bodies[0], c.bodies[1]
-            );
-            continue;
+        if c.constraints > 0 {
+            con.line(format_args!(
+                "  contact {} – {} (slave {}): normal force {:.6e}",
+                c.bodies[0], c.bodies[1], c.slave, c.normal_force
+            ))?;
         }
-        println!(
-            "  contact {} – {} (slave {}): normal force {:.6e}",
-            c.bodies[0], c.bodies[1], c.slave, c.normal_force
-        );
     }
-    println!(
+    con.line(format_args!(
         "  residuals: penetration {:.2e}, stationarity {:.2e}, complementarity {:.2e}, min multiplier {:.2e}",
         r.residuals.max_penetration,
         r.residuals.stationarity,
         r.residuals.complementarity,
         r.residuals.min_multiplier
-    );
-    println!(
+    ))?;
+    con.line(format_args!(
         "  time: mesh {:.4} s, assemble {:.4} s, solve {:.4} s, total {:.4} s",
         r.timing_s.mesh, r.timing_s.assemble, r.timing_s.solve, r.timing_s.total
-    );
+    ))?;
     for p in &written {
-        println!("  wrote {}", p.display());
+        con.line(format_args!("  wrote {}", p.display()))?;
+    }
+    con.finish()?;
+    for w in &r.warnings {
+        warn(format_args!("warning: {w}"));
     }
     if outcome.solution.status == QpStatus::Solved {
-        Ok(ExitCode::SUCCESS)
+        Ok(Exit::Success)
     } else {
-        eprintln!(
-            "error: status {} (residuals miss --tol {tol:e}){}",
+        warn(format_args!(
+            "error: status {} (backend said {}){}",
             outcome.solution.status,
+            outcome.solution.backend_status,
             outcome
                 .solution
                 .message
                 .as_deref()
                 .map(|m| format!(": {m}"))
                 .unwrap_or_default()
-        );
-        Ok(ExitCode::from(2))
+        ));
+        Ok(Exit::NotSolved)
     }
 }
 
-fn compare(common: &Common, names: &[String], tol: f64, out: &std::path::Path) -> Result<ExitCode> {
-    check_tol(tol)?;
-    let kinds: Vec<BackendKind> = names.iter().map(|n| n.parse()).collect::<Result<_, _>>()?;
-    anyhow::ensure!(!kinds.is_empty(), "--backends names no backend");
-    for k in &kinds {
-        anyhow::ensure!(
-            k.available(),
-            "backend \"{k}\" is not compiled in; rebuild with `--features {k}`"
-        );
-    }
+fn compare(
+    common: &Common,
+    names: &[String],
+    tol: f64,
+    time_limit_s: Option<f64>,
+    out: &std::path::Path,
+) -> Result<Exit> {
+    let kinds = parse_backends(names)?;
     let scene = run::load_scene(common.scene.as_deref())?;
     let options = SolveOptions {
         tol,
+        time_limit: time_limit(time_limit_s),
         ..SolveOptions::default()
     };
     let bar = indicatif::ProgressBar::new(kinds.len() as u64).with_style(
@@ -221,16 +289,26 @@ fn compare(common: &Common, names: &[String], tol: f64, out: &std::path::Path) -
     bar.finish_and_clear();
     let written = signorini::compare::write(out, &report)
         .with_context(|| format!("writing comparison to {}", out.display()))?;
-    print!("{}", signorini::compare::table(&report));
-    for p in &written {
-        println!("  wrote {}", p.display());
+    let mut con = Console::new();
+    for line in signorini::compare::table(&report).lines() {
+        con.line(line)?;
     }
-    let all_solved = report.backends.iter().all(|r| r.status == "solved");
-    Ok(if all_solved {
-        ExitCode::SUCCESS
+    for p in &written {
+        con.line(format_args!("  wrote {}", p.display()))?;
+    }
+    con.finish()?;
+    let failed: Vec<&str> = report
+        .backends
+        .iter()
+        .filter(|r| r.status != "solved")
+        .map(|r| r.backend.as_str())
+        .collect();
+    if failed.is_empty() {
+        Ok(Exit::Success)
     } else {
-        ExitCode::from(2)
-    })
+        warn(format_args!("error: not solved by {}", failed.join(", ")));
+        Ok(Exit::NotSolved)
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -240,26 +318,20 @@ fn sweep(
     bodies: &[String],
     names: &[String],
     tols: &[f64],
-    repeat: usize,
-    time_limit: Option<f64>,
+    repeat: u32,
+    time_limit_s: Option<f64>,
     resume: bool,
     out: &std::path::Path,
-) -> Result<ExitCode> {
+) -> Result<Exit> {
     let backends = parse_backends(names)?;
-    if let Some(t) = time_limit {
-        anyhow::ensure!(
-            t.is_finite() && t > 0.0,
-            "--time-limit must be positive, got {t}"
-        );
-    }
     let scene = run::load_scene(common.scene.as_deref())?;
     let plan = signorini::sweep::SweepPlan {
         hmax: hmax.to_vec(),
         bodies: bodies.to_vec(),
         backends,
         tols: tols.to_vec(),
-        repeat,
-        time_limit: time_limit.map(std::time::Duration::from_secs_f64),
+        repeat: repeat as usize,
+        time_limit: time_limit(time_limit_s),
         resume,
     };
     let bar = indicatif::ProgressBar::new(0).with_style(
@@ -279,8 +351,9 @@ fn sweep(
         },
     )?;
     bar.finish_and_clear();
-    println!("{}: {} points", scene.title, points.len());
-    println!(
+    let mut con = Console::new();
+    con.line(format_args!("{}: {} points", scene.title, points.len()))?;
+    con.line(format_args!(
         "  {:>8} {:>9} {:<11} {:>8} {:<15} {:>6} {:>10} {:>10} {:>8} {:>9} {:>9}",
         "hmax",
         "dofs",
@@ -293,9 +366,9 @@ fn sweep(
         "÷floor",
         "err ref",
         "err fine"
-    );
+    ))?;
     for p in &points {
-        println!(
+        con.line(format_args!(
             "  {:>8} {:>9} {:<11} {:>8.0e} {:<15} {:>6} {:>10.4} {:>10.4} {:>8.2} {:>9.1e} {:>9.1e}",
             p.hmax,
             p.dofs,
@@ -308,16 +381,17 @@ fn sweep(
             p.ratio_to_floor,
             p.error_vs_reference.unwrap_or(f64::NAN),
             p.error_vs_finest.unwrap_or(f64::NAN)
-        );
+        ))?;
     }
-    println!("  wrote {}", csv.display());
+    con.line(format_args!("  wrote {}", csv.display()))?;
     let rows = signorini::plots::read_sweep(&csv)?;
     // Plot titles get the part of the scene title before any colon, to stay on one line.
     let short = scene.title.split(':').next().unwrap_or(&scene.title).trim();
     for p in signorini::plots::plot_sweep(&rows, out, short)? {
-        println!("  wrote {}", p.display());
+        con.line(format_args!("  wrote {}", p.display()))?;
     }
-    Ok(ExitCode::SUCCESS)
+    con.finish()?;
+    Ok(Exit::Success)
 }
 
 fn parse_backends(names: &[String]) -> Result<Vec<BackendKind>> {
@@ -332,67 +406,80 @@ fn parse_backends(names: &[String]) -> Result<Vec<BackendKind>> {
     Ok(kinds)
 }
 
-fn export(common: &Common, out: &std::path::Path) -> Result<ExitCode> {
+fn export(common: &Common, out: &std::path::Path) -> Result<Exit> {
     let scene = run::load_scene(common.scene.as_deref())?;
     let prepared = run::prepare(&scene, &limits(common))?;
     let qp = prepared.model.qp()?;
     let written = signorini::export::export(out, &scene, &prepared.model, &qp)
         .with_context(|| format!("exporting to {}", out.display()))?;
-    println!(
+    let mut con = Console::new();
+    con.line(format_args!(
         "{}: {} unknowns, {} contact rows",
         scene.title,
         qp.dofs(),
         qp.rows()
-    );
+    ))?;
     for p in &written {
-        println!("  wrote {}", p.display());
+        con.line(format_args!("  wrote {}", p.display()))?;
     }
-    Ok(ExitCode::SUCCESS)
+    con.finish()?;
+    Ok(Exit::Success)
 }
 
-fn check(common: &Common) -> Result<ExitCode> {
+fn check(common: &Common) -> Result<Exit> {
     let scene = run::load_scene(common.scene.as_deref())?;
-    let limits = limits(common);
-    println!("{}: valid", scene.title);
-    let mut total = 0;
-    for b in &scene.bodies {
-        let estimate = estimate_elements(&b.polygon, b.hmax, b.element);
-        total += estimate;
-        println!(
-            "  body {:<10} hmax {:<8} ~{estimate} elements",
-            b.name, b.hmax
-        );
+    // Everything solve verifies before its backend runs; "valid" only once all of it passed.
+    let report = signorini::check::check(&scene, &limits(common))?;
+    let mut con = Console::new();
+    con.line(format_args!("{}: valid", scene.title))?;
+    for (name, hmax, estimate) in &report.bodies {
+        con.line(format_args!(
+            "  body {name:<10} hmax {hmax:<8} ~{estimate} elements (estimated before meshing)"
+        ))?;
     }
-    println!(
+    con.line(format_args!(
+        "  {} elements meshed (~{} estimated), {} free DOFs, {} contact rows",
+        report.elements, report.estimated_elements, report.dofs, report.constraints
+    ))?;
+    con.line(format_args!(
         "  {} dirichlet, {} neumann, {} contact pair(s), {} probe(s)",
         scene.dirichlet.len(),
         scene.neumann.len(),
         scene.contacts.len(),
         scene.probes.len()
-    );
-    anyhow::ensure!(
-        total <= limits.max_elements,
-        "the scene asks for ~{total} elements, more than --max-elements {}",
-        limits.max_elements
-    );
-    Ok(ExitCode::SUCCESS)
+    ))?;
+    con.finish()?;
+    Ok(Exit::Success)
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // --help and --version are not errors; everything else is a usage error (1).
+            let _ = e.print();
+            return if e.use_stderr() {
+                Exit::Input.into()
+            } else {
+                Exit::Success.into()
+            };
+        }
+    };
     let result = match &cli.command {
         Command::Solve {
             common,
             backend,
             tol,
+            time_limit,
             out,
-        } => solve(common, backend, *tol, out),
+        } => solve(common, backend, *tol, *time_limit, out),
         Command::Compare {
             common,
             backends,
             tol,
+            time_limit,
             out,
-        } => compare(common, backends, *tol, out),
+        } => compare(common, backends, *tol, *time_limit, out),
         Command::Export { common, out } => export(common, out),
         Command::Sweep {
             common,
@@ -418,10 +505,10 @@ fn main() -> ExitCode {
         Command::Check { common } => check(common),
     };
     match result {
-        Ok(code) => code,
+        Ok(code) => code.into(),
         Err(e) => {
-            eprintln!("error: {e:#}");
-            ExitCode::FAILURE
+            warn(format_args!("error: {e:#}"));
+            classify(&e).into()
         }
     }
 }

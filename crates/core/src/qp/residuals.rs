@@ -61,7 +61,9 @@ const TINY: f64 = 1e-300;
 
 /// The fixed scales residuals are measured against, computed from A, f and g only.
 ///
-/// * k̄ = mean |Aⱼⱼ|, the stiffness unit (1 when A has no diagonal);
+/// * k̄ = n / Σⱼ 1/|Aⱼⱼ|, the harmonic mean of the diagonal (zero entries skipped; 1 when there
+///   is none): the stiffness unit, dominated by the softest DOFs, so that a soft body pressed by a
+///   stiff one (contrast 10⁶) is measured by its own displacements, not the stiff body's;
 /// * G = max(0, −minᵢ gᵢ), the deepest initial overlap;
 /// * X = max(‖f‖₁ / k̄, G) — the displacement the total load would give a spring of stiffness k̄
 ///   (independent of the mesh size, unlike ‖f‖∞, which shrinks with the elements), or the
@@ -89,12 +91,12 @@ impl ResidualScales {
     /// assert_eq!((s.force, s.length), (3.0, 1.0));
     /// ```
     pub fn of(problem: &QpProblem) -> Self {
-        let n = problem.dofs();
-        let diag_sum: f64 = (0..n)
+        let (count, compliance) = (0..problem.dofs())
             .map(|j| problem.stiffness.get(j, j).copied().unwrap_or(0.0).abs())
-            .sum();
-        let stiffness = if n > 0 && diag_sum > 0.0 && diag_sum.is_finite() {
-            diag_sum / n as f64
+            .filter(|d| *d > 0.0)
+            .fold((0usize, 0.0_f64), |(c, s), d| (c + 1, s + 1.0 / d));
+        let stiffness = if count > 0 && compliance > 0.0 && compliance.is_finite() {
+            count as f64 / compliance
         } else {
             1.0
         };

@@ -1,0 +1,78 @@
+//! The process's exit codes, one per kind of outcome, and the classification of errors into them.
+//!
+//! | code | meaning |
+//! |---|---|
+//! | 0 | every solve asked for is `solved` (or `check` found the scene valid) |
+//! | 1 | bad input or usage: the scene (or its path), a flag or an argument is refused; nothing was written |
+//! | 2 | not solved: the run finished and wrote its results, but a status is not `solved` |
+//! | 3 | I/O or resource error: a file could not be read or written, the output directory is in use, or the scene would need more elements or memory than allowed |
+
+use std::process::ExitCode;
+
+use crate::output::OutputError;
+use crate::run::RunError;
+
+/// What a command ended with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Exit {
+    /// Everything asked for was solved (or is valid).
+    Success = 0,
+    /// Bad input or usage.
+    Input = 1,
+    /// A run finished but not every status is `solved`.
+    NotSolved = 2,
+    /// I/O or resource error.
+    Resource = 3,
+}
+
+impl From<Exit> for ExitCode {
+    fn from(e: Exit) -> Self {
+        ExitCode::from(e as u8)
+    }
+}
+
+/// The exit code an error deserves: [`Exit::Resource`] when anything in its chain is an I/O or
+/// output error or a resource refusal, else [`Exit::Input`].
+pub fn classify(error: &anyhow::Error) -> Exit {
+    for cause in error.chain() {
+        // A scene that cannot be read is the user's input (a wrong path), not the machine's.
+        if cause.is::<signorini_core::scene::SceneError>()
+            || matches!(cause.downcast_ref::<RunError>(), Some(RunError::Scene(_)))
+        {
+            return Exit::Input;
+        }
+        if cause.is::<std::io::Error>()
+            || cause.is::<OutputError>()
+            || cause.is::<Resource>()
+            || matches!(cause.downcast_ref::<RunError>(), Some(RunError::Output(_)))
+        {
+            return Exit::Resource;
+        }
+    }
+    Exit::Input
+}
+
+/// An error that is about the machine's resources rather than the input (exit code 3).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct Resource(pub String);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn io_errors_anywhere_in_the_chain_are_resource_errors() {
+        let e = anyhow::Error::new(std::io::Error::other("disk full")).context("writing x");
+        assert_eq!(classify(&e), Exit::Resource);
+        let e = anyhow::anyhow!("--tol must lie in (0, 1)");
+        assert_eq!(classify(&e), Exit::Input);
+        let e = anyhow::Error::new(Resource("too big".into()));
+        assert_eq!(classify(&e), Exit::Resource);
+        // A scene file that cannot be read is bad input, though its cause is an I/O error.
+        let missing =
+            signorini_core::scene::Scene::from_path(std::path::Path::new("/nonexistent.toml"));
+        let e = anyhow::Error::new(missing.unwrap_err());
+        assert_eq!(classify(&e), Exit::Input);
+    }
+}
