@@ -22,6 +22,8 @@ pub struct CompareRow {
     pub backend: String,
     /// Core-checked status.
     pub status: String,
+    /// The backend's own verdict before the core's check.
+    pub backend_status: String,
     /// Backend iterations.
     pub iterations: usize,
     /// Solve wall-clock time, seconds.
@@ -121,6 +123,7 @@ pub fn compare(
             CompareRow {
                 backend: s.backend.clone(),
                 status: s.status.as_str().to_string(),
+                backend_status: s.backend_status.as_str().to_string(),
                 iterations: s.iterations,
                 solve_s: s.solve_time.as_secs_f64(),
                 ratio_to_floor: s.solve_time.as_secs_f64() / floor_s,

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use signorini_core::mesh::MeshLimits;
 use signorini_core::model::{self, Model, ModelError};
-use signorini_core::qp::{QpBackend, SolveOptions};
+use signorini_core::qp::{QpBackend, QpStatus, SolveOptions};
 use signorini_core::report::{self, BodyFields, RunReport, Timings};
 use signorini_core::scene::{Scene, SceneError};
 use signorini_core::solve::{self, Solution, SolveError};
@@ -101,7 +101,8 @@ pub fn solve_scene(
         solve: solution.solve_time.as_secs_f64(),
         total: start.elapsed().as_secs_f64(),
     };
-    let report = report::run_report(
+    let mut solution = solution;
+    let mut report = report::run_report(
         scene,
         &prepared.model,
         &solution,
@@ -109,12 +110,74 @@ pub fn solve_scene(
         options.tol,
         timings,
     );
+    // `solved` promises that every number written is finite: stresses and reactions are derived
+    // after the solve and may still overflow (E = 1e300 times a finite strain).
+    if solution.status == QpStatus::Solved {
+        if let Some(path) = first_non_finite(&report, &fields) {
+            let note = format!("{path} is not finite in the scene's units");
+            solution.status = QpStatus::NumericalError;
+            solution.message = Some(match solution.message.take() {
+                Some(m) => format!("{note}; backend: {m}"),
+                None => note,
+            });
+            report.status = solution.status.as_str().to_string();
+            report.message = solution.message.clone();
+        }
+    }
     Ok(Outcome {
         model: prepared.model,
         solution,
         fields,
         report,
     })
+}
+
+/// The first number of the report (as a JSON path) or of the output fields that is NaN or
+/// infinite, if any.
+pub fn first_non_finite(report: &RunReport, fields: &[BodyFields]) -> Option<String> {
+    fn walk(v: &serde_json::Value, path: &mut String) -> bool {
+        match v {
+            // serde_json writes NaN and ±inf as null; the report has no other nulls.
+            serde_json::Value::Null => true,
+            serde_json::Value::Array(items) => items.iter().enumerate().any(|(i, x)| {
+                let len = path.len();
+                path.push_str(&format!("[{i}]"));
+                let found = walk(x, path);
+                if !found {
+                    path.truncate(len);
+                }
+                found
+            }),
+            serde_json::Value::Object(map) => map.iter().any(|(k, x)| {
+                let len = path.len();
+                path.push('.');
+                path.push_str(k);
+                let found = walk(x, path);
+                if !found {
+                    path.truncate(len);
+                }
+                found
+            }),
+            _ => false,
+        }
+    }
+    let mut path = String::from("result");
+    match serde_json::to_value(report) {
+        Ok(v) if walk(&v, &mut path) => return Some(path),
+        Ok(_) => {}
+        Err(_) => return Some("result".to_string()),
+    }
+    for (b, f) in fields.iter().enumerate() {
+        let bad = |v: &[f64]| v.iter().any(|x| !x.is_finite());
+        if bad(f.displacement.as_flattened())
+            || bad(f.stress.as_flattened())
+            || bad(&f.von_mises)
+            || bad(&f.contact_pressure)
+        {
+            return Some(format!("a field of body {}", report.bodies[b].name));
+        }
+    }
+    None
 }
 
 /// Writes `result.json`, `solution.vtu` and `deformed.svg` into `dir` (created if missing), each

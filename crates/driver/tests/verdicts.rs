@@ -1,0 +1,215 @@
+//! Verdicts and exit codes from the command line: `solved` only when every number written is
+//! finite and the residuals meet the tolerance; each kind of failure has its own exit code
+//! (0 solved, 1 bad input or usage, 2 not solved, 3 I/O or resource error).
+
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+fn signorini(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_signorini"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("run signorini")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Two unit blocks, the upper one pushed down onto the lower, clamped one; `young`, the traction
+/// and the upper block's prescribed x-displacement are the knobs.
+fn blocks(young: &str, traction: &str, value: &str) -> String {
+    format!(
+        r#"title = "blocks"
+[[body]]
+name = "upper"
+polygon = [[0, 1], [1, 1], [1, 2], [0, 2]]
+hmax = 0.5
+young = {young}
+poisson = 0.3
+[[body]]
+name = "lower"
+polygon = [[0, 0], [1, 0], [1, 1], [0, 1]]
+hmax = 0.5
+young = {young}
+poisson = 0.3
+[[dirichlet]]
+body = "lower"
+region = [0, 1, 0, 0]
+[[dirichlet]]
+body = "upper"
+region = [0, 0, 1, 2]
+components = ["x"]
+value = [{value}, 0]
+[[neumann]]
+body = "upper"
+region = [0, 1, 2, 2]
+traction = [0, {traction}]
+[[contact]]
+bodies = ["upper", "lower"]
+"#
+    )
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).expect("result.json")).expect("JSON")
+}
+
+#[test]
+fn an_answer_that_overflows_the_users_units_is_not_solved() {
+    // E = 1e-200 under a traction of 1e200: the dimensionless QP is benign and solved, but the
+    // displacements are ~1e400 in the scene's units. This used to be reported `solved` with
+    // nulls (NaN) in result.json.
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::write(dir.path().join("s.toml"), blocks("1e-200", "-1e200", "0")).expect("write");
+    let o = signorini(&["solve", "s.toml", "--out", "res"], dir.path());
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let r = json(&dir.path().join("res/result.json"));
+    assert_eq!(r["status"], "numerical-error");
+    assert_eq!(
+        r["backend_status"], "solved",
+        "the backend's own verdict is kept"
+    );
+    assert!(stderr(&o).contains("not finite"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_huge_prescribed_displacement_is_not_solved() {
+    // A Dirichlet value of 1e300 with E = 1: the objective (~E u²) overflows.
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::write(dir.path().join("s.toml"), blocks("1", "-1", "1e300")).expect("write");
+    let o = signorini(&["solve", "s.toml", "--out", "res"], dir.path());
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let r = json(&dir.path().join("res/result.json"));
+    assert_ne!(r["status"], "solved");
+}
+
+#[test]
+fn a_solved_answer_is_finite_everywhere_and_meets_the_tolerance() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::write(dir.path().join("s.toml"), blocks("1", "-0.01", "0")).expect("write");
+    let o = signorini(
+        &["solve", "s.toml", "--out", "res", "--tol", "1e-8"],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let r = json(&dir.path().join("res/result.json"));
+    assert_eq!(r["status"], "solved");
+    assert_eq!(r["backend_status"], "solved");
+    fn no_null(v: &serde_json::Value) -> bool {
+        match v {
+            serde_json::Value::Null => false,
+            serde_json::Value::Array(a) => a.iter().all(no_null),
+            serde_json::Value::Object(m) => m.values().all(no_null),
+            _ => true,
+        }
+    }
+    assert!(no_null(&r), "a solved result holds no null (NaN/inf)");
+    for key in ["relative_penetration", "stationarity", "complementarity"] {
+        let v = r["residuals"][key].as_f64().expect("number");
+        assert!(v <= 1e-8, "{key} = {v}");
+    }
+}
+
+#[test]
+fn the_time_limit_is_a_status_and_the_backend_verdict_is_kept() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    // 1 µs cannot be met by an iterative method on Experiment 2b.
+    let o = signorini(
+        &[
+            "solve",
+            "--backend",
+            "dual-uzawa",
+            "--time-limit",
+            "1e-6",
+            "--out",
+            "res",
+        ],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let r = json(&dir.path().join("res/result.json"));
+    assert_eq!(r["status"], "time-limit");
+    assert_eq!(r["backend_status"], "time-limit");
+}
+
+#[test]
+fn huge_time_limits_mean_none_and_never_panic() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    // Duration::from_secs_f64(1e20) panics; the CLI treats it as no limit.
+    for limit in ["1e20", "inf"] {
+        let o = signorini(
+            &["solve", "--time-limit", limit, "--out", "res"],
+            dir.path(),
+        );
+        assert_eq!(o.status.code(), Some(0), "{limit}: {}", stderr(&o));
+    }
+    let o = signorini(
+        &[
+            "compare",
+            "--time-limit",
+            "1e20",
+            "--backends",
+            "dual-pgs",
+            "--out",
+            "res2",
+        ],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+#[test]
+fn usage_errors_exit_with_1_and_write_nothing() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    for args in [
+        &["solve", "--tol", "2", "--out", "res"][..],
+        &["solve", "--time-limit", "-1", "--out", "res"],
+        &["solve", "--time-limit", "nan", "--out", "res"],
+        &["solve", "--bogus", "--out", "res"],
+        &["solve", "--backend", "nope", "--out", "res"],
+        &["sweep", "--hmax", "0.2", "--repeat", "0", "--out", "res"],
+        &["solve", "missing.toml", "--out", "res"],
+    ] {
+        let o = signorini(args, dir.path());
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("panicked"), "{args:?}");
+        assert!(!dir.path().join("res").exists(), "{args:?} wrote output");
+    }
+    let o = signorini(&["--help"], dir.path());
+    assert_eq!(o.status.code(), Some(0));
+}
+
+#[test]
+fn a_full_stdout_is_a_clean_io_error() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .expect("/dev/full");
+    let o = Command::new(env!("CARGO_BIN_EXE_signorini"))
+        .args(["check"])
+        .current_dir(dir.path())
+        .stdout(Stdio::from(full))
+        .output()
+        .expect("run");
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_closed_stdout_pipe_is_a_clean_io_error() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    // The reading end is closed before the program starts, so its first line meets EPIPE.
+    let (reader, writer) = std::io::pipe().expect("pipe");
+    drop(reader);
+    let o = Command::new(env!("CARGO_BIN_EXE_signorini"))
+        .args(["check"])
+        .current_dir(dir.path())
+        .stdout(Stdio::from(writer))
+        .output()
+        .expect("run");
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+}
