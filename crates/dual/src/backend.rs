@@ -8,9 +8,9 @@ use signorini_core::qp::{
 
 use crate::dual::{DualData, Outcome};
 use crate::error::DualError;
+use crate::methods::{pgs, ssn, uzawa};
 use crate::monitor::Monitor;
 use crate::settings::{Condensation, DualMethod, DualSettings};
-use crate::{pgs, ssn, uzawa};
 
 /// The dual QP backend: condenses the contact problem onto the multipliers and runs projected
 /// Gauss–Seidel, Uzawa or the active-set method on it (see the [crate documentation](crate)).

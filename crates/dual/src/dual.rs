@@ -16,7 +16,7 @@
 use signorini_core::qp::{dot, mat_t_vec, mat_vec, norm_inf, QpProblem, QpStatus};
 
 use crate::error::DualError;
-use crate::inverse::StiffnessInverse;
+use crate::factor::StiffnessInverse;
 use crate::kernel::{add_coupling_t, RigidModes};
 
 /// Setup shared by all methods.
@@ -39,7 +39,7 @@ pub struct DualData<'p> {
 impl<'p> DualData<'p> {
     /// Checks the kernel, chooses fixing DOFs, factors A (or A_ff) and solves A⁺ f.  With
     /// `contact_last`, the DOFs that B touches are ordered last in the factor (see
-    /// [`crate::trailing`]).
+    /// [`crate::factor`]).
     pub fn new(problem: &'p QpProblem, contact_last: bool) -> Result<Self, DualError> {
         let modes = RigidModes::of(problem)?;
         let inverse = StiffnessInverse::new(

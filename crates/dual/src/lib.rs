@@ -26,6 +26,13 @@
 //!   dual on the current active set, update the set from `λᵢ − (Hλ − d)ᵢ / Hᵢᵢ > 0`; exact once
 //!   the set settles.
 //!
+//! # Layout
+//! [`factor`](self) — the one sparse factorisation of A (contact DOFs last) as the generalised
+//! inverse A⁺; `hessian/` — the dense H, one file per way of forming it; `methods/` — one file
+//! per dual method; `monitor` — stopping tests and limits shared by the methods; `dual` — the
+//! data every method works on (d, x(λ)); `backend` — the [`QpBackend`](signorini_core::qp::QpBackend)
+//! that picks a method.  Dependencies run one way: methods → hessian → factor.
+//!
 //! Every method stops on the core's KKT residuals ([`signorini_core::qp::kkt_residuals`]) of
 //! (x(λ), λ), checked every `check_every` iterations or earlier when a cheap estimate from the
 //! dual gradient meets the tolerance.  Limits give `max-iterations` / `time-limit`; a primal
@@ -71,19 +78,15 @@
 //! --ignored --nocapture`.
 
 mod backend;
-mod condense;
 mod dual;
 mod error;
-mod inverse;
+mod factor;
+mod hessian;
 mod kernel;
 mod measure;
+mod methods;
 mod monitor;
-mod pgs;
-mod schur;
 mod settings;
-mod ssn;
-mod trailing;
-mod uzawa;
 
 pub use backend::DualBackend;
 pub use error::DualError;

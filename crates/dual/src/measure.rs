@@ -11,9 +11,8 @@ use std::time::Instant;
 use signorini_core::qp::{CscMatrix, QpProblem};
 use sprs::TriMat;
 
-use crate::condense::{multi_rhs, trailing_hessian};
 use crate::dual::DualData;
-use crate::schur::interior_schur;
+use crate::hessian::{interior_schur, multi_rhs, touched_columns, trailing_hessian};
 
 /// 5-point Laplacian on side × side nodes plus `m` rows: bound rows (1 DOF each) or
 /// segment-like rows x_s − ½(x_a + x_b) across two neighbouring grid lines (3 DOFs each,
@@ -94,7 +93,7 @@ fn measure_condensations() {
                     &p.constraints,
                 );
                 let c_time = t4.elapsed();
-                let touched = crate::condense::touched_columns(&data.inverse, &p.constraints).len();
+                let touched = touched_columns(&data.inverse, &p.constraints).len();
                 let diff = |h: &[f64]| {
                     ha.values
                         .iter()

@@ -12,9 +12,9 @@
 
 use signorini_core::qp::{dot, mat_vec, QpStatus};
 
-use crate::condense::power_iteration;
 use crate::dual::{DualData, Outcome};
 use crate::error::DualError;
+use crate::hessian::power_iteration;
 use crate::monitor::{finish_at_limit, Monitor, Next};
 use crate::settings::DualSettings;
 

@@ -15,9 +15,9 @@ use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 use signorini_core::qp::QpStatus;
 
-use crate::condense::{dual_hessian, DenseSym};
 use crate::dual::{DualData, Outcome};
 use crate::error::DualError;
+use crate::hessian::{dual_hessian, DenseSym};
 use crate::monitor::{finish_at_limit, Monitor, Next};
 use crate::settings::DualSettings;
 

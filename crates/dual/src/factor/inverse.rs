@@ -13,8 +13,8 @@
 
 use signorini_core::qp::CscMatrix;
 
+use super::trailing::TrailingCholesky;
 use crate::error::DualError;
-use crate::trailing::TrailingCholesky;
 
 /// Marker in the full → reduced index map for a fixed DOF.
 const FIXED: usize = usize::MAX;

@@ -14,7 +14,8 @@ use faer::{Mat, Side};
 use signorini_core::linalg::SparseCholesky;
 use signorini_core::qp::CscMatrix;
 
-use crate::condense::{touched_columns, DenseSym};
+use super::dense::DenseSym;
+use super::multi_rhs::touched_columns;
 use crate::dual::DualData;
 use crate::error::DualError;
 

@@ -1,0 +1,60 @@
+//! H = B (A⁺ Bᵀ) by multi-right-hand-side solves with the cached factor.
+
+use signorini_core::qp::CscMatrix;
+
+use super::dense::DenseSym;
+use crate::factor::StiffnessInverse;
+
+/// Columns of B with at least one entry that are not fixed: (full index, reduced index).
+pub fn touched_columns(inverse: &StiffnessInverse, constraints: &CscMatrix) -> Vec<(usize, usize)> {
+    constraints
+        .outer_iterator()
+        .enumerate()
+        .filter(|(_, col)| col.nnz() > 0)
+        .filter_map(|(j, _)| inverse.reduced_index(j).map(|r| (j, r)))
+        .collect()
+}
+
+/// H = B (A⁺ Bᵀ), blocks of `block` right-hand sides at a time.
+pub fn multi_rhs(inverse: &StiffnessInverse, constraints: &CscMatrix, block: usize) -> DenseSym {
+    let m = constraints.rows();
+    let nr = inverse.reduced_dim();
+    let rows = constraints.to_csr();
+    let touched = touched_columns(inverse, constraints);
+    let mut h = DenseSym {
+        values: vec![0.0; m * m],
+        size: m,
+    };
+    let mut work = vec![0.0; nr * block.min(m.max(1))];
+    for start in (0..m).step_by(block) {
+        let count = block.min(m - start);
+        let work = &mut work[..nr * count];
+        work.fill(0.0);
+        for k in 0..count {
+            if let Some(row) = rows.outer_view(start + k) {
+                for (j, v) in row.iter() {
+                    if let Some(r) = inverse.reduced_index(j) {
+                        work[k * nr + r] += v;
+                    }
+                }
+            }
+        }
+        inverse.solve_reduced_many(work);
+        for k in 0..count {
+            let y = &work[k * nr..(k + 1) * nr];
+            let col = &mut h.values[(start + k) * m..(start + k + 1) * m];
+            for &(j, r) in &touched {
+                let yr = y[r];
+                if yr != 0.0 {
+                    if let Some(bcol) = constraints.outer_view(j) {
+                        for (i, v) in bcol.iter() {
+                            col[i] += v * yr;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    h.symmetrise();
+    h
+}

@@ -1,0 +1,6 @@
+//! The dual methods, one file each: projected Gauss–Seidel ([`pgs`]), Uzawa / accelerated
+//! projected gradient ([`uzawa`]) and the primal–dual active set ([`ssn`]).
+
+pub mod pgs;
+pub mod ssn;
+pub mod uzawa;
