@@ -45,7 +45,7 @@ const BASE_BYTES: f64 = 16.0 * 1024.0 * 1024.0;
 /// | 30 002 | 75 MiB (158) | 103 MiB (223) | 48 MiB (110) | |
 /// | 117 572 | 312 MiB (161) | 468 MiB (244) | 176 MiB (89) | |
 /// | 237 478 | 669 MiB (163) | 983 MiB (241) | | |
-/// | 461 680 | | | 809 MiB (97) | 809 MiB (97) |
+/// | 461 680 | 1 413 MiB (170) | 2 062 MiB (248) | 809 MiB (97) | 809 MiB (97) |
 /// | 938 496 | | | 1 683 MiB (94) | |
 ///
 /// (in brackets: (peak − 8 MiB) / (DOF·log₂ DOF)).  The coefficient grows slowly with the size
