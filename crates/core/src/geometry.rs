@@ -75,35 +75,93 @@ pub fn segments_touch(p1: Point, p2: Point, q1: Point, q2: Point, tol: f64) -> b
         || project_on_segment(q2, p1, p2).1 <= tol
 }
 
-/// First pair of non-adjacent edges (i, j) of a closed polygon that touch, if any
-/// (`tol`: length tolerance).  A simple polygon has none.
+/// One polygon edge in the R-tree of [`self_intersection`]: its bounding box enlarged by the
+/// search margin, and its index.
+struct EdgeBox {
+    envelope: rstar::AABB<Point>,
+    index: usize,
+}
+
+impl rstar::RTreeObject for EdgeBox {
+    type Envelope = rstar::AABB<Point>;
+
+    fn envelope(&self) -> Self::Envelope {
+        self.envelope
+    }
+}
+
+/// First pair of non-adjacent edges (i, j), i < j, in lexicographic order, of a closed polygon
+/// that touch (`tol`: length tolerance, as in [`segments_touch`]); otherwise the first spike (two
+/// adjacent edges folding back onto each other), as `(i, i + 1)`.  A simple polygon has neither.
+/// Edge i runs from vertex i to vertex i + 1 (mod n); adjacent edges share a vertex there, which
+/// is not an intersection.
+///
+/// Edges go into an R-tree of their bounding boxes enlarged by `tol` (plus a rounding margin):
+/// two edges can touch only when their enlarged boxes overlap, so only those candidate pairs are
+/// tested, with [`segments_touch`] exactly as a test of every pair would.  Cost: O(n log n) to
+/// build and query the tree, plus one test per candidate pair — O(n) pairs when the edges are
+/// short next to their distance to non-neighbouring edges (every polygon fine enough to mesh);
+/// it grows towards n² only when many long, slanted edges have overlapping boxes (a star with
+/// thousands of long spikes).  A polygon with a non-finite coordinate gives `None` (callers check
+/// finiteness first).
+///
+/// ```
+/// use signorini_core::geometry::self_intersection;
+/// let bowtie = [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]];
+/// assert_eq!(self_intersection(&bowtie, 1e-12), Some((0, 2)));
+/// let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+/// assert_eq!(self_intersection(&square, 1e-12), None);
+/// ```
 pub fn self_intersection(polygon: &[Point], tol: f64) -> Option<(usize, usize)> {
     let n = polygon.len();
-    for i in 0..n {
-        for j in (i + 1)..n {
-            let adjacent = j == i + 1 || (i == 0 && j == n - 1);
-            if adjacent {
-                continue;
-            }
+    if polygon.iter().flatten().any(|c| !c.is_finite()) || !tol.is_finite() {
+        return None;
+    }
+    if n >= 4 {
+        // `segments_touch` accepts a pair when a point lies within `tol` of the other segment
+        // (distances rounded to a few ulps of the coordinates) or when the segments cross; either
+        // way their boxes enlarged by this margin overlap.
+        let magnitude = polygon
+            .iter()
+            .flatten()
+            .fold(0.0_f64, |m, c| m.max(c.abs()));
+        let margin = tol.max(0.0) * (1.0 + 1e-9) + 1e-12 * magnitude;
+        let boxes: Vec<EdgeBox> = (0..n)
+            .map(|i| {
+                let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+                EdgeBox {
+                    envelope: rstar::AABB::from_corners(
+                        [a[0].min(b[0]) - margin, a[1].min(b[1]) - margin],
+                        [a[0].max(b[0]) + margin, a[1].max(b[1]) + margin],
+                    ),
+                    index: i,
+                }
+            })
+            .collect();
+        let envelopes: Vec<rstar::AABB<Point>> = boxes.iter().map(|e| e.envelope).collect();
+        let tree = rstar::RTree::bulk_load(boxes);
+        for (i, envelope) in envelopes.iter().enumerate() {
             let (a, b) = (polygon[i], polygon[(i + 1) % n]);
-            let (c, d) = (polygon[j], polygon[(j + 1) % n]);
-            if segments_touch(a, b, c, d, tol) {
+            let first = tree
+                .locate_in_envelope_intersecting(envelope)
+                .map(|e| e.index)
+                .filter(|&j| j > i + 1 && !(i == 0 && j == n - 1))
+                .filter(|&j| segments_touch(a, b, polygon[j], polygon[(j + 1) % n], tol))
+                .min();
+            if let Some(j) = first {
                 return Some((i, j));
             }
         }
     }
     // Adjacent edges folding back onto each other (a spike) also make a polygon non-simple.
-    for i in 0..n {
+    (0..n).find_map(|i| {
         let (a, b, c) = (polygon[i], polygon[(i + 1) % n], polygon[(i + 2) % n]);
         let ab = distance(a, b).max(tol);
         let bc = distance(b, c).max(tol);
         let collinear = orient(a, b, c).abs() / (ab * bc) <= 1e-12;
         let back = (b[0] - a[0]) * (c[0] - b[0]) + (b[1] - a[1]) * (c[1] - b[1]) < 0.0;
-        if collinear && back {
-            return Some((i, (i + 1) % n));
-        }
-    }
-    None
+        (collinear && back).then_some((i, (i + 1) % n))
+    })
 }
 
 /// True when `p` lies in the closed box `[x1, x2, y1, y2]` enlarged by `tol`.
@@ -117,6 +175,34 @@ pub fn in_box(p: Point, region: &[f64; 4], tol: f64) -> bool {
 /// The part of segment a–b inside the closed box `region` enlarged by `tol` (Liang–Barsky
 /// clipping): `None` when they do not meet, otherwise the clipped length (possibly zero).
 pub fn clip_to_box(a: Point, b: Point, region: &[f64; 4], tol: f64) -> Option<f64> {
+    clip_parameters(a, b, region, tol).map(|(t0, t1)| (t1 - t0) * (b[0] - a[0]).hypot(b[1] - a[1]))
+}
+
+/// The end points of the part of segment a–b inside the closed box `region` enlarged by `tol`
+/// (Liang–Barsky clipping), in the direction a → b; `None` when they do not meet.
+///
+/// ```
+/// use signorini_core::geometry::clip_segment_to_box;
+/// let clipped = clip_segment_to_box([0.0, 0.0], [4.0, 0.0], &[1.0, 2.0, -1.0, 1.0], 0.0);
+/// assert_eq!(clipped, Some(([1.0, 0.0], [2.0, 0.0])));
+/// ```
+pub fn clip_segment_to_box(
+    a: Point,
+    b: Point,
+    region: &[f64; 4],
+    tol: f64,
+) -> Option<(Point, Point)> {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    clip_parameters(a, b, region, tol).map(|(t0, t1)| {
+        (
+            [a[0] + t0 * d[0], a[1] + t0 * d[1]],
+            [a[0] + t1 * d[0], a[1] + t1 * d[1]],
+        )
+    })
+}
+
+/// Liang–Barsky parameters 0 ≤ t0 ≤ t1 ≤ 1 of the part of a–b inside the enlarged box.
+fn clip_parameters(a: Point, b: Point, region: &[f64; 4], tol: f64) -> Option<(f64, f64)> {
     let d = [b[0] - a[0], b[1] - a[1]];
     let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
     let checks = [
@@ -139,7 +225,7 @@ pub fn clip_to_box(a: Point, b: Point, region: &[f64; 4], tol: f64) -> Option<f6
             }
         }
     }
-    (t0 <= t1).then(|| (t1 - t0) * d[0].hypot(d[1]))
+    (t0 <= t1).then_some((t0, t1))
 }
 
 /// Length of a closed polygon's boundary inside the box (`None` when they do not meet).

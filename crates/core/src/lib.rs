@@ -24,6 +24,7 @@ pub mod geometry;
 pub mod linalg;
 pub mod mesh;
 pub mod model;
+pub mod preflight;
 pub mod qp;
 pub mod report;
 pub mod scene;

@@ -1,10 +1,11 @@
 //! The TOML scene file as written by the user (`SCENE.md`), before validation.
 //!
-//! Every table refuses unknown keys, so a typo is an error and never silently ignored.
+//! Every table refuses unknown keys, so a typo is an error and never silently ignored.  Arrays are
+//! read as vectors of any length, so that validation can refuse a wrong length naming the section
+//! and the key (a fixed-size array would let serde drop surplus numbers silently).
 
 use serde::Deserialize;
 
-use crate::geometry::Point;
 use crate::mesh::ElementKind;
 
 /// Plane-strain or plane-stress idealisation.
@@ -63,7 +64,7 @@ pub struct ModelSection {
     /// Thickness, plane stress only.
     pub thickness: Option<f64>,
     /// Body force per unit mass `[gx, gy]`; every body then needs `density`.
-    pub gravity: Option<[f64; 2]>,
+    pub gravity: Option<Vec<f64>>,
 }
 
 /// `[[body]]`.
@@ -73,7 +74,7 @@ pub struct BodySection {
     /// Unique name.
     pub name: String,
     /// Vertices of a simple polygon, either orientation.
-    pub polygon: Vec<Point>,
+    pub polygon: Vec<Vec<f64>>,
     /// Largest element edge.
     pub hmax: f64,
     /// `"p1"` (default) or `"q1"`.
@@ -94,9 +95,9 @@ pub struct DirichletSection {
     /// Body name.
     pub body: String,
     /// Box `[x1, x2, y1, y2]`.
-    pub region: [f64; 4],
+    pub region: Vec<f64>,
     /// Prescribed displacement, default `[0, 0]`.
-    pub value: Option<[f64; 2]>,
+    pub value: Option<Vec<f64>>,
     /// Constrained components, default both.
     pub components: Option<Vec<Component>>,
 }
@@ -108,15 +109,15 @@ pub struct NeumannSection {
     /// Body name.
     pub body: String,
     /// Box `[x1, x2, y1, y2]`.
-    pub region: [f64; 4],
+    pub region: Vec<f64>,
     /// Constant traction `[tx, ty]`.
-    pub traction: Option<[f64; 2]>,
+    pub traction: Option<Vec<f64>>,
     /// Three non-collinear points of a linear traction field.
-    pub points: Option<[Point; 3]>,
+    pub points: Option<Vec<Vec<f64>>>,
     /// tx at the three points.
-    pub tx: Option<[f64; 3]>,
+    pub tx: Option<Vec<f64>>,
     /// ty at the three points.
-    pub ty: Option<[f64; 3]>,
+    pub ty: Option<Vec<f64>>,
 }
 
 /// `[[contact]]`.
@@ -124,9 +125,9 @@ pub struct NeumannSection {
 #[serde(deny_unknown_fields)]
 pub struct ContactSection {
     /// The two body names.
-    pub bodies: [String; 2],
+    pub bodies: Vec<String>,
     /// Optional box limiting the candidate boundary nodes.
-    pub region: Option<[f64; 4]>,
+    pub region: Option<Vec<f64>>,
     /// Optional slave side.
     pub slave: Option<String>,
 }
@@ -140,5 +141,5 @@ pub struct ProbeSection {
     /// Body name.
     pub body: String,
     /// Point of the undeformed body.
-    pub point: Point,
+    pub point: Vec<f64>,
 }

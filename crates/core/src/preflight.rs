@@ -1,0 +1,190 @@
+//! Preflight: what a scene will cost, estimated from the scene alone before anything is meshed,
+//! and refused when the whole scene (all bodies together) exceeds the element limit.
+//!
+//! The per-body guard of [`crate::mesh::mesh_body`] cannot see that three bodies just under the limit
+//! each add up to three times it (such a scene used to abort with an out-of-memory SIGABRT after
+//! 55 s); [`preflight`] refuses the total, and says how much memory the solve would take.
+//! `signorini check` and `signorini solve` both call it, so they agree.
+//!
+//! ```
+//! use signorini_core::mesh::MeshLimits;
+//! use signorini_core::preflight::{preflight, PreflightError};
+//! use signorini_core::scene::Scene;
+//! let scene = Scene::from_toml(r#"
+//!     [[body]]
+//!     name = "block"
+//!     polygon = [[0, 0], [1, 0], [1, 1], [0, 1]]
+//!     hmax = 0.1
+//!     young = 1.0
+//!     poisson = 0.3
+//!     [[dirichlet]]
+//!     body = "block"
+//!     region = [0, 1, 0, 0]
+//! "#).unwrap();
+//! let p = preflight(&scene, &MeshLimits::default()).unwrap();
+//! assert_eq!(p.bodies[0].name, "block");
+//! assert_eq!(p.elements, p.bodies[0].elements);
+//! let small = MeshLimits { max_elements: 10, ..MeshLimits::default() };
+//! let err = preflight(&scene, &small).unwrap_err();
+//! assert!(err.to_string().contains("GiB"));
+//! ```
+
+use crate::mesh::{estimate_elements, estimate_nodes, MeshLimits};
+use crate::scene::Scene;
+
+/// Resident memory of the process before any scene-sized allocation, in bytes (measured: 9 MiB
+/// peak for a whole solve at 2 124 DOFs; rounded up).
+const BASE_BYTES: f64 = 16.0 * 1024.0 * 1024.0;
+
+/// Peak bytes per DOF·log₂(DOF) of a solve with a backend that factorises the KKT system
+/// (clarabel, the default, and osqp).  Measured with `/usr/bin/time -v signorini solve` on
+/// Experiment 3 (two bodies, both refined) on the development machine:
+///
+/// | DOFs | clarabel | osqp | dual-ssn | dual-pgs |
+/// |---:|---:|---:|---:|---:|
+/// | 30 002 | 75 MiB (158) | 103 MiB (223) | 48 MiB (110) | |
+/// | 117 572 | 312 MiB (161) | 468 MiB (244) | 176 MiB (89) | |
+/// | 237 478 | 669 MiB (163) | 983 MiB (241) | | |
+/// | 461 680 | 1 413 MiB (170) | 2 062 MiB (248) | 809 MiB (97) | 809 MiB (97) |
+/// | 938 496 | | | 1 683 MiB (94) | |
+///
+/// (in brackets: (peak − 8 MiB) / (DOF·log₂ DOF)).  The coefficient grows slowly with the size
+/// (fill-in of the factorisation); 280 covers osqp, the largest, with a margin.
+const FACTORISING_BYTES_PER_DOF_LOG: f64 = 280.0;
+
+/// Peak bytes per DOF·log₂(DOF) of a solve with a dual backend (dual-pgs, dual-uzawa, dual-ssn:
+/// one Cholesky factor of A plus vectors), from the same measurements; 110 covers them.
+const DUAL_BYTES_PER_DOF_LOG: f64 = 110.0;
+
+/// The estimate for one body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodyEstimate {
+    /// The body's name.
+    pub name: String,
+    /// Estimated elements ([`crate::mesh::estimate_elements`]: fine P1 meshes over-estimated by
+    /// 8–15 %, Q1 exact).
+    pub elements: usize,
+    /// Estimated nodes ([`crate::mesh::estimate_nodes`]).
+    pub nodes: usize,
+    /// Estimated degrees of freedom: two per node, before the Dirichlet DOFs are removed.
+    pub dofs: usize,
+}
+
+/// What a scene will cost, estimated before meshing.  Every count saturates at `usize::MAX`
+/// and every byte figure at `u64::MAX`: nothing here wraps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Preflight {
+    /// One estimate per body, in the scene's order.
+    pub bodies: Vec<BodyEstimate>,
+    /// Estimated elements of all bodies together.
+    pub elements: usize,
+    /// Estimated nodes of all bodies together.
+    pub nodes: usize,
+    /// Estimated degrees of freedom of all bodies together (Dirichlet DOFs included).
+    pub dofs: usize,
+    /// Estimated peak resident memory, in bytes, of a whole `solve` (mesh, assembly, the
+    /// backend, the report) with a backend that factorises the KKT system: clarabel (the
+    /// default) or osqp, the hungriest.  An upper estimate: the fit covers the measured peaks
+    /// with a margin, and the DOFs are over-estimated.  Does not cover `compare` or `sweep`,
+    /// which hold several backends' results.
+    pub bytes: u64,
+    /// The same for the dual backends (dual-pgs, dual-uzawa, dual-ssn), which need about 40 %
+    /// of [`Preflight::bytes`].
+    pub bytes_dual: u64,
+}
+
+/// Why [`preflight`] refused a scene.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PreflightError {
+    /// The estimated total of elements over all bodies exceeds [`MeshLimits::max_elements`].
+    #[error(
+        "the scene would mesh into about {} elements over all {} bodies ({}), more than the \
+         limit of {limit}; solving it would take about {} of memory ({} with a dual backend); \
+         increase hmax or raise the element limit (--max-elements)",
+        .preflight.elements,
+        .preflight.bodies.len(),
+        body_list(&.preflight.bodies),
+        gib(.preflight.bytes),
+        gib(.preflight.bytes_dual)
+    )]
+    TooManyElements {
+        /// The limit.
+        limit: usize,
+        /// The estimates that exceed it.
+        preflight: Box<Preflight>,
+    },
+}
+
+fn body_list(bodies: &[BodyEstimate]) -> String {
+    let parts: Vec<String> = bodies
+        .iter()
+        .map(|b| format!("{:?} ~{}", b.name, b.elements))
+        .collect();
+    parts.join(", ")
+}
+
+/// Bytes as GiB for a message: one decimal, or scientific notation when huge.
+pub fn gib(bytes: u64) -> String {
+    let g = bytes as f64 / (1024.0 * 1024.0 * 1024.0);
+    if g < 1e4 {
+        format!("{g:.1} GiB")
+    } else {
+        format!("{g:.2e} GiB")
+    }
+}
+
+/// Estimated peak bytes of a solve with `dofs` unknowns: base + coefficient · n log₂ n,
+/// saturating at `u64::MAX`.
+fn peak_bytes(dofs: usize, per_dof_log: f64) -> u64 {
+    let n = dofs as f64;
+    let bytes = BASE_BYTES + per_dof_log * n * n.max(2.0).log2();
+    // `as` saturates at u64::MAX (and the value is never NaN: n ≥ 0).
+    bytes as u64
+}
+
+/// Estimates, per body and in total, the elements, nodes, DOFs and peak memory of solving
+/// `scene`, from its polygons and `hmax` alone (nothing is meshed or allocated beyond the
+/// result).
+///
+/// The memory model ([`Preflight::bytes`]) is base + c · DOF · log₂ DOF with c fitted to whole
+/// `signorini solve` runs on this project's development machine (see the constants in the
+/// source); it covers meshing, assembly, one backend's solve and the report, not `compare` or
+/// `sweep`.
+///
+/// # Errors
+/// [`PreflightError::TooManyElements`] when the total over all bodies exceeds
+/// `limits.max_elements`; the message gives the total, the limit and the memory it would take.
+pub fn preflight(scene: &Scene, limits: &MeshLimits) -> Result<Preflight, PreflightError> {
+    let bodies: Vec<BodyEstimate> = scene
+        .bodies
+        .iter()
+        .map(|b| {
+            let nodes = estimate_nodes(&b.polygon, b.hmax, b.element);
+            BodyEstimate {
+                name: b.name.clone(),
+                elements: estimate_elements(&b.polygon, b.hmax, b.element),
+                nodes,
+                dofs: nodes.saturating_mul(2),
+            }
+        })
+        .collect();
+    let sum = |f: fn(&BodyEstimate) -> usize| bodies.iter().map(f).fold(0, usize::saturating_add);
+    let elements = sum(|b| b.elements);
+    let nodes = sum(|b| b.nodes);
+    let dofs = sum(|b| b.dofs);
+    let preflight = Preflight {
+        elements,
+        nodes,
+        dofs,
+        bytes: peak_bytes(dofs, FACTORISING_BYTES_PER_DOF_LOG),
+        bytes_dual: peak_bytes(dofs, DUAL_BYTES_PER_DOF_LOG),
+        bodies,
+    };
+    if preflight.elements > limits.max_elements {
+        return Err(PreflightError::TooManyElements {
+            limit: limits.max_elements,
+            preflight: Box::new(preflight),
+        });
+    }
+    Ok(preflight)
+}

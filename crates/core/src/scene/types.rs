@@ -1,0 +1,91 @@
+//! The validated values of a scene: bodies, supports, loads, contact pairs and probes.
+
+use crate::geometry::Point;
+use crate::mesh::ElementKind;
+
+/// One elastic body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Body {
+    /// Unique name.
+    pub name: String,
+    /// Vertices, counter-clockwise (reordered if given clockwise).
+    pub polygon: Vec<Point>,
+    /// Largest element edge.
+    pub hmax: f64,
+    /// Element type.
+    pub element: ElementKind,
+    /// Young's modulus E.
+    pub young: f64,
+    /// Poisson's ratio ν.
+    pub poisson: f64,
+    /// Mass density (only used with gravity).
+    pub density: Option<f64>,
+}
+
+/// A prescribed displacement on the boundary nodes in a box.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dirichlet {
+    /// Body index.
+    pub body: usize,
+    /// Box `[x1, x2, y1, y2]`.
+    pub region: [f64; 4],
+    /// Prescribed `[ux, uy]`.
+    pub value: [f64; 2],
+    /// Which components are prescribed (`[x, y]`).
+    pub components: [bool; 2],
+}
+
+/// A surface traction field t(x, y) = (a·x + b·y + c) per component.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Traction {
+    /// `[[a, b, c] for tx, [a, b, c] for ty]`.
+    pub coefficients: [[f64; 3]; 2],
+}
+
+impl Traction {
+    /// A constant traction.
+    pub fn constant(t: [f64; 2]) -> Self {
+        Self {
+            coefficients: [[0.0, 0.0, t[0]], [0.0, 0.0, t[1]]],
+        }
+    }
+
+    /// The traction at a point.
+    pub fn at(&self, p: Point) -> [f64; 2] {
+        let f = |c: &[f64; 3]| c[0] * p[0] + c[1] * p[1] + c[2];
+        [f(&self.coefficients[0]), f(&self.coefficients[1])]
+    }
+}
+
+/// A traction on the boundary edges in a box.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Neumann {
+    /// Body index.
+    pub body: usize,
+    /// Box `[x1, x2, y1, y2]`.
+    pub region: [f64; 4],
+    /// The traction field (force per unit length and unit thickness).
+    pub traction: Traction,
+}
+
+/// A pair of bodies that may touch.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactPair {
+    /// The two body indices.
+    pub bodies: [usize; 2],
+    /// Optional box limiting candidate nodes.
+    pub region: Option<[f64; 4]>,
+    /// Slave body, when the scene names it.
+    pub slave: Option<usize>,
+}
+
+/// A point whose displacement is reported.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Probe {
+    /// Name.
+    pub name: String,
+    /// Body index.
+    pub body: usize,
+    /// Point of the undeformed body.
+    pub point: Point,
+}

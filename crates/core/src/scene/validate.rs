@@ -1,0 +1,765 @@
+//! Validation of a parsed [`SceneFile`] into a [`Scene`]: every error names the section and the
+//! key at fault.
+//!
+//! Besides ranges and references, validation refuses what would otherwise fail only after
+//! meshing, so that `check` and `solve` agree: arrays of the wrong length, names with control
+//! characters, elastic constants or body forces that overflow, contact boxes that hold no
+//! boundary of one of the pair's bodies, and bodies that nothing holds.
+
+use super::file::{
+    BodySection, Component, ContactSection, DirichletSection, ModelSection, NeumannSection, Plane,
+    ProbeSection, SceneFile,
+};
+use super::types::{Body, ContactPair, Dirichlet, Neumann, Probe, Traction};
+use super::{Scene, SceneError, REGION_TOLERANCE};
+use crate::geometry::{self, Point};
+use crate::mesh::ElementKind;
+
+/// Largest elastic stiffness coefficient, (λ + 2μ)·thickness in plane strain or
+/// E/(1 − ν²)·thickness in plane stress, and largest body force ρ·|g|·thickness·area of a body,
+/// that a scene may ask for: `1e-10 × f64::MAX` ≈ 1.8e298.
+///
+/// Element matrices multiply the coefficient by geometric factors (up to the cotangent of the
+/// smallest angle) and assembly sums a few elements per node; the margin of 10¹⁰ keeps all of
+/// that finite.  Only overflow is refused: tiny values (E = 1e-200) are legitimate, since the
+/// program nondimensionalises the problem before a backend sees it.
+pub const MAX_COEFFICIENT: f64 = 1e-10 * f64::MAX;
+
+/// Characters refused in names and the title: Unicode control characters (C0, DEL, C1) and the
+/// non-characters U+FFFE and U+FFFF — all of them invalid or unsafe in the XML and JSON the
+/// program writes (SVG, VTU, result.json).
+pub fn name_forbidden(c: char) -> bool {
+    c.is_control() || c == '\u{FFFE}' || c == '\u{FFFF}'
+}
+
+/// `body "name"` with the name escaped (quotes, backslashes and control characters).
+fn body_label(name: &str) -> String {
+    format!("body {name:?}")
+}
+
+fn plural(n: usize, one: &str, many: &str) -> String {
+    if n == 1 {
+        format!("{n} {one}")
+    } else {
+        format!("{n} {many}")
+    }
+}
+
+fn numbers(n: usize) -> String {
+    plural(n, "number", "numbers")
+}
+
+/// A fixed-length array from a list, refusing any other length.
+fn exact<const N: usize>(
+    section: &str,
+    key: &'static str,
+    values: &[f64],
+) -> Result<[f64; N], SceneError> {
+    <[f64; N]>::try_from(values).map_err(|_| {
+        SceneError::invalid(
+            section,
+            key,
+            format!("has {}, needs {N}", numbers(values.len())),
+        )
+    })
+}
+
+/// A list of points, each of exactly two numbers (`what`: "vertex" or "point", numbered from 1).
+fn points(
+    section: &str,
+    key: &'static str,
+    what: &str,
+    list: &[Vec<f64>],
+) -> Result<Vec<Point>, SceneError> {
+    list.iter()
+        .enumerate()
+        .map(|(i, p)| {
+            <[f64; 2]>::try_from(p.as_slice()).map_err(|_| {
+                SceneError::invalid(
+                    section,
+                    key,
+                    format!("{what} {} has {}, needs 2", i + 1, numbers(p.len())),
+                )
+            })
+        })
+        .collect()
+}
+
+/// Refuses a name or title holding a character that [`name_forbidden`] rejects.
+fn check_text(section: &str, key: &'static str, text: &str) -> Result<(), SceneError> {
+    match text.chars().find(|c| name_forbidden(*c)) {
+        Some(c) => Err(SceneError::invalid(
+            section,
+            key,
+            format!(
+                "contains the control character U+{:04X}; use printable characters only",
+                c as u32
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+fn check_finite(section: &str, key: &'static str, values: &[f64]) -> Result<(), SceneError> {
+    match values.iter().find(|v| !v.is_finite()) {
+        Some(v) => Err(SceneError::invalid(
+            section,
+            key,
+            format!("must be finite, got {v}"),
+        )),
+        None => Ok(()),
+    }
+}
+
+fn check_region(section: &str, region: &[f64]) -> Result<[f64; 4], SceneError> {
+    let region = exact::<4>(section, "region", region)?;
+    check_finite(section, "region", &region)?;
+    if region[0] > region[1] || region[2] > region[3] {
+        return Err(SceneError::invalid(
+            section,
+            "region",
+            format!("must be [x1, x2, y1, y2] with x1 ≤ x2 and y1 ≤ y2, got {region:?}"),
+        ));
+    }
+    Ok(region)
+}
+
+fn is_axis_aligned_rectangle(polygon: &[Point], tol: f64) -> bool {
+    if polygon.len() != 4 {
+        return false;
+    }
+    (0..4).all(|i| {
+        let (a, b) = (polygon[i], polygon[(i + 1) % 4]);
+        let horizontal = (a[1] - b[1]).abs() <= tol;
+        let vertical = (a[0] - b[0]).abs() <= tol;
+        horizontal != vertical
+    })
+}
+
+/// The elastic coefficient the element matrices scale with: λ + 2μ (plane strain) or
+/// E/(1 − ν²) (plane stress), before the thickness.
+fn elastic_coefficient(young: f64, poisson: f64, plane: Plane) -> f64 {
+    match plane {
+        Plane::Strain => young * (1.0 - poisson) / ((1.0 + poisson) * (1.0 - 2.0 * poisson)),
+        Plane::Stress => young / (1.0 - poisson * poisson),
+    }
+}
+
+struct ModelContext {
+    plane: Plane,
+    thickness: f64,
+    gravity: Option<[f64; 2]>,
+}
+
+fn validate_body(b: BodySection, model: &ModelContext) -> Result<Body, SceneError> {
+    let s = body_label(&b.name);
+    let tol_rel = REGION_TOLERANCE;
+    let polygon = points(&s, "polygon", "vertex", &b.polygon)?;
+    if polygon.len() < 3 {
+        return Err(SceneError::invalid(
+            &s,
+            "polygon",
+            format!("needs at least 3 vertices, got {}", polygon.len()),
+        ));
+    }
+    let coords: Vec<f64> = polygon.iter().flatten().copied().collect();
+    check_finite(&s, "polygon", &coords)?;
+    let bbox = geometry::bounding_box(polygon.iter());
+    let size = (bbox[1] - bbox[0]).hypot(bbox[3] - bbox[2]);
+    let area = geometry::signed_area(&polygon);
+    if !(size * size).is_finite() || !area.is_finite() {
+        return Err(SceneError::invalid(
+            &s,
+            "polygon",
+            format!(
+                "spans {size:e}: coordinates this large make its area overflow; rescale the scene"
+            ),
+        ));
+    }
+    if size == 0.0 || area.abs() <= tol_rel * size * size {
+        return Err(SceneError::invalid(
+            &s,
+            "polygon",
+            format!("has zero area ({area:e})"),
+        ));
+    }
+    if let Some((i, j)) = geometry::self_intersection(&polygon, tol_rel * size) {
+        return Err(SceneError::invalid(
+            &s,
+            "polygon",
+            format!("is not simple: edge {i} meets edge {j} (edges numbered from 0 at the first vertex)"),
+        ));
+    }
+    if !(b.hmax.is_finite() && b.hmax > 0.0) {
+        return Err(SceneError::invalid(
+            &s,
+            "hmax",
+            format!("must be positive and finite, got {}", b.hmax),
+        ));
+    }
+    if !(b.young.is_finite() && b.young > 0.0) {
+        return Err(SceneError::invalid(
+            &s,
+            "young",
+            format!("must be positive and finite, got {}", b.young),
+        ));
+    }
+    if !(b.poisson.is_finite() && b.poisson > -1.0 && b.poisson < 0.5) {
+        return Err(SceneError::invalid(
+            &s,
+            "poisson",
+            format!("must lie in (-1, 0.5), got {}", b.poisson),
+        ));
+    }
+    let coefficient = elastic_coefficient(b.young, b.poisson, model.plane) * model.thickness;
+    if !(coefficient.is_finite() && coefficient <= MAX_COEFFICIENT) {
+        let what = match model.plane {
+            Plane::Strain => "(λ + 2μ)·thickness",
+            Plane::Stress => "E/(1 − ν²)·thickness",
+        };
+        return Err(SceneError::invalid(
+            &s,
+            "young",
+            format!(
+                "= {:e} with poisson = {} and thickness {} gives a stiffness {what} of {coefficient:e}, \
+                 beyond {MAX_COEFFICIENT:e}: the element stiffness would overflow; rescale the \
+                 scene's units",
+                b.young, b.poisson, model.thickness
+            ),
+        ));
+    }
+    if b.element == ElementKind::Q1 && !is_axis_aligned_rectangle(&polygon, tol_rel * size) {
+        return Err(SceneError::invalid(
+            &s,
+            "element",
+            "\"q1\" needs an axis-aligned rectangle (4 vertices); use \"p1\" for other polygons",
+        ));
+    }
+    match (model.gravity, b.density) {
+        (Some(_), None) => {
+            return Err(SceneError::invalid(
+                &s,
+                "density",
+                "is required because [model] gravity is set",
+            ))
+        }
+        (Some(_), Some(d)) if !(d.is_finite() && d > 0.0) => {
+            return Err(SceneError::invalid(
+                &s,
+                "density",
+                format!("must be positive and finite, got {d}"),
+            ))
+        }
+        (Some(g), Some(d)) => {
+            let force = d * g[0].abs().max(g[1].abs()) * model.thickness * area.abs();
+            if !(force.is_finite() && force <= MAX_COEFFICIENT) {
+                return Err(SceneError::invalid(
+                    &s,
+                    "density",
+                    format!(
+                        "= {d:e} with gravity {g:?} gives a body force ρ·|g|·thickness·area of \
+                         {force:e}, beyond {MAX_COEFFICIENT:e}: the load would overflow; rescale \
+                         the scene's units"
+                    ),
+                ));
+            }
+        }
+        (None, Some(_)) => {
+            return Err(SceneError::invalid(
+                &s,
+                "density",
+                "is only used with [model] gravity; remove it or set gravity",
+            ))
+        }
+        (None, None) => {}
+    }
+    let mut polygon = polygon;
+    if area < 0.0 {
+        polygon.reverse();
+    }
+    Ok(Body {
+        name: b.name,
+        polygon,
+        hmax: b.hmax,
+        element: b.element,
+        young: b.young,
+        poisson: b.poisson,
+        density: b.density,
+    })
+}
+
+/// Solves for (a, b, c) with a·x + b·y + c = value at three points.
+fn linear_coefficients(points: &[Point; 3], values: &[f64; 3]) -> Option<[f64; 3]> {
+    let m = nalgebra::Matrix3::new(
+        points[0][0],
+        points[0][1],
+        1.0,
+        points[1][0],
+        points[1][1],
+        1.0,
+        points[2][0],
+        points[2][1],
+        1.0,
+    );
+    let rhs = nalgebra::Vector3::new(values[0], values[1], values[2]);
+    m.lu().solve(&rhs).map(|v| [v[0], v[1], v[2]])
+}
+
+fn validate_model(model: Option<ModelSection>) -> Result<ModelContext, SceneError> {
+    let model = model.unwrap_or(ModelSection {
+        plane: Plane::Strain,
+        thickness: None,
+        gravity: None,
+    });
+    let thickness = match (model.plane, model.thickness) {
+        (_, None) => 1.0,
+        (Plane::Strain, Some(_)) => {
+            return Err(SceneError::invalid(
+                "[model]",
+                "thickness",
+                "applies only to plane = \"stress\" (plane strain is per unit thickness)",
+            ))
+        }
+        (Plane::Stress, Some(t)) if t.is_finite() && t > 0.0 => t,
+        (Plane::Stress, Some(t)) => {
+            return Err(SceneError::invalid(
+                "[model]",
+                "thickness",
+                format!("must be positive and finite, got {t}"),
+            ))
+        }
+    };
+    let gravity = match &model.gravity {
+        None => None,
+        Some(g) => {
+            let g = exact::<2>("[model]", "gravity", g)?;
+            check_finite("[model]", "gravity", &g)?;
+            Some(g)
+        }
+    };
+    Ok(ModelContext {
+        plane: model.plane,
+        thickness,
+        gravity,
+    })
+}
+
+/// Looks bodies up by name; the error names the section and `key`.
+struct Names<'a>(&'a [Body]);
+
+impl Names<'_> {
+    fn find(&self, section: &str, key: &'static str, name: &str) -> Result<usize, SceneError> {
+        self.0.iter().position(|b| b.name == name).ok_or_else(|| {
+            let known: Vec<String> = self.0.iter().map(|b| format!("{:?}", b.name)).collect();
+            SceneError::invalid(
+                section,
+                key,
+                format!(
+                    "names an unknown body {name:?} (bodies: {})",
+                    known.join(", ")
+                ),
+            )
+        })
+    }
+}
+
+fn validate_dirichlet(
+    i: usize,
+    d: DirichletSection,
+    bodies: &[Body],
+    tol: f64,
+) -> Result<Dirichlet, SceneError> {
+    let s = format!("dirichlet #{} (body {:?})", i + 1, d.body);
+    let body = Names(bodies).find(&s, "body", &d.body)?;
+    let region = check_region(&s, &d.region)?;
+    let value = match &d.value {
+        None => [0.0, 0.0],
+        Some(v) => exact::<2>(&s, "value", v)?,
+    };
+    check_finite(&s, "value", &value)?;
+    let components = match d.components {
+        None => [true, true],
+        Some(list) => {
+            if list.is_empty() {
+                return Err(SceneError::invalid(
+                    &s,
+                    "components",
+                    "must name at least one of \"x\", \"y\"",
+                ));
+            }
+            let x = list.iter().filter(|c| **c == Component::X).count();
+            let y = list.len() - x;
+            if x > 1 || y > 1 {
+                return Err(SceneError::invalid(&s, "components", "repeats a component"));
+            }
+            [x == 1, y == 1]
+        }
+    };
+    if geometry::boundary_in_box(&bodies[body].polygon, &region, tol).is_none() {
+        return Err(SceneError::invalid(
+            &s,
+            "region",
+            format!(
+                "{region:?} matches no boundary node of body {:?}",
+                bodies[body].name
+            ),
+        ));
+    }
+    Ok(Dirichlet {
+        body,
+        region,
+        value,
+        components,
+    })
+}
+
+fn validate_neumann(
+    i: usize,
+    n: NeumannSection,
+    bodies: &[Body],
+    tol: f64,
+) -> Result<Neumann, SceneError> {
+    let s = format!("neumann #{} (body {:?})", i + 1, n.body);
+    let body = Names(bodies).find(&s, "body", &n.body)?;
+    let region = check_region(&s, &n.region)?;
+    let traction =
+        match (n.traction, n.points, n.tx, n.ty) {
+            (Some(t), None, None, None) => {
+                let t = exact::<2>(&s, "traction", &t)?;
+                check_finite(&s, "traction", &t)?;
+                Traction::constant(t)
+            }
+            (None, Some(list), Some(tx), Some(ty)) => {
+                let list = points(&s, "points", "point", &list)?;
+                let points = <[Point; 3]>::try_from(list.as_slice()).map_err(|_| {
+                    SceneError::invalid(
+                        &s,
+                        "points",
+                        format!("has {}, needs 3", plural(list.len(), "point", "points")),
+                    )
+                })?;
+                let tx = exact::<3>(&s, "tx", &tx)?;
+                let ty = exact::<3>(&s, "ty", &ty)?;
+                let coords: Vec<f64> = points.iter().flatten().copied().collect();
+                check_finite(&s, "points", &coords)?;
+                check_finite(&s, "tx", &tx)?;
+                check_finite(&s, "ty", &ty)?;
+                let spread = geometry::distance(points[0], points[1])
+                    .max(geometry::distance(points[1], points[2]))
+                    .max(geometry::distance(points[0], points[2]));
+                let twice_area = geometry::orient(points[0], points[1], points[2]).abs();
+                if spread == 0.0 || twice_area <= 1e-10 * spread * spread {
+                    return Err(SceneError::invalid(
+                        &s,
+                        "points",
+                        format!("must not be collinear, got {points:?}"),
+                    ));
+                }
+                let (Some(cx), Some(cy)) = (
+                    linear_coefficients(&points, &tx),
+                    linear_coefficients(&points, &ty),
+                ) else {
+                    return Err(SceneError::invalid(
+                        &s,
+                        "points",
+                        format!("must not be collinear, got {points:?}"),
+                    ));
+                };
+                Traction {
+                    coefficients: [cx, cy],
+                }
+            }
+            (Some(_), _, _, _) => return Err(SceneError::invalid(
+                &s,
+                "traction",
+                "cannot be combined with points/tx/ty: give a constant traction or a linear field",
+            )),
+            _ => {
+                return Err(SceneError::invalid(
+                    &s,
+                    "traction",
+                    "is missing: give `traction = [tx, ty]` or all of `points`, `tx`, `ty`",
+                ))
+            }
+        };
+    match geometry::boundary_in_box(&bodies[body].polygon, &region, tol) {
+        // A box touching the boundary in a single point clips only O(tol) of it.
+        Some(len) if len > 10.0 * tol => {}
+        _ => {
+            return Err(SceneError::invalid(
+                &s,
+                "region",
+                format!(
+                    "{region:?} contains no boundary edge of body {:?}",
+                    bodies[body].name
+                ),
+            ))
+        }
+    }
+    Ok(Neumann {
+        body,
+        region,
+        traction,
+    })
+}
+
+fn validate_contact(
+    i: usize,
+    c: ContactSection,
+    bodies: &[Body],
+    earlier: &[ContactPair],
+    tol: f64,
+) -> Result<ContactPair, SceneError> {
+    let s = format!("contact #{} ({})", i + 1, {
+        let names: Vec<String> = c.bodies.iter().map(|n| format!("{n:?}")).collect();
+        names.join(" – ")
+    });
+    let [name_a, name_b] = <[String; 2]>::try_from(c.bodies.clone()).map_err(|_| {
+        SceneError::invalid(
+            &s,
+            "bodies",
+            format!(
+                "names {}, needs 2",
+                plural(c.bodies.len(), "body", "bodies")
+            ),
+        )
+    })?;
+    let names = Names(bodies);
+    let a = names.find(&s, "bodies", &name_a)?;
+    let b = names.find(&s, "bodies", &name_b)?;
+    if a == b {
+        return Err(SceneError::invalid(
+            &s,
+            "bodies",
+            format!("names body {name_a:?} twice; a pair needs two bodies"),
+        ));
+    }
+    let region = match &c.region {
+        None => None,
+        Some(r) => Some(check_region(&s, r)?),
+    };
+    let slave = match c.slave {
+        None => None,
+        Some(name) => {
+            let k = names.find(&s, "slave", &name)?;
+            if k != a && k != b {
+                return Err(SceneError::invalid(
+                    &s,
+                    "slave",
+                    format!("{name:?} is not one of the pair's bodies"),
+                ));
+            }
+            Some(k)
+        }
+    };
+    if earlier
+        .iter()
+        .any(|p| p.bodies == [a, b] || p.bodies == [b, a])
+    {
+        return Err(SceneError::invalid(
+            &s,
+            "bodies",
+            "repeats a pair already given",
+        ));
+    }
+    // The contact search takes candidate nodes of both bodies inside the box; a box that misses
+    // one body's boundary would fail only after meshing.
+    if let Some(r) = &region {
+        for k in [a, b] {
+            if geometry::boundary_in_box(&bodies[k].polygon, r, tol).is_none() {
+                return Err(SceneError::invalid(
+                    &s,
+                    "region",
+                    format!(
+                        "{r:?} holds no boundary of body {:?}; the box must contain part of both \
+                         bodies' boundaries",
+                        bodies[k].name
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(ContactPair {
+        bodies: [a, b],
+        region,
+        slave,
+    })
+}
+
+fn validate_probe(
+    i: usize,
+    p: ProbeSection,
+    bodies: &[Body],
+    earlier: &[Probe],
+    tol: f64,
+) -> Result<Probe, SceneError> {
+    let s = format!("probe #{} {:?}", i + 1, p.name);
+    check_text(&s, "name", &p.name)?;
+    let body = Names(bodies).find(&s, "body", &p.body)?;
+    let point = exact::<2>(&s, "point", &p.point)?;
+    check_finite(&s, "point", &point)?;
+    if !geometry::contains(&bodies[body].polygon, point, tol) {
+        return Err(SceneError::invalid(
+            &s,
+            "point",
+            format!("{point:?} lies outside body {:?}", bodies[body].name),
+        ));
+    }
+    if earlier.iter().any(|q| q.name == p.name) {
+        return Err(SceneError::invalid(
+            &s,
+            "name",
+            "is used by more than one probe",
+        ));
+    }
+    Ok(Probe {
+        name: p.name,
+        body,
+        point,
+    })
+}
+
+/// Relative eigenvalue below which a rigid-body mode counts as free here.  Smaller than the
+/// model's 1e-10 (`fem::free_rigid_modes`), so that validation refuses only bodies the model
+/// would refuse too; between the two thresholds the model decides.
+const FREE_MODE_THRESHOLD: f64 = 1e-13;
+
+/// Number of rigid-body modes (of 3) that the Dirichlet supports of `body` leave free.
+///
+/// A support constrains every boundary point inside its box; the constraints of a rigid motion
+/// u = (a − θy, b + θx) are linear in the point, so the clipped ends of the boundary pieces
+/// inside each box (which become mesh nodes) span them all.
+fn free_rigid_modes(body: usize, bodies: &[Body], dirichlet: &[Dirichlet], tol: f64) -> usize {
+    let polygon = &bodies[body].polygon;
+    let bbox = geometry::bounding_box(polygon.iter());
+    let centre = [0.5 * (bbox[0] + bbox[1]), 0.5 * (bbox[2] + bbox[3])];
+    let size = (bbox[1] - bbox[0])
+        .hypot(bbox[3] - bbox[2])
+        .max(f64::MIN_POSITIVE);
+    let mut gram = nalgebra::Matrix3::<f64>::zeros();
+    let n = polygon.len();
+    for d in dirichlet.iter().filter(|d| d.body == body) {
+        for i in 0..n {
+            let Some((p, q)) =
+                geometry::clip_segment_to_box(polygon[i], polygon[(i + 1) % n], &d.region, tol)
+            else {
+                continue;
+            };
+            for point in [p, q] {
+                let (x, y) = ((point[0] - centre[0]) / size, (point[1] - centre[1]) / size);
+                if d.components[0] {
+                    let r = nalgebra::Vector3::new(1.0, 0.0, -y);
+                    gram += r * r.transpose();
+                }
+                if d.components[1] {
+                    let r = nalgebra::Vector3::new(0.0, 1.0, x);
+                    gram += r * r.transpose();
+                }
+            }
+        }
+    }
+    let eig = gram.symmetric_eigen();
+    let largest = eig.eigenvalues.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    eig.eigenvalues
+        .iter()
+        .filter(|v| v.abs() <= FREE_MODE_THRESHOLD * largest.max(1.0))
+        .count()
+}
+
+pub(super) fn validate(file: SceneFile) -> Result<Scene, SceneError> {
+    if let Some(title) = &file.title {
+        check_text("scene", "title", title)?;
+    }
+    if file.body.is_empty() {
+        return Err(SceneError::invalid(
+            "scene",
+            "body",
+            "needs at least one [[body]] table",
+        ));
+    }
+    let model = validate_model(file.model)?;
+
+    // Bodies: names unique and printable, geometry and material sane.
+    let mut bodies: Vec<Body> = Vec::with_capacity(file.body.len());
+    for b in file.body {
+        if b.name.trim().is_empty() {
+            return Err(SceneError::invalid("[[body]]", "name", "must not be empty"));
+        }
+        check_text(&body_label(&b.name), "name", &b.name)?;
+        if bodies.iter().any(|o| o.name == b.name) {
+            return Err(SceneError::invalid(
+                body_label(&b.name),
+                "name",
+                "is used by more than one body",
+            ));
+        }
+        bodies.push(validate_body(b, &model)?);
+    }
+    let bbox = geometry::bounding_box(bodies.iter().flat_map(|b| b.polygon.iter()));
+    let tol = REGION_TOLERANCE * (bbox[1] - bbox[0]).hypot(bbox[3] - bbox[2]);
+
+    let dirichlet = file
+        .dirichlet
+        .into_iter()
+        .enumerate()
+        .map(|(i, d)| validate_dirichlet(i, d, &bodies, tol))
+        .collect::<Result<Vec<_>, _>>()?;
+    let neumann = file
+        .neumann
+        .into_iter()
+        .enumerate()
+        .map(|(i, n)| validate_neumann(i, n, &bodies, tol))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut contacts = Vec::with_capacity(file.contact.len());
+    for (i, c) in file.contact.into_iter().enumerate() {
+        let pair = validate_contact(i, c, &bodies, &contacts, tol)?;
+        contacts.push(pair);
+    }
+    let mut probes = Vec::with_capacity(file.probe.len());
+    for (i, p) in file.probe.into_iter().enumerate() {
+        let probe = validate_probe(i, p, &bodies, &probes, tol)?;
+        probes.push(probe);
+    }
+
+    // Every body must be held: by supports that remove its rigid-body modes, or by a contact pair
+    // (the model then regularises the free modes through the contact).
+    for (k, body) in bodies.iter().enumerate() {
+        if contacts.iter().any(|c| c.bodies.contains(&k)) {
+            continue;
+        }
+        let supports = dirichlet.iter().filter(|d| d.body == k).count();
+        if supports == 0 {
+            return Err(SceneError::invalid(
+                body_label(&body.name),
+                "dirichlet",
+                "is missing: nothing holds this body (no [[dirichlet]] support and no [[contact]] \
+                 pair); add a support or a contact pair",
+            ));
+        }
+        let free = free_rigid_modes(k, &bodies, &dirichlet, tol);
+        if free > 0 {
+            return Err(SceneError::invalid(
+                body_label(&body.name),
+                "dirichlet",
+                format!(
+                    "supports leave {} free and the body is in no [[contact]] pair; support more \
+                     boundary (a point holds no rotation, one component holds no translation \
+                     along the other)",
+                    plural(free, "rigid-body mode", "rigid-body modes")
+                ),
+            ));
+        }
+    }
+
+    Ok(Scene {
+        title: file.title.unwrap_or_else(|| "untitled".to_string()),
+        plane: model.plane,
+        thickness: model.thickness,
+        gravity: model.gravity,
+        bodies,
+        dirichlet,
+        neumann,
+        contacts,
+        probes,
+    })
+}

@@ -1,0 +1,289 @@
+//! Checks that used to fail only after meshing (or never), now refused by scene validation with
+//! the section and the key named: control characters in names, contact boxes that miss a body,
+//! bodies that nothing holds, and elastic constants or body forces that overflow.
+
+use signorini_core::mesh::MeshLimits;
+use signorini_core::model;
+use signorini_core::scene::{Scene, SceneError, MAX_COEFFICIENT};
+
+const BASE: &str = r#"
+title = "two blocks"
+[[body]]
+name = "upper"
+polygon = [[0, 1], [2, 1], [2, 2], [0, 2]]
+hmax = 0.25
+young = 0.0021
+poisson = 0.3
+
+[[body]]
+name = "lower"
+polygon = [[1, 0], [3, 0], [3, 1], [1, 1]]
+hmax = 0.25
+young = 0.0012
+poisson = 0.34
+
+[[dirichlet]]
+body = "upper"
+region = [0, 0, 1, 2]
+
+[[dirichlet]]
+body = "lower"
+region = [3, 3, 0, 1]
+
+[[neumann]]
+body = "upper"
+region = [1, 2, 2, 2]
+traction = [0, -1e-4]
+
+[[contact]]
+bodies = ["upper", "lower"]
+region = [1, 2, 0.99, 1.01]
+
+[[probe]]
+name = "corner"
+body = "upper"
+point = [2, 2]
+"#;
+
+fn with(replace: &str, by: &str) -> String {
+    assert!(BASE.contains(replace), "{replace}");
+    BASE.replacen(replace, by, 1)
+}
+
+fn invalid(text: &str) -> (String, &'static str, String) {
+    match Scene::from_toml(text) {
+        Err(SceneError::Invalid {
+            section,
+            key,
+            reason,
+        }) => (section, key, reason),
+        other => panic!("expected an Invalid error, got {other:?}"),
+    }
+}
+
+/// Meshes and assembles a valid scene the way `solve` does (up to the QP).
+fn assembles(scene: &Scene) -> Result<(), String> {
+    let meshes = model::mesh_scene(scene, &MeshLimits::default()).map_err(|e| e.to_string())?;
+    model::assemble(scene, meshes)
+        .map(|_| ())
+        .map_err(|e| e.to_string())
+}
+
+#[test]
+fn base_scene_is_valid_and_assembles() {
+    let s = Scene::from_toml(BASE).unwrap();
+    assembles(&s).unwrap();
+}
+
+#[test]
+fn control_characters_in_names_and_title() {
+    // TOML escapes put any control character into a string.
+    let (s, k, r) = invalid(&with("name = \"upper\"", "name = \"up\\u0007per\""));
+    assert!(
+        s.starts_with("body") && k == "name" && r.contains("U+0007"),
+        "{s} {k} {r}"
+    );
+    // The section label escapes the name instead of printing the raw character.
+    assert!(s.contains("\\u{7}") && !s.contains('\u{7}'), "{s}");
+    let (s, k, r) = invalid(&with("name = \"corner\"", "name = \"cor\\nner\""));
+    assert!(
+        s.starts_with("probe #1") && k == "name" && r.contains("U+000A"),
+        "{s} {k} {r}"
+    );
+    let (s, k, r) = invalid(&with(
+        "title = \"two blocks\"",
+        "title = \"two\\u001bblocks\"",
+    ));
+    assert!(
+        s == "scene" && k == "title" && r.contains("U+001B"),
+        "{s} {k} {r}"
+    );
+    // C1 controls and DEL too.
+    let (_, k, r) = invalid(&with("name = \"lower\"", "name = \"low\\u0085er\""));
+    assert!(k == "name" && r.contains("U+0085"), "{r}");
+    let (_, k, _) = invalid(&with("name = \"lower\"", "name = \"low\\u007Fer\""));
+    assert_eq!(k, "name");
+    // Printable Unicode, quotes and spaces stay legal; the empty-name check stays.
+    let ok = with("name = \"lower\"", "name = \"unten \\\"ü\\\" 下\"")
+        .replace("body = \"lower\"", "body = \"unten \\\"ü\\\" 下\"")
+        .replace("\"upper\", \"lower\"", "\"upper\", \"unten \\\"ü\\\" 下\"");
+    let scene = Scene::from_toml(&ok).unwrap();
+    assert_eq!(scene.bodies[1].name, "unten \"ü\" 下");
+    let (_, k, r) = invalid(&with("name = \"lower\"", "name = \"  \""));
+    assert!(k == "name" && r.contains("empty"), "{r}");
+}
+
+#[test]
+fn contact_box_missing_one_body_is_refused_before_meshing() {
+    // The box [1, 2] × [1.5, 1.6] meets the upper body's right edge only; it holds no boundary
+    // of "lower" (which ends at y = 1).  Before, this failed after meshing (EmptyRegion).
+    let text = with("region = [1, 2, 0.99, 1.01]", "region = [1, 2, 1.5, 1.6]");
+    let (s, k, r) = invalid(&text);
+    assert!(
+        s.starts_with("contact #1") && k == "region" && r.contains("no boundary"),
+        "{s} {k} {r}"
+    );
+    // A box touching the upper body's top edge only: misses "lower".
+    let text = with("region = [1, 2, 0.99, 1.01]", "region = [1, 2, 1.99, 2.01]");
+    let (s, k, r) = invalid(&text);
+    assert!(
+        s.starts_with("contact #1") && k == "region" && r.contains("\"lower\""),
+        "{s} {k} {r}"
+    );
+}
+
+#[test]
+fn contact_box_meeting_both_boundaries_meshes_and_assembles() {
+    // A box meeting both bodies' boundaries passes validation and the contact search finds
+    // candidates in it (what the late EmptyRegion check demanded).
+    for region in [
+        "[1, 2, 0.99, 1.01]",
+        "[1.4, 1.6, 0.9, 1.1]",
+        "[0.5, 2.5, 0.5, 1.5]",
+    ] {
+        let text = with("region = [1, 2, 0.99, 1.01]", &format!("region = {region}"));
+        let scene = Scene::from_toml(&text).unwrap();
+        assembles(&scene).unwrap_or_else(|e| panic!("{region}: {e}"));
+    }
+}
+
+#[test]
+fn body_held_by_nothing_is_refused() {
+    // No contact pair and no support for "lower": before, `check` passed and assembly failed.
+    let text = with(
+        "[[contact]]\nbodies = [\"upper\", \"lower\"]\nregion = [1, 2, 0.99, 1.01]",
+        "",
+    )
+    .replace("[[dirichlet]]\nbody = \"lower\"\nregion = [3, 3, 0, 1]", "");
+    let (s, k, r) = invalid(&text);
+    assert!(
+        s == "body \"lower\"" && k == "dirichlet" && r.contains("nothing holds"),
+        "{s} {k} {r}"
+    );
+    // The same body in a contact pair is held (the model regularises it through the contact).
+    let held = BASE.replace("[[dirichlet]]\nbody = \"lower\"\nregion = [3, 3, 0, 1]", "");
+    Scene::from_toml(&held).unwrap();
+}
+
+#[test]
+fn supports_that_leave_rigid_modes_free_are_refused_like_assembly_does() {
+    let no_contact = with(
+        "[[contact]]\nbodies = [\"upper\", \"lower\"]\nregion = [1, 2, 0.99, 1.01]",
+        "",
+    );
+    // One corner point: the rotation about it is free (1 mode).
+    let point = no_contact.replace("region = [3, 3, 0, 1]", "region = [3, 3, 0, 0]");
+    let (s, k, r) = invalid(&point);
+    assert!(
+        s == "body \"lower\"" && k == "dirichlet" && r.contains("1 rigid-body mode"),
+        "{s} {k} {r}"
+    );
+    // A roller in x along a vertical edge: y translation free.
+    let roller = no_contact.replace(
+        "region = [3, 3, 0, 1]",
+        "region = [3, 3, 0, 1]\ncomponents = [\"x\"]",
+    );
+    let (_, k, r) = invalid(&roller);
+    assert!(k == "dirichlet" && r.contains("1 rigid-body mode"), "{r}");
+    // The model's own check (independent: it works on the mesh nodes) agrees: the same supports
+    // put into a valid scene behind validation's back make assembly refuse the body.
+    let mut scene = Scene::from_toml(&no_contact).unwrap();
+    scene.dirichlet[1].region = [3.0, 3.0, 0.0, 0.0];
+    let err = assembles(&scene).unwrap_err();
+    assert!(
+        err.contains("\"lower\" is not held") && err.contains("1 rigid"),
+        "{err}"
+    );
+    let mut scene = Scene::from_toml(&no_contact).unwrap();
+    scene.dirichlet[1].components = [true, false];
+    let err = assembles(&scene).unwrap_err();
+    assert!(
+        err.contains("\"lower\" is not held") && err.contains("1 rigid"),
+        "{err}"
+    );
+    // Two supported components on an edge: held, and assembly agrees.
+    let edge = no_contact.replace(
+        "region = [3, 3, 0, 1]",
+        "region = [3, 3, 0, 1]\ncomponents = [\"x\", \"y\"]",
+    );
+    let scene = Scene::from_toml(&edge).unwrap();
+    assembles(&scene).unwrap();
+    // x on a vertical edge plus y at one point: held.
+    let mixed = format!(
+        "{}\n[[dirichlet]]\nbody = \"lower\"\nregion = [1, 1, 0, 0]\ncomponents = [\"y\"]\n",
+        roller
+    );
+    let scene = Scene::from_toml(&mixed).unwrap();
+    assembles(&scene).unwrap();
+}
+
+#[test]
+fn overflowing_young_modulus_is_refused() {
+    // E = 1e308 passed before and the element stiffness became inf.
+    let (s, k, r) = invalid(&with("young = 0.0012", "young = 1e308"));
+    assert!(
+        s == "body \"lower\"" && k == "young" && r.contains("overflow"),
+        "{s} {k} {r}"
+    );
+    // ν close to 1/2 amplifies λ = Eν/((1+ν)(1−2ν)) by 1/(1−2ν) = 5e15.
+    let (_, k, _) = invalid(&with(
+        "young = 0.0012\npoisson = 0.34",
+        "young = 1e290\npoisson = 0.4999999999999999",
+    ));
+    assert_eq!(k, "young");
+    // Plane stress: thickness multiplies.
+    let (_, k, r) = invalid(&format!(
+        "{}\n[model]\nplane = \"stress\"\nthickness = 1e300\n",
+        with("young = 0.0012", "young = 1.0")
+    ));
+    assert!(k == "young" && r.contains("thickness"), "{r}");
+    // Just inside the bound: accepted (the bound is MAX_COEFFICIENT on (λ+2μ)·t).
+    // Plane strain, ν = 0: λ + 2μ = E.
+    let e = MAX_COEFFICIENT * 0.5;
+    let text = with(
+        "young = 0.0012\npoisson = 0.34",
+        &format!("young = {e:e}\npoisson = 0.0"),
+    );
+    Scene::from_toml(&text).unwrap();
+}
+
+#[test]
+fn tiny_material_values_are_legitimate() {
+    // The program nondimensionalises: E = 1e-200 must not be refused, and assembles.
+    let text = with("young = 0.0012", "young = 1e-200").replace("young = 0.0021", "young = 1e-200");
+    let scene = Scene::from_toml(&text).unwrap();
+    assembles(&scene).unwrap();
+}
+
+#[test]
+fn overflowing_body_force_is_refused() {
+    let gravity = |rho: &str| {
+        format!(
+            "{}\n[model]\ngravity = [0, -9.81]\n",
+            BASE.replace(
+                "poisson = 0.3\n",
+                &format!("poisson = 0.3\ndensity = {rho}\n")
+            )
+            .replace("poisson = 0.34\n", "poisson = 0.34\ndensity = 1.0\n")
+        )
+    };
+    Scene::from_toml(&gravity("7800")).unwrap();
+    let (s, k, r) = invalid(&gravity("1e308"));
+    assert!(
+        s == "body \"upper\"" && k == "density" && r.contains("overflow"),
+        "{s} {k} {r}"
+    );
+}
+
+#[test]
+fn polygons_whose_area_overflows_are_refused() {
+    // Coordinates of 1e200 make x·y overflow: the area was NaN and passed the zero-area test.
+    let (s, k, r) = invalid(&with(
+        "[[1, 0], [3, 0], [3, 1], [1, 1]]",
+        "[[1e200, 0], [3e200, 0], [3e200, 1e200], [1e200, 1e200]]",
+    ));
+    assert!(
+        s == "body \"lower\"" && k == "polygon" && r.contains("overflow"),
+        "{s} {k} {r}"
+    );
+}
