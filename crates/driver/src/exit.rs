@@ -9,6 +9,9 @@
 
 use std::process::ExitCode;
 
+use signorini_core::mesh::MeshError;
+use signorini_core::preflight::PreflightError;
+
 use crate::output::OutputError;
 use crate::run::RunError;
 
@@ -44,7 +47,15 @@ pub fn classify(error: &anyhow::Error) -> Exit {
         if cause.is::<std::io::Error>()
             || cause.is::<OutputError>()
             || cause.is::<Resource>()
-            || matches!(cause.downcast_ref::<RunError>(), Some(RunError::Output(_)))
+            || cause.is::<PreflightError>()
+            || matches!(
+                cause.downcast_ref::<MeshError>(),
+                Some(MeshError::TooManyElements { .. })
+            )
+            || matches!(
+                cause.downcast_ref::<RunError>(),
+                Some(RunError::Output(_) | RunError::Preflight(_))
+            )
         {
             return Exit::Resource;
         }

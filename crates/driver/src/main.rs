@@ -432,14 +432,21 @@ fn check(common: &Common) -> Result<Exit> {
     let report = signorini::check::check(&scene, &limits(common))?;
     let mut con = Console::new();
     con.line(format_args!("{}: valid", scene.title))?;
-    for (name, hmax, estimate) in &report.bodies {
+    let e = &report.estimate;
+    for (body, estimate) in scene.bodies.iter().zip(&e.bodies) {
         con.line(format_args!(
-            "  body {name:<10} hmax {hmax:<8} ~{estimate} elements (estimated before meshing)"
+            "  body {:<10} hmax {:<8} ~{} elements (estimated before meshing)",
+            body.name, body.hmax, estimate.elements
         ))?;
     }
     con.line(format_args!(
         "  {} elements meshed (~{} estimated), {} free DOFs, {} contact rows",
-        report.elements, report.estimated_elements, report.dofs, report.constraints
+        report.elements, e.elements, report.dofs, report.constraints
+    ))?;
+    con.line(format_args!(
+        "  memory estimate for solve: {:.2} GiB (clarabel, osqp), {:.2} GiB (dual backends)",
+        e.bytes as f64 / 1024f64.powi(3),
+        e.bytes_dual as f64 / 1024f64.powi(3)
     ))?;
     con.line(format_args!(
         "  {} dirichlet, {} neumann, {} contact pair(s), {} probe(s)",

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use signorini_core::mesh::MeshLimits;
 use signorini_core::model::{self, Model, ModelError};
+use signorini_core::preflight::{preflight, PreflightError};
 use signorini_core::qp::{QpBackend, QpStatus, SolveOptions};
 use signorini_core::report::{self, BodyFields, RunReport, Timings};
 use signorini_core::scene::{Scene, SceneError};
@@ -22,6 +23,9 @@ pub enum RunError {
     /// The scene is unreadable or invalid.
     #[error(transparent)]
     Scene(#[from] SceneError),
+    /// The scene would need more elements (and memory) than allowed.
+    #[error(transparent)]
+    Preflight(#[from] PreflightError),
     /// Meshing or assembly refused the scene.
     #[error(transparent)]
     Model(#[from] ModelError),
@@ -55,9 +59,11 @@ pub struct Prepared {
     pub assemble_s: f64,
 }
 
-/// Meshes and assembles.
-pub fn prepare(scene: &Scene, limits: &MeshLimits) -> Result<Prepared, ModelError> {
+/// Estimates the cost (refusing a scene whose total element count exceeds the limit), then
+/// meshes and assembles.  Every command goes through here, `check` included, so they agree.
+pub fn prepare(scene: &Scene, limits: &MeshLimits) -> Result<Prepared, RunError> {
     let t0 = Instant::now();
+    preflight(scene, limits)?;
     let meshes = model::mesh_scene(scene, limits)?;
     let mesh_s = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();

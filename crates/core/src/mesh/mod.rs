@@ -149,7 +149,7 @@ pub enum MeshError {
     /// The estimated element count exceeds [`MeshLimits::max_elements`].
     #[error(
         "the mesh would have about {estimated} elements, more than the limit of {limit}; \
-         increase hmax or raise the limit (MeshLimits::max_elements)"
+         increase hmax or raise the limit (--max-elements)"
     )]
     TooManyElements {
         /// Estimated (or actual) number of elements.
