@@ -90,6 +90,18 @@ impl rstar::RTreeObject for EdgeBox {
     }
 }
 
+/// True when c and d lie on the same side of the line through a and b, both farther from it
+/// than `slack`: then every point of c–d is farther than `slack` from the line, hence from a–b,
+/// and no point of a–b is within `slack` of c–d — the pair cannot touch.  Cheap (no square
+/// root): it spares [`segments_touch`] most candidate pairs of long, close, parallel edges.
+fn strictly_beside(a: Point, b: Point, c: Point, d: Point, slack: f64) -> bool {
+    let len2 = (b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2);
+    let (oc, od) = (orient(a, b, c), orient(a, b, d));
+    // |orient| / |ab| is the distance to the line: compare squares, |orient|² > slack² |ab|².
+    let far = slack * slack * len2;
+    len2 > 0.0 && oc.signum() == od.signum() && oc * oc > far && od * od > far
+}
+
 /// First pair of non-adjacent edges (i, j), i < j, in lexicographic order, of a closed polygon
 /// that touch (`tol`: length tolerance, as in [`segments_touch`]); otherwise the first spike (two
 /// adjacent edges folding back onto each other), as `(i, i + 1)`.  A simple polygon has neither.
@@ -126,6 +138,9 @@ pub fn self_intersection(polygon: &[Point], tol: f64) -> Option<(usize, usize)> 
             .flatten()
             .fold(0.0_f64, |m, c| m.max(c.abs()));
         let margin = tol.max(0.0) * (1.0 + 1e-9) + 1e-12 * magnitude;
+        // Distance beyond which `strictly_beside` rules a pair out (again above `tol` by more
+        // than any rounding of `segments_touch`'s own distances).
+        let slack = tol.max(0.0) * (1.0 + 1e-6) + 1e-12 * magnitude;
         let boxes: Vec<EdgeBox> = (0..n)
             .map(|i| {
                 let (a, b) = (polygon[i], polygon[(i + 1) % n]);
@@ -146,7 +161,12 @@ pub fn self_intersection(polygon: &[Point], tol: f64) -> Option<(usize, usize)> 
                 .locate_in_envelope_intersecting(envelope)
                 .map(|e| e.index)
                 .filter(|&j| j > i + 1 && !(i == 0 && j == n - 1))
-                .filter(|&j| segments_touch(a, b, polygon[j], polygon[(j + 1) % n], tol))
+                .filter(|&j| {
+                    let (c, d) = (polygon[j], polygon[(j + 1) % n]);
+                    !strictly_beside(a, b, c, d, slack)
+                        && !strictly_beside(c, d, a, b, slack)
+                        && segments_touch(a, b, c, d, tol)
+                })
                 .min();
             if let Some(j) = first {
                 return Some((i, j));
