@@ -7,6 +7,7 @@ pub mod backends;
 pub mod check;
 pub mod compare;
 pub mod export;
+pub mod outdir;
 pub mod output;
 pub mod plots;
 pub mod run;

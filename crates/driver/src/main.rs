@@ -90,9 +90,14 @@ enum Command {
         /// Seconds one solve may take; a backend that exceeds it is skipped on finer meshes.
         #[arg(long)]
         time_limit: Option<f64>,
-        /// Keep the points already in DIR/sweep.csv and run only the missing ones.
-        #[arg(long)]
+        /// Keep the points already in DIR/sweep.csv (verified to be this scene's and this grid's)
+        /// and run only the missing ones.
+        #[arg(long, conflicts_with = "overwrite")]
         resume: bool,
+        /// Replace an existing DIR/sweep.csv (without this or --resume, an existing file is
+        /// refused); it is replaced once the new sweep writes its first point.
+        #[arg(long)]
+        overwrite: bool,
         /// Output directory for sweep.csv and the plots (created if missing).
         #[arg(long, default_value = "out")]
         out: PathBuf,
@@ -243,15 +248,20 @@ fn sweep(
     repeat: usize,
     time_limit: Option<f64>,
     resume: bool,
+    overwrite: bool,
     out: &std::path::Path,
 ) -> Result<ExitCode> {
     let backends = parse_backends(names)?;
-    if let Some(t) = time_limit {
-        anyhow::ensure!(
-            t.is_finite() && t > 0.0,
-            "--time-limit must be positive, got {t}"
-        );
-    }
+    let time_limit = time_limit
+        .map(|t| {
+            std::time::Duration::try_from_secs_f64(t)
+                .ok()
+                .filter(|d| !d.is_zero())
+                .ok_or_else(|| {
+                    anyhow::anyhow!("--time-limit must be a positive number of seconds, got {t}")
+                })
+        })
+        .transpose()?;
     let scene = run::load_scene(common.scene.as_deref())?;
     let plan = signorini::sweep::SweepPlan {
         hmax: hmax.to_vec(),
@@ -259,14 +269,15 @@ fn sweep(
         backends,
         tols: tols.to_vec(),
         repeat,
-        time_limit: time_limit.map(std::time::Duration::from_secs_f64),
+        time_limit,
         resume,
+        overwrite,
     };
     let bar = indicatif::ProgressBar::new(0).with_style(
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} [{elapsed}] {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let (csv, points) = signorini::sweep::sweep(
+    let outcome = signorini::sweep::sweep(
         &scene,
         &plan,
         &SolveOptions::default(),
@@ -279,6 +290,7 @@ fn sweep(
         },
     )?;
     bar.finish_and_clear();
+    let points = &outcome.points;
     println!("{}: {} points", scene.title, points.len());
     println!(
         "  {:>8} {:>9} {:<11} {:>8} {:<15} {:>6} {:>10} {:>10} {:>8} {:>9} {:>9}",
@@ -294,7 +306,7 @@ fn sweep(
         "err ref",
         "err fine"
     );
-    for p in &points {
+    for p in points {
         println!(
             "  {:>8} {:>9} {:<11} {:>8.0e} {:<15} {:>6} {:>10.4} {:>10.4} {:>8.2} {:>9.1e} {:>9.1e}",
             p.hmax,
@@ -310,14 +322,24 @@ fn sweep(
             p.error_vs_finest.unwrap_or(f64::NAN)
         );
     }
-    println!("  wrote {}", csv.display());
-    let rows = signorini::plots::read_sweep(&csv)?;
-    // Plot titles get the part of the scene title before any colon, to stay on one line.
-    let short = scene.title.split(':').next().unwrap_or(&scene.title).trim();
-    for p in signorini::plots::plot_sweep(&rows, out, short)? {
+    println!("  wrote {}", outcome.csv.display());
+    for p in &outcome.plots {
         println!("  wrote {}", p.display());
     }
-    Ok(ExitCode::SUCCESS)
+    let summary = format!(
+        "sweep: {} of {} points solved, {} not solved, {} skipped after a time limit",
+        points.len() - outcome.failed,
+        points.len() + outcome.skipped,
+        outcome.failed,
+        outcome.skipped
+    );
+    Ok(if outcome.failed + outcome.skipped == 0 {
+        println!("{summary}");
+        ExitCode::SUCCESS
+    } else {
+        eprintln!("error: {summary}");
+        ExitCode::from(2)
+    })
 }
 
 fn parse_backends(names: &[String]) -> Result<Vec<BackendKind>> {
@@ -403,6 +425,7 @@ fn main() -> ExitCode {
             repeat,
             time_limit,
             resume,
+            overwrite,
             out,
         } => sweep(
             common,
@@ -413,6 +436,7 @@ fn main() -> ExitCode {
             *repeat,
             *time_limit,
             *resume,
+            *overwrite,
             out,
         ),
         Command::Check { common } => check(common),
