@@ -92,10 +92,10 @@ enum Command {
         time_limit: Option<f64>,
         /// Keep the points already in DIR/sweep.csv (verified to be this scene's and this grid's)
         /// and run only the missing ones.
-        #[arg(long, conflicts_with = "overwrite")]
+        #[arg(long)]
         resume: bool,
         /// Replace an existing DIR/sweep.csv (without this or --resume, an existing file is
-        /// refused); it is replaced once the new sweep writes its first point.
+        /// refused); it is replaced once the new sweep writes its first point.  Excludes --resume.
         #[arg(long)]
         overwrite: bool,
         /// Output directory for sweep.csv and the plots (created if missing).

@@ -335,3 +335,168 @@ fn check_name(name: &str) -> Result<(), OutputError> {
         )))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every entry of `dir` with its bytes (directories marked), sorted.
+    fn snapshot(dir: &Path) -> Vec<(String, Option<Vec<u8>>)> {
+        let mut v: Vec<(String, Option<Vec<u8>>)> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| {
+                let e = e.unwrap();
+                let name = e.file_name().to_string_lossy().into_owned();
+                let bytes = e
+                    .file_type()
+                    .unwrap()
+                    .is_file()
+                    .then(|| std::fs::read(e.path()).unwrap());
+                (name, bytes)
+            })
+            .collect();
+        v.sort();
+        v
+    }
+
+    fn write_set(dir: &Path, files: &[(&str, &str)], members: &[&str]) -> Vec<PathBuf> {
+        let lock = DirLock::acquire(dir).unwrap();
+        let mut set = OutputSet::new(&lock, Some("main.json"), members).unwrap();
+        for (name, text) in files {
+            set.write(name, |w| w.write_all(text.as_bytes())).unwrap();
+        }
+        set.commit().unwrap()
+    }
+
+    const MEMBERS: [&str; 3] = ["main.json", "a.vtu", "b.svg"];
+
+    #[test]
+    fn a_set_replaces_the_previous_one_and_removes_stale_members() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        let first = write_set(
+            &dir,
+            &[("main.json", "1"), ("a.vtu", "a1"), ("b.svg", "b1")],
+            &MEMBERS,
+        );
+        assert_eq!(
+            first,
+            [dir.join("main.json"), dir.join("a.vtu"), dir.join("b.svg")]
+        );
+        std::fs::write(dir.join("notes.txt"), "mine").unwrap();
+        // The second run writes no b.svg: the stale one of the first run goes.
+        write_set(&dir, &[("a.vtu", "a2"), ("main.json", "2")], &MEMBERS);
+        let got = snapshot(&dir);
+        let want = [
+            ("a.vtu", "a2"),
+            ("main.json", "2"),
+            ("notes.txt", "mine"), // not a member: never touched
+        ]
+        .map(|(n, t)| (n.to_string(), Some(t.as_bytes().to_vec())));
+        assert_eq!(got, want);
+    }
+
+    #[test]
+    fn a_failing_writer_leaves_the_previous_set_byte_identical() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
+        write_set(
+            dir,
+            &[("main.json", "old"), ("a.vtu", "a-old"), ("b.svg", "b-old")],
+            &MEMBERS,
+        );
+        let before = snapshot(dir);
+        {
+            let lock = DirLock::acquire(dir).unwrap();
+            let mut set = OutputSet::new(&lock, Some("main.json"), &MEMBERS).unwrap();
+            set.write("main.json", |w| w.write_all(b"new")).unwrap();
+            let err = set
+                .write("a.vtu", |w| {
+                    w.write_all(b"half")?;
+                    Err(io::Error::other("injected"))
+                })
+                .unwrap_err();
+            assert!(err.to_string().contains("a.vtu"), "{err}");
+            // The set is dropped here without a commit.
+        }
+        assert_eq!(snapshot(dir), before);
+    }
+
+    #[test]
+    fn a_failed_commit_is_rolled_back() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
+        write_set(
+            dir,
+            &[("main.json", "old"), ("a.vtu", "a-old"), ("b.svg", "b-old")],
+            &MEMBERS,
+        );
+        let before = snapshot(dir);
+        // Fail at each move: after 0, 1 and 2 files were moved into place (main.json is the
+        // third and last), with b.svg (stale) already moved aside and a new c.txt created.
+        for at in 0..3 {
+            let lock = DirLock::acquire(dir).unwrap();
+            let mut set = OutputSet::new(&lock, Some("main.json"), &MEMBERS).unwrap();
+            set.write("main.json", |w| w.write_all(b"new")).unwrap();
+            set.write("a.vtu", |w| w.write_all(b"a-new")).unwrap();
+            set.write("c.txt", |w| w.write_all(b"c-new")).unwrap();
+            set.fail_commit_at = Some(at);
+            let err = set.commit().unwrap_err();
+            assert!(err.to_string().starts_with("cannot write"), "{err}");
+            drop(lock);
+            assert_eq!(snapshot(dir), before, "failure at move {at}");
+        }
+        // Without the fault the same set goes through.
+        write_set(dir, &[("main.json", "new"), ("c.txt", "c")], &MEMBERS);
+        let names: Vec<String> = snapshot(dir).into_iter().map(|e| e.0).collect();
+        assert_eq!(names, ["c.txt", "main.json"]);
+    }
+
+    #[test]
+    fn a_held_lock_refuses_a_second_writer_naming_the_directory() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("busy");
+        let first = DirLock::acquire(&dir).unwrap();
+        let err = DirLock::acquire(&dir).unwrap_err();
+        assert!(matches!(err, OutputError::Locked { .. }), "{err:?}");
+        assert!(
+            err.to_string().contains(&dir.display().to_string()),
+            "{err}"
+        );
+        drop(first);
+        DirLock::acquire(&dir).unwrap();
+    }
+
+    #[test]
+    fn stale_staging_is_removed_and_an_unused_new_directory_too() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        std::fs::create_dir_all(dir.join(".signorini-stage-killed/.previous")).unwrap();
+        std::fs::write(dir.join(".signorini-stage-killed/main.json"), "x").unwrap();
+        std::fs::write(dir.join(".signorini-stage-file"), "not a directory: kept").unwrap();
+        drop(DirLock::acquire(&dir).unwrap());
+        let names: Vec<String> = snapshot(&dir).into_iter().map(|e| e.0).collect();
+        assert_eq!(names, [".signorini-stage-file"]);
+
+        // A directory the lock created is removed again if nothing was written into it.
+        let fresh = tmp.path().join("fresh");
+        let lock = DirLock::acquire(&fresh).unwrap();
+        assert!(fresh.is_dir());
+        let set = OutputSet::new(&lock, Some("main.json"), &MEMBERS).unwrap();
+        drop(set);
+        drop(lock);
+        assert!(!fresh.exists());
+    }
+
+    #[test]
+    fn names_must_be_plain() {
+        let tmp = tempfile::tempdir().unwrap();
+        let lock = DirLock::acquire(tmp.path()).unwrap();
+        for bad in ["", "..", "a/b", ".signorini-stage-x"] {
+            assert!(OutputSet::new(&lock, Some(bad), &[]).is_err(), "{bad:?}");
+        }
+        let mut set = OutputSet::new(&lock, None, &[]).unwrap();
+        assert!(set.write("../escape", |w| w.write_all(b"x")).is_err());
+        assert!(!tmp.path().parent().unwrap().join("escape").exists());
+    }
+}

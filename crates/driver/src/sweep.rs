@@ -839,3 +839,79 @@ pub fn fill_error_vs_finest(points: &mut [Point]) {
         p.error_vs_finest = err.is_finite().then_some(err);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fnv1a64_matches_the_published_test_vectors() {
+        // From the FNV reference test suite (Fowler, Noll, Vo: test vectors for FNV-1a 64).
+        assert_eq!(fnv1a64(b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a64(b"a"), 0xaf63_dc4c_8601_ec8c);
+        assert_eq!(fnv1a64(b"foobar"), 0x8594_4171_f739_67e8);
+    }
+
+    #[test]
+    fn scene_hash_ignores_swept_hmax_and_title_but_nothing_else() {
+        let scene = run::load_scene(None).unwrap();
+        let all: Vec<String> = Vec::new();
+        let upper = vec!["upper".to_string()];
+        let h = scene_hash(&scene, &all);
+        assert_eq!(h.len(), 16);
+        assert!(h.chars().all(|c| c.is_ascii_hexdigit()));
+        // Independent of the swept sizes and of the title.
+        assert_eq!(scene_hash(&with_hmax(&scene, &all, 0.01), &all), h);
+        let hu = scene_hash(&scene, &upper);
+        assert_eq!(scene_hash(&with_hmax(&scene, &upper, 0.05), &upper), hu);
+        let mut retitled = scene.clone();
+        retitled.title = "another title".into();
+        assert_eq!(scene_hash(&retitled, &all), h);
+        // Which bodies are swept, a size that is not swept, and the physics all count.
+        assert_ne!(hu, h);
+        let mut lower_finer = scene.clone();
+        lower_finer.bodies[1].hmax = 0.1;
+        assert_ne!(scene_hash(&lower_finer, &upper), hu);
+        let mut stiffer = scene.clone();
+        // The next float up: the smallest possible change.
+        stiffer.bodies[0].young = f64::from_bits(scene.bodies[0].young.to_bits() + 1);
+        assert_ne!(scene_hash(&stiffer, &all), h);
+        let mut loaded = scene.clone();
+        loaded.neumann[0].traction.coefficients[1][2] *= 2.0;
+        assert_ne!(scene_hash(&loaded, &all), h);
+        let mut renamed = scene.clone();
+        renamed.probes[0].name.push('x');
+        assert_ne!(scene_hash(&renamed, &all), h);
+    }
+
+    #[test]
+    fn the_header_is_the_points_fields() {
+        let mut w = csv::Writer::from_writer(Vec::new());
+        w.serialize(Point {
+            hmax: 0.1,
+            dofs: 1,
+            constraints: 1,
+            backend: "b".into(),
+            tol: 1e-9,
+            status: "solved".into(),
+            iterations: 1,
+            mesh_s: 0.0,
+            assemble_s: 0.0,
+            solve_s: 0.0,
+            floor_s: 0.0,
+            ratio_to_floor: 0.0,
+            error_vs_reference: None,
+            error_vs_finest: None,
+            max_displacement: 0.0,
+            peak_rss_mb: 0.0,
+            max_penetration: 0.0,
+            stationarity: 0.0,
+            complementarity: 0.0,
+            probes: String::new(),
+            scene_hash: String::new(),
+        })
+        .unwrap();
+        let text = String::from_utf8(w.into_inner().unwrap()).unwrap();
+        assert_eq!(text.lines().next().unwrap(), COLUMNS.join(","));
+    }
+}
