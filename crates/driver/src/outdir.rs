@@ -1,8 +1,8 @@
 //! Output directories written as a whole: one command's files appear together or not at all.
 //!
 //! A command (`solve`, `compare`, `sweep`) writes a *set* of files into one directory:
-//! `result.json` + `solution.vtu` + `deformed.svg`, `compare.json` + `compare.csv`, `sweep.csv`
-//! + its plots.  Writing each file atomically is not enough: a failure between two files, or two
+//! `result.json`, `solution.vtu` and `deformed.svg`; `compare.json` and `compare.csv`;
+//! `sweep.csv` and its plots.  Writing each file atomically is not enough: a failure between two files, or two
 //! runs into the same directory, would leave files of different runs side by side.  So:
 //!
 //! 1. [`DirLock::acquire`] takes an advisory, exclusive, non-blocking lock on the directory
@@ -39,7 +39,7 @@ const STAGE_PREFIX: &str = ".signorini-stage-";
 pub struct DirLock {
     dir: PathBuf,
     /// The locked file: the directory itself on Unix, `.signorini.lock` elsewhere.
-    _file: File,
+    file: File,
     /// Whether [`DirLock::acquire`] created the directory (it is removed again, if still empty,
     /// when the lock is dropped: a refused or failed run leaves no empty directory behind).
     created: bool,
@@ -87,7 +87,7 @@ impl DirLock {
         }
         let lock = DirLock {
             dir: dir.to_path_buf(),
-            _file: file,
+            file,
             created,
         };
         lock.remove_stale_staging();
@@ -119,6 +119,9 @@ impl DirLock {
 
 impl Drop for DirLock {
     fn drop(&mut self) {
+        // Unlock explicitly rather than by closing: a child process forked by another thread
+        // at this moment holds a copy of the descriptor until it execs, and with it the lock.
+        let _ = self.file.unlock();
         if self.created {
             // Fails (harmlessly) unless the directory is still empty.
             let _ = std::fs::remove_dir(&self.dir);

@@ -24,28 +24,28 @@ fn signorini(args: &[&str], cwd: &Path) -> std::process::Output {
 
 /// The default scene (Experiment 2b), solved with clarabel.
 fn solved() -> (Scene, Outcome) {
-    let scene = run::load_scene(None).unwrap();
-    let mut backend = make_backend(BackendKind::Clarabel).unwrap();
+    let scene = run::load_scene(None).expect("the default scene is valid");
+    let mut backend = make_backend(BackendKind::Clarabel).expect("clarabel is built in");
     let outcome = run::solve_scene(
         &scene,
         backend.as_mut(),
         &SolveOptions::default(),
         &MeshLimits::default(),
     )
-    .unwrap();
+    .expect("the default scene solves");
     (scene, outcome)
 }
 
 /// Every entry of `dir` (hidden ones included) with its bytes, sorted by name.
 fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
     let mut v: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
-        .unwrap()
+        .expect("readable directory")
         .map(|e| {
-            let e = e.unwrap();
-            let bytes = if e.file_type().unwrap().is_dir() {
+            let e = e.expect("readable entry");
+            let bytes = if e.file_type().expect("file type").is_dir() {
                 b"<directory>".to_vec()
             } else {
-                std::fs::read(e.path()).unwrap()
+                std::fs::read(e.path()).expect("readable file")
             };
             (e.file_name().to_string_lossy().into_owned(), bytes)
         })
@@ -61,7 +61,12 @@ fn names(dir: &Path) -> Vec<String> {
 fn file_names(paths: &[PathBuf]) -> Vec<String> {
     paths
         .iter()
-        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .map(|p| {
+            p.file_name()
+                .expect("a file path")
+                .to_string_lossy()
+                .into_owned()
+        })
         .collect()
 }
 
@@ -127,7 +132,18 @@ fn a_directory_in_use_is_refused_by_every_writer() {
         stderr.contains("busy") && stderr.contains("in use"),
         "{stderr}"
     );
-    let o = signorini(&["sweep", "--hmax", "0.3", "--out", "busy"], tmp.path());
+    let o = signorini(
+        &[
+            "sweep",
+            "--hmax",
+            "0.3",
+            "--backends",
+            "clarabel",
+            "--out",
+            "busy",
+        ],
+        tmp.path(),
+    );
     assert!(!o.status.success());
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(stderr.contains("in use"), "{stderr}");

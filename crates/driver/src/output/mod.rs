@@ -1,13 +1,20 @@
 //! Output files: VTK XML meshes with fields, SVG plots, written atomically.
 //!
-//! Every file goes through [`write_atomically`]: it is written to a temporary file in the target
-//! directory and renamed over the target only when the whole content was written, so a failed run
-//! never leaves a truncated file (or a stray temporary file) behind.
+//! A single file goes through [`write_atomically`]: it is written to a temporary file in the
+//! target directory and renamed over the target only when the whole content was written, so a
+//! failed run never leaves a truncated file (or a stray temporary file) behind.  The files of one
+//! command are written together as an [`OutputSet`](crate::outdir::OutputSet) instead (see
+//! [`crate::outdir`]); the writers here therefore also come as functions that write to any
+//! `Write` or return the document ([`write_vtu_to`], [`render_deformed_svg`]).
 //!
 //! * [`write_vtu`] writes one VTK XML UnstructuredGrid holding every body (see its docs for the
 //!   arrays and their layout).
 //! * [`write_deformed_svg`] plots the undeformed and the magnified deformed meshes; the factor is
 //!   chosen by [`magnification`].
+//!
+//! Text from the scene (title, body names) may hold anything: in every XML file it is escaped
+//! ([`xml_escape`]) and characters XML 1.0 does not allow are replaced by U+FFFD
+//! ([`xml_sanitize`]), so the files are always well-formed.
 
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
