@@ -12,7 +12,8 @@ use signorini_core::scene::Scene;
 use signorini_core::solve::{self, Solution};
 
 use crate::backends::{make_backend, BackendKind};
-use crate::output::{self, OutputError};
+use crate::outdir::{DirLock, OutputSet};
+use crate::output::OutputError;
 use crate::run::{self, RunError};
 
 /// One backend's row of the comparison.
@@ -199,19 +200,22 @@ pub fn table(report: &CompareReport) -> String {
     t
 }
 
-/// Writes `compare.json` and `compare.csv` into `dir` (created if missing), atomically.
+/// Writes `compare.json` and `compare.csv` into `dir` (created if missing) as one output set
+/// (see [`crate::outdir`]): under the directory's lock, moved into place together with
+/// `compare.json` last; on failure the previous files stay as they were.  Returns the paths
+/// written, `compare.json` first.
 pub fn write(dir: &Path, report: &CompareReport) -> Result<Vec<PathBuf>, OutputError> {
-    std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    let json = dir.join("compare.json");
-    output::write_atomically(&json, |w| {
+    let lock = DirLock::acquire(dir)?;
+    let mut set = OutputSet::new(
+        &lock,
+        Some("compare.json"),
+        &["compare.json", "compare.csv"],
+    )?;
+    set.write("compare.json", |w| {
         serde_json::to_writer_pretty(&mut *w, report).map_err(std::io::Error::other)?;
         writeln!(w)
     })?;
-    let csv_path = dir.join("compare.csv");
-    output::write_atomically(&csv_path, |w| {
+    set.write("compare.csv", |w| {
         let mut csv = csv::Writer::from_writer(w);
         csv.write_record([
             "backend",
@@ -251,5 +255,5 @@ pub fn write(dir: &Path, report: &CompareReport) -> Result<Vec<PathBuf>, OutputE
         }
         csv.flush()
     })?;
-    Ok(vec![json, csv_path])
+    set.commit()
 }

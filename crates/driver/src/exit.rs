@@ -14,6 +14,8 @@ use signorini_core::preflight::PreflightError;
 
 use crate::output::OutputError;
 use crate::run::RunError;
+use crate::sweep::SweepError;
+use signorini_core::model::ModelError;
 
 /// What a command ended with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -52,15 +54,32 @@ pub fn classify(error: &anyhow::Error) -> Exit {
                 cause.downcast_ref::<MeshError>(),
                 Some(MeshError::TooManyElements { .. })
             )
+            || cause.downcast_ref::<RunError>().is_some_and(run_resource)
             || matches!(
-                cause.downcast_ref::<RunError>(),
-                Some(RunError::Output(_) | RunError::Preflight(_))
+                cause.downcast_ref::<SweepError>(),
+                Some(SweepError::Output(_))
+            )
+            || matches!(
+                cause.downcast_ref::<SweepError>(),
+                Some(SweepError::Run(e)) if run_resource(e)
             )
         {
             return Exit::Resource;
         }
     }
     Exit::Input
+}
+
+/// `transparent` errors forward `source()` past their inner error, so the variants that are
+/// resource errors themselves are recognised by name.
+fn run_resource(e: &RunError) -> bool {
+    match e {
+        RunError::Output(_) | RunError::Preflight(_) => true,
+        RunError::Model(ModelError::Mesh { source, .. }) => {
+            matches!(source, MeshError::TooManyElements { .. })
+        }
+        _ => false,
+    }
 }
 
 /// An error that is about the machine's resources rather than the input (exit code 3).
@@ -77,6 +96,17 @@ mod tests {
         let e = anyhow::Error::new(std::io::Error::other("disk full")).context("writing x");
         assert_eq!(classify(&e), Exit::Resource);
         let e = anyhow::anyhow!("--tol must lie in (0, 1)");
+        assert_eq!(classify(&e), Exit::Input);
+        let locked = OutputError::Locked {
+            dir: std::path::PathBuf::from("out"),
+        };
+        let e = anyhow::Error::new(SweepError::Output(locked));
+        assert_eq!(
+            classify(&e),
+            Exit::Resource,
+            "a locked directory, through the sweep"
+        );
+        let e = anyhow::Error::new(SweepError::Plan("bad".into()));
         assert_eq!(classify(&e), Exit::Input);
         let e = anyhow::Error::new(Resource("too big".into()));
         assert_eq!(classify(&e), Exit::Resource);

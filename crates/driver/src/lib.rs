@@ -8,6 +8,7 @@ pub mod check;
 pub mod compare;
 pub mod exit;
 pub mod export;
+pub mod outdir;
 pub mod output;
 pub mod plots;
 pub mod run;

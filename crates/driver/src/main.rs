@@ -137,9 +137,14 @@ enum Command {
         /// Seconds one solve may take; a backend that exceeds it is skipped on finer meshes.
         #[arg(long, value_parser = parse_time_limit)]
         time_limit: Option<f64>,
-        /// Keep the points already in DIR/sweep.csv and run only the missing ones.
+        /// Keep the points already in DIR/sweep.csv (verified to be this scene's and this grid's)
+        /// and run only the missing ones.
         #[arg(long)]
         resume: bool,
+        /// Replace an existing DIR/sweep.csv (without this or --resume, an existing file is
+        /// refused); it is replaced once the new sweep writes its first point.  Excludes --resume.
+        #[arg(long)]
+        overwrite: bool,
         /// Output directory for sweep.csv and the plots (created if missing).
         #[arg(long, default_value = "out")]
         out: PathBuf,
@@ -321,6 +326,7 @@ fn sweep(
     repeat: u32,
     time_limit_s: Option<f64>,
     resume: bool,
+    overwrite: bool,
     out: &std::path::Path,
 ) -> Result<Exit> {
     let backends = parse_backends(names)?;
@@ -333,12 +339,13 @@ fn sweep(
         repeat: repeat as usize,
         time_limit: time_limit(time_limit_s),
         resume,
+        overwrite,
     };
     let bar = indicatif::ProgressBar::new(0).with_style(
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} [{elapsed}] {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let (csv, points) = signorini::sweep::sweep(
+    let outcome = signorini::sweep::sweep(
         &scene,
         &plan,
         &SolveOptions::default(),
@@ -351,6 +358,7 @@ fn sweep(
         },
     )?;
     bar.finish_and_clear();
+    let points = &outcome.points;
     let mut con = Console::new();
     con.line(format_args!("{}: {} points", scene.title, points.len()))?;
     con.line(format_args!(
@@ -367,7 +375,7 @@ fn sweep(
         "err ref",
         "err fine"
     ))?;
-    for p in &points {
+    for p in points {
         con.line(format_args!(
             "  {:>8} {:>9} {:<11} {:>8.0e} {:<15} {:>6} {:>10.4} {:>10.4} {:>8.2} {:>9.1e} {:>9.1e}",
             p.hmax,
@@ -383,15 +391,26 @@ fn sweep(
             p.error_vs_finest.unwrap_or(f64::NAN)
         ))?;
     }
-    con.line(format_args!("  wrote {}", csv.display()))?;
-    let rows = signorini::plots::read_sweep(&csv)?;
-    // Plot titles get the part of the scene title before any colon, to stay on one line.
-    let short = scene.title.split(':').next().unwrap_or(&scene.title).trim();
-    for p in signorini::plots::plot_sweep(&rows, out, short)? {
+    con.line(format_args!("  wrote {}", outcome.csv.display()))?;
+    for p in &outcome.plots {
         con.line(format_args!("  wrote {}", p.display()))?;
     }
-    con.finish()?;
-    Ok(Exit::Success)
+    let summary = format!(
+        "sweep: {} of {} points solved, {} not solved, {} skipped after a time limit",
+        points.len() - outcome.failed,
+        points.len() + outcome.skipped,
+        outcome.failed,
+        outcome.skipped
+    );
+    if outcome.failed + outcome.skipped == 0 {
+        con.line(summary)?;
+        con.finish()?;
+        Ok(Exit::Success)
+    } else {
+        con.finish()?;
+        warn(format_args!("error: {summary}"));
+        Ok(Exit::NotSolved)
+    }
 }
 
 fn parse_backends(names: &[String]) -> Result<Vec<BackendKind>> {
@@ -497,6 +516,7 @@ fn main() -> ExitCode {
             repeat,
             time_limit,
             resume,
+            overwrite,
             out,
         } => sweep(
             common,
@@ -507,6 +527,7 @@ fn main() -> ExitCode {
             *repeat,
             *time_limit,
             *resume,
+            *overwrite,
             out,
         ),
         Command::Check { common } => check(common),

@@ -12,6 +12,7 @@ use signorini_core::report::{self, BodyFields, RunReport, Timings};
 use signorini_core::scene::{Scene, SceneError};
 use signorini_core::solve::{self, Solution, SolveError};
 
+use crate::outdir::{DirLock, OutputSet};
 use crate::output::{self, BodyField, OutputError};
 
 /// The scene run when none is given: the seed's Experiment 2b.
@@ -186,17 +187,20 @@ pub fn first_non_finite(report: &RunReport, fields: &[BodyFields]) -> Option<Str
     None
 }
 
-/// Writes `result.json`, `solution.vtu` and `deformed.svg` into `dir` (created if missing), each
-/// through a temporary file and a rename.  Returns the paths written.
+/// The files of a solve, `result.json` (the primary, moved into place last) first.
+pub const SOLVE_FILES: [&str; 3] = ["result.json", "solution.vtu", "deformed.svg"];
+
+/// Writes `result.json`, `solution.vtu` and `deformed.svg` into `dir` (created if missing) as
+/// one output set (see [`crate::outdir`]): under the directory's lock (a concurrent run into the
+/// same directory is refused with [`OutputError::Locked`]), staged beside the targets and moved
+/// into place together, `result.json` last.  If anything fails, the directory keeps its previous
+/// files unchanged and no temporary file is left.  Returns the paths written, in the order
+/// above.
 pub fn write_outputs(
     dir: &Path,
     scene: &Scene,
     outcome: &Outcome,
 ) -> Result<Vec<PathBuf>, OutputError> {
-    std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
     let bodies: Vec<BodyField> = outcome
         .model
         .meshes
@@ -212,14 +216,15 @@ pub fn write_outputs(
             contact_pressure: &f.contact_pressure,
         })
         .collect();
-    let json_path = dir.join("result.json");
-    output::write_atomically(&json_path, |w| {
+    let lock = DirLock::acquire(dir)?;
+    let mut set = OutputSet::new(&lock, Some(SOLVE_FILES[0]), &SOLVE_FILES)?;
+    set.write(SOLVE_FILES[0], |w| {
         serde_json::to_writer_pretty(&mut *w, &outcome.report).map_err(std::io::Error::other)?;
         writeln!(w)
     })?;
-    let vtu_path = dir.join("solution.vtu");
-    output::write_vtu(&vtu_path, &bodies)?;
-    let svg_path = dir.join("deformed.svg");
-    output::write_deformed_svg(&svg_path, &scene.title, &bodies)?;
-    Ok(vec![json_path, vtu_path, svg_path])
+    output::check_fields(&bodies)?;
+    set.write(SOLVE_FILES[1], |w| output::write_vtu_to(w, &bodies))?;
+    let svg = output::render_deformed_svg(&scene.title, &bodies)?;
+    set.write(SOLVE_FILES[2], |w| w.write_all(svg.as_bytes()))?;
+    set.commit()
 }

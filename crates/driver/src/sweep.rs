@@ -4,25 +4,52 @@
 //! times), the floor is timed (one unconstrained factor + solve of the same A), then every
 //! (tolerance, backend) point is solved `repeat` times.  Tolerances run tightest first so that the
 //! reference of a mesh (the solved answer with the smallest residuals at the tightest tolerance)
-//! is known before the looser points are measured against it.  Each point is appended to
-//! `sweep.csv` as soon as it is done, so an interrupted sweep keeps what finished and `resume`
-//! skips it.  At the end the file is rewritten once with `error_vs_finest` filled in: the
-//! relative difference to the finest mesh's reference, in max displacement and at every probe.
+//! is known before the looser points are measured against it.  At the end `error_vs_finest` is
+//! filled in: the relative difference to the finest mesh's reference, in max displacement and at
+//! every probe.
+//!
+//! # Files
+//!
+//! `sweep.csv` and its plots ([`crate::plots::PLOT_FILES`]) are one output set (see
+//! [`crate::outdir`]), written under the output directory's lock:
+//!
+//! * The plan is validated ([`validate_plan`]) before any file is touched.
+//! * An existing `sweep.csv` is never deleted or truncated unasked: the sweep refuses
+//!   ([`SweepError::Exists`]) unless `resume` (add the missing points) or `overwrite` (replace
+//!   it) is set.  With `overwrite` the old file stays until the new sweep writes its first point.
+//! * With `resume`, the existing file is verified first ([`read_for_resume`]): the header, a
+//!   line break after every line, each row readable, its `scene_hash` equal to this scene's, its
+//!   hmax, backend and tolerance part of the plan, and no point twice; a foreign or corrupt file
+//!   is refused naming the line.
+//! * After each point the whole CSV is rewritten through an [`OutputSet`] (a complete file,
+//!   replaced atomically, and the previous plots removed since they no longer match), so an
+//!   interrupted sweep keeps every finished point and `resume` skips them.  The final write
+//!   replaces `sweep.csv` and the plots together.
+//!
+//! # Scene hash
+//!
+//! The `scene_hash` column ([`scene_hash`]) is the FNV-1a 64-bit hash, as 16 lowercase hex
+//! digits, of the UTF-8 text [`canonical_scene_text`] gives for the validated scene: every field
+//! that shapes the problem or the reported numbers (plane, thickness, gravity, bodies with their
+//! names, polygons, elements, materials and hmax, Dirichlet and Neumann data, contact pairs,
+//! probes), floats written with Rust's shortest round-trip `{:e}`; not the title; and the hmax
+//! of the swept bodies written as `swept`, so the hash does not depend on the swept sizes but
+//! does on which bodies are swept.
 
 use std::collections::{HashMap, HashSet};
-use std::fs::OpenOptions;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use serde::{Deserialize, Serialize};
-use signorini_core::mesh::MeshLimits;
+use signorini_core::mesh::{estimate_elements, MeshLimits};
 use signorini_core::qp::{QpStatus, SolveOptions};
 use signorini_core::report::interpolate;
 use signorini_core::scene::Scene;
 use signorini_core::solve::{self, Solution};
 
 use crate::backends::{make_backend, BackendKind};
-use crate::output::{self, OutputError};
+use crate::outdir::{DirLock, OutputSet};
+use crate::output::OutputError;
 use crate::run::{self, RunError};
 
 /// What to sweep.
@@ -40,8 +67,30 @@ pub struct SweepPlan {
     pub repeat: usize,
     /// Wall-clock limit of one solve; a backend that exceeds it is skipped on finer meshes.
     pub time_limit: Option<Duration>,
-    /// Skip points already in the CSV.
+    /// Keep the points of an existing `sweep.csv` (after verifying it) and run the others.
     pub resume: bool,
+    /// Replace an existing `sweep.csv` (once the new sweep writes its first point).
+    pub overwrite: bool,
+}
+
+/// The CSV file of a sweep, the primary file of its output set.
+pub const SWEEP_FILE: &str = "sweep.csv";
+
+/// What a sweep wrote.
+#[derive(Debug, Clone)]
+pub struct SweepOutcome {
+    /// `dir/sweep.csv`.
+    pub csv: PathBuf,
+    /// The plots written (see [`crate::plots::plot_sweep`]).
+    pub plots: Vec<PathBuf>,
+    /// Every point of the file, resumed ones included.
+    pub points: Vec<Point>,
+    /// Points of the file whose status is not `solved`.
+    pub failed: usize,
+    /// Points of the plan that were not run: their backend hit the time limit on a coarser mesh.
+    pub skipped: usize,
+    /// This scene's [`scene_hash`].
+    pub scene_hash: String,
 }
 
 /// Why a sweep stopped.
@@ -56,6 +105,20 @@ pub enum SweepError {
     /// The plan is inconsistent.
     #[error("{0}")]
     Plan(String),
+    /// `sweep.csv` exists and neither `resume` nor `overwrite` was asked for.
+    #[error("{} already exists: pass --resume to add the missing points to it, or --overwrite to replace it", .0.display())]
+    Exists(PathBuf),
+    /// The existing `sweep.csv` cannot be resumed: it belongs to another scene or plan, or it is
+    /// damaged.
+    #[error("cannot resume {}: line {line}: {reason} (pass --overwrite to replace the file)", path.display())]
+    Resume {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line of the file.
+        line: u64,
+        /// What is wrong there.
+        reason: String,
+    },
 }
 
 /// One row of `sweep.csv`.
@@ -101,6 +164,60 @@ pub struct Point {
     pub complementarity: f64,
     /// Probe displacements `name:ux:uy` joined by `;`.
     pub probes: String,
+    /// [`scene_hash`] of the scene the point was solved for.
+    pub scene_hash: String,
+}
+
+/// The header of `sweep.csv`: [`Point`]'s fields in order.
+pub const COLUMNS: [&str; 21] = [
+    "hmax",
+    "dofs",
+    "constraints",
+    "backend",
+    "tol",
+    "status",
+    "iterations",
+    "mesh_s",
+    "assemble_s",
+    "solve_s",
+    "floor_s",
+    "ratio_to_floor",
+    "error_vs_reference",
+    "error_vs_finest",
+    "max_displacement",
+    "peak_rss_mb",
+    "max_penetration",
+    "stationarity",
+    "complementarity",
+    "probes",
+    "scene_hash",
+];
+
+impl Point {
+    /// The point as a row for the plots.
+    fn to_row(&self) -> crate::plots::SweepRow {
+        crate::plots::SweepRow {
+            hmax: self.hmax,
+            dofs: self.dofs,
+            constraints: self.constraints,
+            backend: self.backend.clone(),
+            tol: self.tol,
+            status: self.status.clone(),
+            iterations: self.iterations,
+            mesh_s: self.mesh_s,
+            assemble_s: self.assemble_s,
+            solve_s: self.solve_s,
+            floor_s: self.floor_s,
+            ratio_to_floor: self.ratio_to_floor,
+            error_vs_reference: self.error_vs_reference,
+            error_vs_finest: self.error_vs_finest,
+            max_displacement: self.max_displacement,
+            peak_rss_mb: self.peak_rss_mb,
+            max_penetration: self.max_penetration,
+            stationarity: self.stationarity,
+            complementarity: self.complementarity,
+        }
+    }
 }
 
 /// Peak resident set size of this process in MiB (Linux `VmHWM`; 0 elsewhere).
@@ -183,30 +300,327 @@ pub fn read_points(path: &Path) -> Result<Vec<Point>, OutputError> {
         .collect()
 }
 
-fn append(path: &Path, point: &Point, header: bool) -> Result<(), OutputError> {
-    let io = |source| OutputError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let file = OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(path)
-        .map_err(io)?;
-    let mut w = csv::WriterBuilder::new()
-        .has_headers(header)
-        .from_writer(file);
-    w.serialize(point)
-        .map_err(|e| io(std::io::Error::other(e)))?;
-    w.flush().map_err(io)
-}
-
 fn key(hmax: f64, backend: &str, tol: f64) -> String {
     format!("{hmax:e}|{backend}|{tol:e}")
 }
 
-/// Runs the sweep, appending to `dir/sweep.csv`; `progress(done, total, what)` after each point.
-/// Returns the CSV path and every point of the file (earlier runs' included when resuming).
+/// The canonical text of `scene` that [`scene_hash`] hashes (see the [module docs](self)):
+/// one line per item, names quoted as Rust string literals, floats as `{:e}`, the hmax of the
+/// bodies in `swept` (all bodies when empty) written as `swept`, the title left out.
+pub fn canonical_scene_text(scene: &Scene, swept: &[String]) -> String {
+    use std::fmt::Write as _;
+    let mut t = String::from("signorini scene v1\n");
+    let pt = |p: &[f64; 2]| format!("{:e} {:e}", p[0], p[1]);
+    let bx = |r: &[f64; 4]| format!("{:e} {:e} {:e} {:e}", r[0], r[1], r[2], r[3]);
+    // Writing to a String cannot fail.
+    let _ = writeln!(t, "plane {:?}", scene.plane);
+    let _ = writeln!(t, "thickness {:e}", scene.thickness);
+    match &scene.gravity {
+        Some(g) => {
+            let _ = writeln!(t, "gravity {}", pt(g));
+        }
+        None => t.push_str("gravity none\n"),
+    }
+    for b in &scene.bodies {
+        let hmax = if swept.is_empty() || swept.contains(&b.name) {
+            "swept".to_string()
+        } else {
+            format!("{:e}", b.hmax)
+        };
+        let density = b.density.map_or("none".into(), |d| format!("{d:e}"));
+        let polygon: Vec<String> = b.polygon.iter().map(pt).collect();
+        let _ = writeln!(
+            t,
+            "body {:?} element {:?} hmax {hmax} young {:e} poisson {:e} density {density} polygon {}",
+            b.name,
+            b.element,
+            b.young,
+            b.poisson,
+            polygon.join(", ")
+        );
+    }
+    for d in &scene.dirichlet {
+        let _ = writeln!(
+            t,
+            "dirichlet body {} region {} value {} components {} {}",
+            d.body,
+            bx(&d.region),
+            pt(&d.value),
+            d.components[0],
+            d.components[1]
+        );
+    }
+    for n in &scene.neumann {
+        let c = &n.traction.coefficients;
+        let _ = writeln!(
+            t,
+            "neumann body {} region {} traction {:e} {:e} {:e} {:e} {:e} {:e}",
+            n.body,
+            bx(&n.region),
+            c[0][0],
+            c[0][1],
+            c[0][2],
+            c[1][0],
+            c[1][1],
+            c[1][2]
+        );
+    }
+    for c in &scene.contacts {
+        let region = c.region.as_ref().map_or("none".into(), bx);
+        let slave = c.slave.map_or("none".into(), |s| s.to_string());
+        let _ = writeln!(
+            t,
+            "contact bodies {} {} region {region} slave {slave}",
+            c.bodies[0], c.bodies[1]
+        );
+    }
+    for p in &scene.probes {
+        let _ = writeln!(
+            t,
+            "probe {:?} body {} point {}",
+            p.name,
+            p.body,
+            pt(&p.point)
+        );
+    }
+    t
+}
+
+/// FNV-1a, 64 bits.
+fn fnv1a64(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+/// The `scene_hash` column: FNV-1a 64 of [`canonical_scene_text`], 16 lowercase hex digits.
+/// Independent of the swept bodies' hmax (and of the title).
+pub fn scene_hash(scene: &Scene, swept: &[String]) -> String {
+    format!(
+        "{:016x}",
+        fnv1a64(canonical_scene_text(scene, swept).as_bytes())
+    )
+}
+
+/// The plan's grid: hmax coarse to fine, tolerances tightest first, backends in the given order;
+/// duplicates dropped.
+fn grid(plan: &SweepPlan) -> (Vec<f64>, Vec<f64>, Vec<BackendKind>) {
+    let mut hmaxes = plan.hmax.clone();
+    hmaxes.sort_by(|a, b| b.total_cmp(a));
+    hmaxes.dedup();
+    let mut tols = plan.tols.clone();
+    tols.sort_by(f64::total_cmp);
+    tols.dedup();
+    let mut backends: Vec<BackendKind> = Vec::new();
+    for &b in &plan.backends {
+        if !backends.contains(&b) {
+            backends.push(b);
+        }
+    }
+    (hmaxes, tols, backends)
+}
+
+/// Checks the plan against the scene without touching any file: at least one hmax, backend and
+/// tolerance; hmax values positive and finite; tolerances in (0, 1); `repeat` ≥ 1; known body
+/// names; not both `resume` and `overwrite`; and at every hmax an estimated total element count
+/// (all bodies) within `limits.max_elements`.
+pub fn validate_plan(
+    scene: &Scene,
+    plan: &SweepPlan,
+    limits: &MeshLimits,
+) -> Result<(), SweepError> {
+    let plan_err = |m: String| Err(SweepError::Plan(m));
+    if plan.hmax.is_empty() || plan.backends.is_empty() || plan.tols.is_empty() {
+        return plan_err("a sweep needs at least one hmax, one backend and one tolerance".into());
+    }
+    if let Some(h) = plan.hmax.iter().find(|h| !(h.is_finite() && **h > 0.0)) {
+        return plan_err(format!("--hmax values must be positive, got {h}"));
+    }
+    if let Some(t) = plan
+        .tols
+        .iter()
+        .find(|t| !(t.is_finite() && **t > 0.0 && **t < 1.0))
+    {
+        return plan_err(format!("--tol values must lie in (0, 1), got {t}"));
+    }
+    if plan.repeat == 0 {
+        return plan_err("--repeat must be at least 1, got 0".into());
+    }
+    if plan.resume && plan.overwrite {
+        return plan_err("--resume and --overwrite exclude each other".into());
+    }
+    for name in &plan.bodies {
+        if scene.body_index(name).is_none() {
+            return plan_err(format!("--bodies names an unknown body \"{name}\""));
+        }
+    }
+    for &h in &plan.hmax {
+        let s = with_hmax(scene, &plan.bodies, h);
+        let total = s
+            .bodies
+            .iter()
+            .map(|b| estimate_elements(&b.polygon, b.hmax, b.element))
+            .fold(0usize, usize::saturating_add);
+        if total > limits.max_elements {
+            return plan_err(format!(
+                "--hmax {h}: the scene would have ~{total} elements, more than --max-elements {}",
+                limits.max_elements
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Reads an existing `sweep.csv` for `--resume` and verifies it against this scene and plan:
+/// a header equal to [`COLUMNS`] (a file without `scene_hash` was written by an older version),
+/// every line ended by a line break, every row complete and readable, its `scene_hash` equal to
+/// `hash`, its hmax, backend and tolerance part of the plan, and no (hmax, backend, tolerance)
+/// twice.  The first violation is refused with [`SweepError::Resume`] naming its line.
+pub fn read_for_resume(
+    path: &Path,
+    hash: &str,
+    plan: &SweepPlan,
+) -> Result<Vec<Point>, SweepError> {
+    let refuse = |line: u64, reason: String| SweepError::Resume {
+        path: path.to_path_buf(),
+        line,
+        reason,
+    };
+    let bytes = std::fs::read(path).map_err(|source| OutputError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count() as u64;
+        refuse(line, "not UTF-8 text".into())
+    })?;
+    if text.is_empty() {
+        return Err(refuse(1, "the file is empty (no header)".into()));
+    }
+    if !text.ends_with('\n') {
+        let line = 1 + text.matches('\n').count() as u64;
+        return Err(refuse(
+            line,
+            "the line is incomplete (no line break at the end of the file)".into(),
+        ));
+    }
+    let mut reader = csv::ReaderBuilder::new().from_reader(text.as_bytes());
+    let header = reader
+        .headers()
+        .map_err(|e| refuse(1, format!("unreadable header: {e}")))?
+        .clone();
+    if !header.iter().any(|h| h == "scene_hash") {
+        return Err(refuse(
+            1,
+            "no scene_hash column: the file was not written by this version of signorini's sweep"
+                .into(),
+        ));
+    }
+    if !header.iter().eq(COLUMNS.iter().copied()) {
+        return Err(refuse(
+            1,
+            format!(
+                "the header is not sweep.csv's: expected {}",
+                COLUMNS.join(",")
+            ),
+        ));
+    }
+    let (hmaxes, tols, backends) = grid(plan);
+    let mut seen: HashMap<String, u64> = HashMap::new();
+    let mut points = Vec::new();
+    let mut record = csv::StringRecord::new();
+    loop {
+        let more = reader.read_record(&mut record).map_err(|e| {
+            let line = e.position().map_or(0, csv::Position::line);
+            match e.kind() {
+                csv::ErrorKind::UnequalLengths {
+                    expected_len, len, ..
+                } => refuse(
+                    line,
+                    format!("{len} fields, but the header has {expected_len}"),
+                ),
+                _ => refuse(line, e.to_string()),
+            }
+        })?;
+        if !more {
+            break;
+        }
+        let line = record.position().map_or(0, csv::Position::line);
+        let p: Point = record
+            .deserialize(Some(&header))
+            .map_err(|e| refuse(line, format!("unreadable row: {e}")))?;
+        if p.scene_hash != hash {
+            return Err(refuse(
+                line,
+                format!(
+                    "scene_hash {} is not this scene's {hash}: the file belongs to another scene (or other --bodies)",
+                    p.scene_hash
+                ),
+            ));
+        }
+        if !hmaxes.iter().any(|h| h.to_bits() == p.hmax.to_bits()) {
+            return Err(refuse(line, format!("hmax {} is not in --hmax", p.hmax)));
+        }
+        if !tols.iter().any(|t| t.to_bits() == p.tol.to_bits()) {
+            return Err(refuse(line, format!("tol {:e} is not in --tol", p.tol)));
+        }
+        if !backends.iter().any(|b| b.name() == p.backend) {
+            return Err(refuse(
+                line,
+                format!("backend \"{}\" is not in --backends", p.backend),
+            ));
+        }
+        if p.status.trim().is_empty() {
+            return Err(refuse(line, "empty status".into()));
+        }
+        if let Some(first) = seen.insert(key(p.hmax, &p.backend, p.tol), line) {
+            return Err(refuse(
+                line,
+                format!(
+                    "repeats the point of line {first} (hmax {}, {}, tol {:e})",
+                    p.hmax, p.backend, p.tol
+                ),
+            ));
+        }
+        points.push(p);
+    }
+    Ok(points)
+}
+
+/// Writes `points` as `sweep.csv` (header first, even without points).
+fn write_csv(w: &mut dyn std::io::Write, points: &[Point]) -> std::io::Result<()> {
+    let mut csv = csv::WriterBuilder::new().has_headers(false).from_writer(w);
+    csv.write_record(COLUMNS)?;
+    for p in points {
+        csv.serialize(p).map_err(std::io::Error::other)?;
+    }
+    csv.flush()
+}
+
+/// The files of a sweep's output set: the CSV (primary) and the plots.
+fn sweep_members() -> Vec<&'static str> {
+    std::iter::once(SWEEP_FILE)
+        .chain(crate::plots::PLOT_FILES)
+        .collect()
+}
+
+/// Replaces `sweep.csv` by `points` and removes the plots (they no longer match).
+fn checkpoint(lock: &DirLock, points: &[Point]) -> Result<(), OutputError> {
+    let mut set = OutputSet::new(lock, Some(SWEEP_FILE), &sweep_members())?;
+    set.write(SWEEP_FILE, |w| write_csv(w, points))?;
+    set.commit().map(drop)
+}
+
+/// Runs the sweep into `dir/sweep.csv` and its plots (see the [module docs](self) for the
+/// files); `progress(done, total, what)` after each point.  Plot headings use the part of the
+/// scene title before any colon.
+///
+/// Points whose backend fails (any status other than `solved`) are written like the others and
+/// counted in [`SweepOutcome::failed`]; an error that stops a whole mesh (meshing, assembly, a
+/// scene without contact rows) ends the sweep with an error, keeping the points written so far.
 pub fn sweep(
     scene: &Scene,
     plan: &SweepPlan,
@@ -214,72 +628,42 @@ pub fn sweep(
     limits: &MeshLimits,
     dir: &Path,
     mut progress: impl FnMut(usize, usize, &str),
-) -> Result<(PathBuf, Vec<Point>), SweepError> {
-    if plan.hmax.is_empty() || plan.backends.is_empty() || plan.tols.is_empty() {
-        return Err(SweepError::Plan(
-            "a sweep needs at least one hmax, one backend and one tolerance".into(),
-        ));
+) -> Result<SweepOutcome, SweepError> {
+    validate_plan(scene, plan, limits)?;
+    let hash = scene_hash(scene, &plan.bodies);
+    let csv_path = dir.join(SWEEP_FILE);
+    // Read-only checks first, so that a refusal does not even create the directory.
+    if csv_path.exists() && !plan.resume && !plan.overwrite {
+        return Err(SweepError::Exists(csv_path));
     }
-    if let Some(h) = plan.hmax.iter().find(|h| !(h.is_finite() && **h > 0.0)) {
-        return Err(SweepError::Plan(format!(
-            "--hmax values must be positive, got {h}"
-        )));
+    let lock = DirLock::acquire(dir)?;
+    let exists = std::fs::symlink_metadata(&csv_path).is_ok();
+    if exists && !plan.resume && !plan.overwrite {
+        return Err(SweepError::Exists(csv_path));
     }
-    if let Some(t) = plan
-        .tols
-        .iter()
-        .find(|t| !(t.is_finite() && **t > 0.0 && **t < 1.0))
-    {
-        return Err(SweepError::Plan(format!(
-            "--tol values must lie in (0, 1), got {t}"
-        )));
-    }
-    for name in &plan.bodies {
-        if scene.body_index(name).is_none() {
-            return Err(SweepError::Plan(format!(
-                "--bodies names an unknown body \"{name}\""
-            )));
-        }
-    }
-    std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    let csv_path = dir.join("sweep.csv");
-    let mut points = if plan.resume && csv_path.exists() {
-        read_points(&csv_path)?
+    let mut points = if plan.resume && exists {
+        read_for_resume(&csv_path, &hash, plan)?
     } else {
-        if csv_path.exists() {
-            std::fs::remove_file(&csv_path).map_err(|source| OutputError::Io {
-                path: csv_path.clone(),
-                source,
-            })?;
-        }
         Vec::new()
     };
     let done: HashSet<String> = points
         .iter()
         .map(|p| key(p.hmax, &p.backend, p.tol))
         .collect();
-    let mut hmaxes = plan.hmax.clone();
-    hmaxes.sort_by(|a, b| b.total_cmp(a));
-    hmaxes.dedup();
-    let mut tols = plan.tols.clone();
-    tols.sort_by(f64::total_cmp);
-    tols.dedup();
-    let total = hmaxes.len() * tols.len() * plan.backends.len();
+    let (hmaxes, tols, backends) = grid(plan);
+    let total = hmaxes.len() * tols.len() * backends.len();
     let mut count = 0;
     let mut given_up: HashSet<BackendKind> = HashSet::new();
-    let repeat = plan.repeat.max(1);
+    let repeat = plan.repeat;
 
     for &h in &hmaxes {
         let todo: Vec<(f64, BackendKind)> = tols
             .iter()
-            .flat_map(|&t| plan.backends.iter().map(move |&b| (t, b)))
+            .flat_map(|&t| backends.iter().map(move |&b| (t, b)))
             .filter(|(t, b)| !done.contains(&key(h, b.name(), *t)))
             .collect();
         if todo.is_empty() {
-            count += tols.len() * plan.backends.len();
+            count += tols.len() * backends.len();
             progress(count, total, &format!("hmax {h}: already done"));
             continue;
         }
@@ -315,7 +699,7 @@ pub fn sweep(
         let mut reference: Option<(f64, Vec<f64>)> = None; // (residual, displacement)
         for (t, kind) in tols
             .iter()
-            .flat_map(|&t| plan.backends.iter().map(move |&b| (t, b)))
+            .flat_map(|&t| backends.iter().map(move |&b| (t, b)))
         {
             let label = format!("hmax {h} {} tol {t:e}", kind.name());
             let skip_row = done.contains(&key(h, kind.name(), t));
@@ -399,20 +783,33 @@ pub fn sweep(
                 stationarity: sol.residuals.stationarity,
                 complementarity: sol.residuals.complementarity,
                 probes: probes_text(&s, model, &sol.displacement),
+                scene_hash: hash.clone(),
             };
-            append(&csv_path, &point, !csv_path.exists())?;
             points.push(point);
+            checkpoint(&lock, &points)?;
         }
     }
     fill_error_vs_finest(&mut points);
-    output::write_atomically(&csv_path, |w| {
-        let mut csv = csv::Writer::from_writer(w);
-        for p in &points {
-            csv.serialize(p).map_err(std::io::Error::other)?;
-        }
-        csv.flush()
-    })?;
-    Ok((csv_path, points))
+    let rows: Vec<crate::plots::SweepRow> = points.iter().map(Point::to_row).collect();
+    // Plot titles get the part of the scene title before any colon, to stay on one line.
+    let short = scene.title.split(':').next().unwrap_or(&scene.title).trim();
+    let plots = crate::plots::render_sweep(&rows, short)?;
+    let mut set = OutputSet::new(&lock, Some(SWEEP_FILE), &sweep_members())?;
+    let csv = set.write(SWEEP_FILE, |w| write_csv(w, &points))?;
+    for (name, svg) in &plots {
+        set.write(name, |w| w.write_all(svg.as_bytes()))?;
+    }
+    let mut written = set.commit()?;
+    written.retain(|p| *p != csv);
+    let failed = points.iter().filter(|p| p.status != "solved").count();
+    Ok(SweepOutcome {
+        csv,
+        plots: written,
+        skipped: total.saturating_sub(points.len()),
+        failed,
+        points,
+        scene_hash: hash,
+    })
 }
 
 /// Fills `error_vs_finest`: for each point, the largest relative difference to the finest mesh's
@@ -440,5 +837,81 @@ pub fn fill_error_vs_finest(points: &mut [Point]) {
             }
         }
         p.error_vs_finest = err.is_finite().then_some(err);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fnv1a64_matches_the_published_test_vectors() {
+        // From the FNV reference test suite (Fowler, Noll, Vo: test vectors for FNV-1a 64).
+        assert_eq!(fnv1a64(b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a64(b"a"), 0xaf63_dc4c_8601_ec8c);
+        assert_eq!(fnv1a64(b"foobar"), 0x8594_4171_f739_67e8);
+    }
+
+    #[test]
+    fn scene_hash_ignores_swept_hmax_and_title_but_nothing_else() {
+        let scene = run::load_scene(None).unwrap();
+        let all: Vec<String> = Vec::new();
+        let upper = vec!["upper".to_string()];
+        let h = scene_hash(&scene, &all);
+        assert_eq!(h.len(), 16);
+        assert!(h.chars().all(|c| c.is_ascii_hexdigit()));
+        // Independent of the swept sizes and of the title.
+        assert_eq!(scene_hash(&with_hmax(&scene, &all, 0.01), &all), h);
+        let hu = scene_hash(&scene, &upper);
+        assert_eq!(scene_hash(&with_hmax(&scene, &upper, 0.05), &upper), hu);
+        let mut retitled = scene.clone();
+        retitled.title = "another title".into();
+        assert_eq!(scene_hash(&retitled, &all), h);
+        // Which bodies are swept, a size that is not swept, and the physics all count.
+        assert_ne!(hu, h);
+        let mut lower_finer = scene.clone();
+        lower_finer.bodies[1].hmax = 0.1;
+        assert_ne!(scene_hash(&lower_finer, &upper), hu);
+        let mut stiffer = scene.clone();
+        // The next float up: the smallest possible change.
+        stiffer.bodies[0].young = f64::from_bits(scene.bodies[0].young.to_bits() + 1);
+        assert_ne!(scene_hash(&stiffer, &all), h);
+        let mut loaded = scene.clone();
+        loaded.neumann[0].traction.coefficients[1][2] *= 2.0;
+        assert_ne!(scene_hash(&loaded, &all), h);
+        let mut renamed = scene.clone();
+        renamed.probes[0].name.push('x');
+        assert_ne!(scene_hash(&renamed, &all), h);
+    }
+
+    #[test]
+    fn the_header_is_the_points_fields() {
+        let mut w = csv::Writer::from_writer(Vec::new());
+        w.serialize(Point {
+            hmax: 0.1,
+            dofs: 1,
+            constraints: 1,
+            backend: "b".into(),
+            tol: 1e-9,
+            status: "solved".into(),
+            iterations: 1,
+            mesh_s: 0.0,
+            assemble_s: 0.0,
+            solve_s: 0.0,
+            floor_s: 0.0,
+            ratio_to_floor: 0.0,
+            error_vs_reference: None,
+            error_vs_finest: None,
+            max_displacement: 0.0,
+            peak_rss_mb: 0.0,
+            max_penetration: 0.0,
+            stationarity: 0.0,
+            complementarity: 0.0,
+            probes: String::new(),
+            scene_hash: String::new(),
+        })
+        .unwrap();
+        let text = String::from_utf8(w.into_inner().unwrap()).unwrap();
+        assert_eq!(text.lines().next().unwrap(), COLUMNS.join(","));
     }
 }

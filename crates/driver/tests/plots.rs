@@ -250,3 +250,68 @@ fn empty_data_writes_nothing() {
     assert!(plot_sweep(&rows, &out, "").unwrap().is_empty());
     assert!(!out.exists());
 }
+
+#[test]
+fn any_title_and_backend_name_give_well_formed_svgs() {
+    // A control character (forbidden in XML 1.0) and every character XML escapes.
+    let nasty = "\u{1}<&\"'>";
+    let read_back = "\u{FFFD}<&\"'>";
+    let dir = tempfile::tempdir().unwrap();
+    let csv = synthetic_csv().replace(
+        ",osqp,",
+        &format!(",\"osqp {}\",", nasty.replace('"', "\"\"")),
+    );
+    let rows = read_sweep(&write(dir.path(), "sweep.csv", &csv)).unwrap();
+    assert!(rows.iter().any(|r| r.backend == format!("osqp {nasty}")));
+    let out = dir.path().join("plots");
+    let paths = plot_sweep(&rows, &out, &format!("title {nasty}")).unwrap();
+    assert_eq!(paths.len(), 4);
+    for path in &paths {
+        let svg = std::fs::read_to_string(path).unwrap();
+        let doc = roxmltree::Document::parse(&svg)
+            .unwrap_or_else(|e| panic!("{} is not XML: {e}", path.display()));
+        let texts: Vec<&str> = doc
+            .descendants()
+            .filter_map(|n| n.text())
+            .map(str::trim)
+            .collect();
+        assert!(
+            texts
+                .iter()
+                .any(|t| t.starts_with(&format!("title {read_back}: "))),
+            "{}: {texts:?}",
+            path.display()
+        );
+        assert!(
+            texts
+                .iter()
+                .any(|t| t.starts_with(&format!("osqp {read_back}"))),
+            "{}: {texts:?}",
+            path.display()
+        );
+    }
+}
+
+#[test]
+fn plots_are_one_set_and_stale_ones_go() {
+    let dir = tempfile::tempdir().unwrap();
+    let rows = read_sweep(&write(dir.path(), "sweep.csv", &synthetic_csv())).unwrap();
+    let out = dir.path().join("plots");
+    assert_eq!(plot_sweep(&rows, &out, "").unwrap().len(), 4);
+    // One tolerance: no work–precision plot, and the earlier one no longer belongs to the data.
+    let one_tol: Vec<_> = rows.iter().filter(|r| r.tol == 1e-6).cloned().collect();
+    assert_eq!(plot_sweep(&one_tol, &out, "").unwrap().len(), 3);
+    let mut names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "iterations_vs_dofs.svg",
+            "ratio_vs_dofs.svg",
+            "time_vs_dofs.svg"
+        ]
+    );
+}

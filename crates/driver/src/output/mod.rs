@@ -1,13 +1,20 @@
 //! Output files: VTK XML meshes with fields, SVG plots, written atomically.
 //!
-//! Every file goes through [`write_atomically`]: it is written to a temporary file in the target
-//! directory and renamed over the target only when the whole content was written, so a failed run
-//! never leaves a truncated file (or a stray temporary file) behind.
+//! A single file goes through [`write_atomically`]: it is written to a temporary file in the
+//! target directory and renamed over the target only when the whole content was written, so a
+//! failed run never leaves a truncated file (or a stray temporary file) behind.  The files of one
+//! command are written together as an [`OutputSet`](crate::outdir::OutputSet) instead (see
+//! [`crate::outdir`]); the writers here therefore also come as functions that write to any
+//! `Write` or return the document ([`write_vtu_to`], [`render_deformed_svg`]).
 //!
 //! * [`write_vtu`] writes one VTK XML UnstructuredGrid holding every body (see its docs for the
 //!   arrays and their layout).
 //! * [`write_deformed_svg`] plots the undeformed and the magnified deformed meshes; the factor is
 //!   chosen by [`magnification`].
+//!
+//! Text from the scene (title, body names) may hold anything: in every XML file it is escaped
+//! ([`xml_escape`]) and characters XML 1.0 does not allow are replaced by U+FFFD
+//! ([`xml_sanitize`]), so the files are always well-formed.
 
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -20,8 +27,8 @@ mod vtu;
 #[cfg(test)]
 mod tests;
 
-pub use svg::{magnification, write_deformed_svg};
-pub use vtu::write_vtu;
+pub use svg::{magnification, render_deformed_svg, write_deformed_svg};
+pub use vtu::{write_vtu, write_vtu_to};
 
 /// One body's fields for output.
 #[derive(Debug, Clone, Copy)]
@@ -57,6 +64,45 @@ pub enum OutputError {
     /// The plotting library failed.
     #[error("plotting failed: {0}")]
     Plot(String),
+    /// Another run holds the output directory's lock (see [`crate::outdir::DirLock`]).
+    #[error("{} is in use by another signorini run (it holds the directory's lock); wait for that run to finish or choose another output directory", dir.display())]
+    Locked {
+        /// The output directory.
+        dir: PathBuf,
+    },
+}
+
+/// Whether XML 1.0 allows the character `c` in a document: tab, newline, carriage return and
+/// everything from U+0020 on except U+FFFE and U+FFFF (Rust `char`s are never surrogates).
+fn xml_allowed(c: char) -> bool {
+    matches!(c, '\t' | '\n' | '\r') || (c >= ' ' && c != '\u{FFFE}' && c != '\u{FFFF}')
+}
+
+/// `text` with every character XML 1.0 does not allow (control characters other than tab,
+/// newline and carriage return; U+FFFE; U+FFFF) replaced by U+FFFD, nothing else changed.
+/// For text handed to a library that escapes `& < > " '` itself (plotters' SVG backend).
+pub fn xml_sanitize(text: &str) -> String {
+    text.chars()
+        .map(|c| if xml_allowed(c) { c } else { '\u{FFFD}' })
+        .collect()
+}
+
+/// `text` ready for XML character data or a quoted attribute value: [`xml_sanitize`]d, and
+/// `&`, `<`, `>`, `"`, `'` written as entity references.
+pub fn xml_escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c if xml_allowed(c) => out.push(c),
+            _ => out.push('\u{FFFD}'),
+        }
+    }
+    out
 }
 
 /// Writes `path` atomically: `write` fills a temporary file in the same directory, which is then
@@ -96,7 +142,13 @@ pub fn write_atomically(
 }
 
 /// Checks that every field of every body has the length its mesh asks for and that every cell
-/// refers to existing nodes.
+/// refers to existing nodes ([`OutputError::Mismatch`] otherwise).  [`write_vtu`],
+/// [`write_vtu_to`], [`write_deformed_svg`] and [`render_deformed_svg`] call it first.
+pub fn check_fields(bodies: &[BodyField]) -> Result<(), OutputError> {
+    validate(bodies)
+}
+
+/// See [`check_fields`].
 fn validate(bodies: &[BodyField]) -> Result<(), OutputError> {
     for b in bodies {
         let nodes = b.mesh.nodes.len();

@@ -7,7 +7,7 @@ use plotters::prelude::*;
 
 use signorini_core::mesh::Mesh;
 
-use super::{validate, write_atomically, BodyField, OutputError};
+use super::{validate, write_atomically, xml_sanitize, BodyField, OutputError};
 
 /// Largest displacement shown, as a fraction of the scene's size, when magnifying.
 const TARGET_FRACTION: f64 = 0.1;
@@ -185,15 +185,24 @@ fn equal_aspect(r: [f64; 4], w: u32, h: u32) -> [f64; 4] {
 /// displacement, one colour per body, boundary drawn thicker) at equal aspect ratio, with a
 /// legend naming the bodies, the magnification ("displacement × 50") and the largest
 /// displacement.  Boundary edges whose two nodes both carry contact pressure are drawn thick red.
-/// Each mesh edge is drawn once.  Written via [`write_atomically`].
+/// Each mesh edge is drawn once.  Written via [`write_atomically`]; see
+/// [`render_deformed_svg`] for the text.
 pub fn write_deformed_svg(
     path: &Path,
     title: &str,
     bodies: &[BodyField],
 ) -> Result<(), OutputError> {
-    validate(bodies)?;
-    let svg = render_svg(title, bodies)?;
+    let svg = render_deformed_svg(title, bodies)?;
     write_atomically(path, |w| w.write_all(svg.as_bytes()))
+}
+
+/// The plot of [`write_deformed_svg`] as an SVG document (lengths validated first).  The title
+/// and body names may hold any text: characters XML does not allow become U+FFFD (see
+/// [`xml_sanitize`](super::xml_sanitize)) and `& < > " '` are escaped, so the document is
+/// always well-formed and its text reads back as given.
+pub fn render_deformed_svg(title: &str, bodies: &[BodyField]) -> Result<String, OutputError> {
+    validate(bodies)?;
+    render_svg(title, bodies)
 }
 
 /// Renders the plot to an SVG string.
@@ -243,13 +252,14 @@ fn render_svg(title: &str, bodies: &[BodyField]) -> Result<String, OutputError> 
     {
         let root = SVGBackend::with_string(&mut buf, (WIDTH, height)).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
+        // plotters escapes `& < > " '`; characters XML forbids are replaced here.
         let heading = if title.is_empty() {
-            "deformed shape"
+            "deformed shape".to_string()
         } else {
-            title
+            xml_sanitize(title)
         };
         let area = root
-            .titled(heading, ("sans-serif", 22).into_font())
+            .titled(&heading, ("sans-serif", 22).into_font())
             .map_err(plot_err)?;
         draw_chart(&area, r, bodies, &undeformed, &deformed, factor)?;
         root.present().map_err(plot_err)?;
@@ -356,7 +366,10 @@ fn draw_chart(
     };
     entry("undeformed", UNDEFORMED.stroke_width(2))?;
     for (k, b) in bodies.iter().enumerate() {
-        entry(b.name, PALETTE[k % PALETTE.len()].stroke_width(2))?;
+        entry(
+            &xml_sanitize(b.name),
+            PALETTE[k % PALETTE.len()].stroke_width(2),
+        )?;
     }
     if any_contact {
         entry("contact (p > 0)", CONTACT.stroke_width(4))?;

@@ -294,3 +294,96 @@ fn edges_are_unique_and_chained_once() {
     seen.sort_unstable();
     assert_eq!(seen, edges);
 }
+
+/// A name with a control character (forbidden in XML 1.0) and every character XML escapes.
+const NASTY: &str = "\u{1}<&\"'>";
+/// What [`NASTY`] reads back as: the control character replaced by U+FFFD, the rest as given.
+const NASTY_READ: &str = "\u{FFFD}<&\"'>";
+
+#[test]
+fn xml_text_is_escaped_and_forbidden_characters_replaced() {
+    assert_eq!(xml_escape(NASTY), "\u{FFFD}&lt;&amp;&quot;&apos;&gt;");
+    assert_eq!(xml_sanitize(NASTY), NASTY_READ);
+    // Tab, newline and carriage return are allowed; U+FFFE/U+FFFF and C0 controls are not.
+    assert_eq!(
+        xml_sanitize("a\tb\nc\rd\u{0}\u{1f}\u{7f}\u{FFFE}\u{FFFF}é"),
+        "a\tb\nc\rd\u{FFFD}\u{FFFD}\u{7f}\u{FFFD}\u{FFFD}é"
+    );
+    // Every escaped string is well-formed character data and an attribute value that reads
+    // back as the sanitised text.
+    for s in [NASTY, "plain", "", "]]>", "a\u{b}b"] {
+        let doc = format!("<r a=\"{0}\">{0}</r>", xml_escape(s));
+        let parsed = roxmltree::Document::parse(&doc).unwrap();
+        let root = parsed.root_element();
+        assert_eq!(root.text().unwrap_or(""), xml_sanitize(s));
+        assert_eq!(root.attribute("a").unwrap(), xml_sanitize(s));
+    }
+}
+
+#[test]
+fn svg_and_vtu_with_control_characters_in_names_parse_and_read_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let (m0, m1) = (tri_square(0.0, 1.0), quad_strip(1.0, 0.0));
+    let f0 = fields(&m0, 1e-3);
+    let f1 = fields(&m1, 1e-3);
+    let name1 = format!("lower {NASTY}");
+    let bodies = [body(NASTY, &m0, &f0), body(&name1, &m1, &f1)];
+    let title = format!("title {NASTY}");
+
+    let svg_path = dir.path().join("deformed.svg");
+    write_deformed_svg(&svg_path, &title, &bodies).unwrap();
+    let svg = std::fs::read_to_string(&svg_path).unwrap();
+    let doc = roxmltree::Document::parse(&svg).unwrap_or_else(|e| panic!("{e}\n{svg}"));
+    // plotters wraps each text in newlines.
+    let texts: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text())
+        .map(str::trim)
+        .collect();
+    for want in [
+        format!("title {NASTY_READ}"),
+        NASTY_READ.to_string(),
+        format!("lower {NASTY_READ}"),
+    ] {
+        assert!(texts.contains(&want.as_str()), "{want:?} not in {texts:?}");
+    }
+
+    let vtu_path = dir.path().join("solution.vtu");
+    write_vtu(&vtu_path, &bodies).unwrap();
+    let vtu = std::fs::read_to_string(&vtu_path).unwrap();
+    let doc = roxmltree::Document::parse(&vtu).unwrap_or_else(|e| panic!("{e}\n{vtu}"));
+    let comment = doc
+        .root()
+        .children()
+        .find(|n| n.is_comment())
+        .and_then(|n| n.text())
+        .unwrap();
+    let names: Vec<&str> = comment
+        .lines()
+        .skip(1)
+        .filter_map(|l| l.split_once(" = ").map(|(_, name)| name))
+        .collect();
+    assert_eq!(
+        names,
+        [NASTY_READ.to_string(), format!("lower {NASTY_READ}")]
+    );
+}
+
+#[test]
+fn vtu_comment_stays_a_comment() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = tri_square(0.0, 0.0);
+    let f = fields(&m, 1e-3);
+    let path = dir.path().join("solution.vtu");
+    write_vtu(&path, &[body("a--b-->\n<VTKFile>-", &m, &f)]).unwrap();
+    let vtu = std::fs::read_to_string(&path).unwrap();
+    let doc = roxmltree::Document::parse(&vtu).unwrap();
+    assert_eq!(doc.root_element().tag_name().name(), "VTKFile");
+    assert_eq!(
+        doc.descendants()
+            .filter(|n| n.has_tag_name("VTKFile"))
+            .count(),
+        1
+    );
+}

@@ -35,6 +35,14 @@ pub fn write_vtu(path: &Path, bodies: &[BodyField]) -> Result<(), OutputError> {
     write_atomically(path, |w| write_grid(w, bodies))
 }
 
+/// The document of [`write_vtu`], written to `w` (for an [`OutputSet`](crate::outdir::OutputSet)).
+/// Lengths are validated first; a mismatch is an [`io::ErrorKind::InvalidData`] error carrying
+/// the [`OutputError::Mismatch`] message, and nothing is written.
+pub fn write_vtu_to(w: &mut dyn Write, bodies: &[BodyField]) -> io::Result<()> {
+    validate(bodies).map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e.to_string()))?;
+    write_grid(w, bodies)
+}
+
 /// Writes a whitespace-separated list of floats (round-trip `{:e}`), `per_line` to a line.
 fn write_list<T: LowerExp>(
     w: &mut dyn Write,
@@ -102,14 +110,17 @@ fn close_array(w: &mut dyn Write) -> io::Result<()> {
     writeln!(w, "        </DataArray>")
 }
 
-/// Makes `s` safe inside an XML comment (no `--`, no trailing `-`).
+/// Makes `s` safe inside an XML comment: characters XML does not allow become U+FFFD (as
+/// everywhere in the output, see [`xml_sanitize`](super::xml_sanitize)), a space separates the
+/// hyphens of `--` and follows a trailing `-`, and line breaks become spaces (one name per
+/// line).  `& < > " '` need no escaping in a comment and are kept as they are.
 fn comment_safe(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
+    for c in super::xml_sanitize(s).chars() {
         if c == '-' && out.ends_with('-') {
             out.push(' ');
         }
-        out.push(if c.is_control() { ' ' } else { c });
+        out.push(if matches!(c, '\n' | '\r') { ' ' } else { c });
     }
     if out.ends_with('-') {
         out.push(' ');

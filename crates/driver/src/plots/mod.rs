@@ -11,8 +11,7 @@
 //! status is `solved` are joined by the curves, other rows are drawn as hollow markers of the
 //! backend's colour; values that cannot be shown on a log axis (zero, negative, NaN, empty) are
 //! left out, except that a zero error on the work–precision plot is clamped to [`ERROR_FLOOR`]
-//! (the legend says so).  Each file is written with
-//! [`write_atomically`](crate::output::write_atomically).
+//! (the legend says so).  The files are written as one set (see [`crate::outdir`]).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -180,8 +179,17 @@ pub fn fit_slope(points: &[(f64, f64)]) -> Option<f64> {
     (logs.len() >= 2 && distinct && sxx > 0.0).then(|| sxy / sxx)
 }
 
+/// File names of the sweep plots, in the order [`render_sweep`] returns them.
+pub const PLOT_FILES: [&str; 4] = [
+    "time_vs_dofs.svg",
+    "ratio_vs_dofs.svg",
+    "work_precision.svg",
+    "iterations_vs_dofs.svg",
+];
+
 /// Writes the sweep plots into `dir` (created if missing) and returns the paths written, in the
-/// order below.  `title` prefixes each plot's heading (it may be empty).
+/// order below.  `title` prefixes each plot's heading (it may be empty, and may hold any text:
+/// characters XML forbids become U+FFFD, the rest is escaped).
 ///
 /// 1. `time_vs_dofs.svg`: solve time (`solve_s`) against DOFs, one curve per backend from its
 ///    tightest-tolerance row at each hmax, plus the floor (`floor_s`) dashed black; every
@@ -196,36 +204,43 @@ pub fn fit_slope(points: &[(f64, f64)]) -> Option<f64> {
 /// 4. `iterations_vs_dofs.svg`: iterations against DOFs (log–log; rows with 0 iterations are
 ///    left out), same rows and slopes as 1.
 ///
-/// A plot without any drawable backend point is skipped (not written, no stale file removed),
-/// so an empty `rows` writes nothing and returns an empty list.
+/// A plot without any drawable backend point is skipped.  The plots are one output set (see
+/// [`crate::outdir`]): written together under the directory's lock, and a plot of an earlier
+/// call that this one skips is removed, so the directory never mixes plots of two sweeps.  An
+/// empty `rows` (nothing drawable) touches nothing and returns an empty list.
 pub fn plot_sweep(rows: &[SweepRow], dir: &Path, title: &str) -> Result<Vec<PathBuf>, OutputError> {
+    let plots = render_sweep(rows, title)?;
+    if plots.is_empty() {
+        return Ok(Vec::new());
+    }
+    let lock = crate::outdir::DirLock::acquire(dir)?;
+    let mut set = crate::outdir::OutputSet::new(&lock, None, &PLOT_FILES)?;
+    for (name, svg) in &plots {
+        set.write(name, |w| w.write_all(svg.as_bytes()))?;
+    }
+    set.commit()
+}
+
+/// The plots of [`plot_sweep`] as `(file name, SVG document)`, without writing anything.
+pub fn render_sweep(
+    rows: &[SweepRow],
+    title: &str,
+) -> Result<Vec<(&'static str, String)>, OutputError> {
     let backends = backend_order(rows);
     let figures = [
-        ("time_vs_dofs.svg", time_vs_dofs(rows, &backends, title)),
-        ("ratio_vs_dofs.svg", ratio_vs_dofs(rows, &backends, title)),
-        ("work_precision.svg", work_precision(rows, &backends, title)),
-        (
-            "iterations_vs_dofs.svg",
-            iterations_vs_dofs(rows, &backends, title),
-        ),
+        time_vs_dofs(rows, &backends, title),
+        ratio_vs_dofs(rows, &backends, title),
+        work_precision(rows, &backends, title),
+        iterations_vs_dofs(rows, &backends, title),
     ];
-    let mut written = Vec::new();
-    for (file, figure) in figures {
+    let mut plots = Vec::new();
+    for (file, figure) in PLOT_FILES.into_iter().zip(figures) {
         let Some(figure) = figure else { continue };
-        let Some(svg) = render::render(&figure)? else {
-            continue;
-        };
-        if written.is_empty() {
-            std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
-                path: dir.to_path_buf(),
-                source,
-            })?;
+        if let Some(svg) = render::render(&figure)? {
+            plots.push((file, svg));
         }
-        let path = dir.join(file);
-        crate::output::write_atomically(&path, |w| w.write_all(svg.as_bytes()))?;
-        written.push(path);
     }
-    Ok(written)
+    Ok(plots)
 }
 
 /// Backend names in order of first appearance.

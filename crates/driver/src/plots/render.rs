@@ -5,7 +5,7 @@ use plotters::coord::combinators::WithKeyPoints;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
-use crate::output::OutputError;
+use crate::output::{xml_sanitize, OutputError};
 
 /// Canvas size in pixels.
 const SIZE: (u32, u32) = (900, 620);
@@ -100,8 +100,26 @@ fn plot_err<E: std::fmt::Debug>(e: E) -> OutputError {
     OutputError::Plot(format!("{e:?}"))
 }
 
-/// Renders the figure; `None` when no backend curve has a point.
+/// The figure with every text [`xml_sanitize`]d: plotters escapes `& < > " '` itself but
+/// passes characters XML forbids (control characters) through, which would make the SVG
+/// ill-formed.
+fn sanitized(fig: &Figure) -> Figure {
+    let mut fig = fig.clone();
+    for text in [&mut fig.heading, &mut fig.x_desc, &mut fig.y_desc]
+        .into_iter()
+        .chain(fig.curves.iter_mut().map(|c| &mut c.label))
+        .chain(fig.hline.iter_mut().map(|h| &mut h.1))
+        .chain(fig.notes.iter_mut())
+    {
+        *text = xml_sanitize(text);
+    }
+    fig
+}
+
+/// Renders the figure; `None` when no backend curve has a point.  Any text is allowed (see
+/// [`sanitized`]).
 pub(super) fn render(fig: &Figure) -> Result<Option<String>, OutputError> {
+    let fig = &sanitized(fig);
     if fig.curves.iter().all(|c| c.reference || c.is_empty()) {
         return Ok(None);
     }
