@@ -14,7 +14,8 @@ use signorini_core::model::Model;
 use signorini_core::qp::QpProblem;
 use signorini_core::scene::Scene;
 
-use crate::output::{self, OutputError};
+use crate::outdir::{DirLock, OutputSet};
+use crate::output::OutputError;
 
 fn write_dense(w: &mut dyn Write, v: &[f64]) -> std::io::Result<()> {
     writeln!(w, "%%MatrixMarket matrix array real general")?;
@@ -27,23 +28,30 @@ fn write_dense(w: &mut dyn Write, v: &[f64]) -> std::io::Result<()> {
     Ok(())
 }
 
-/// Writes the exported files into `dir` (created if missing), each atomically.
+/// The exported files; `README.txt` (moved into place last) marks a complete set.
+pub const EXPORT_FILES: [&str; 7] = [
+    "A.mtx",
+    "f.mtx",
+    "B.mtx",
+    "g.mtx",
+    "dofs.csv",
+    "rows.csv",
+    "README.txt",
+];
+
+/// Writes the exported files into `dir` (created if missing) as one output set (see
+/// [`crate::outdir`]): under the directory's lock, staged and moved into place together, so a
+/// failed export leaves the previous files unchanged.
 pub fn export(
     dir: &Path,
     scene: &Scene,
     model: &Model,
     qp: &QpProblem,
 ) -> Result<Vec<PathBuf>, OutputError> {
-    std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    let mut written = Vec::new();
+    let lock = DirLock::acquire(dir)?;
+    let mut set = OutputSet::new(&lock, Some("README.txt"), &EXPORT_FILES)?;
     let mut put = |name: &str, f: &mut dyn FnMut(&mut dyn Write) -> std::io::Result<()>| {
-        let path = dir.join(name);
-        output::write_atomically(&path, |w| f(w))?;
-        written.push(path);
-        Ok::<(), OutputError>(())
+        set.write(name, |w| f(w)).map(|_| ())
     };
     put("A.mtx", &mut |w| {
         sprs::io::write_matrix_market_to_bufwrite(w, &qp.stiffness)
@@ -131,5 +139,5 @@ pub fn export(
         }
         Ok(())
     })?;
-    Ok(written)
+    set.commit()
 }

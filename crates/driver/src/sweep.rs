@@ -162,6 +162,8 @@ pub struct Point {
     pub stationarity: f64,
     /// Core residual: complementarity.
     pub complementarity: f64,
+    /// The backend's own verdict before the core's check.
+    pub backend_status: String,
     /// Probe displacements `name:ux:uy` joined by `;`.
     pub probes: String,
     /// [`scene_hash`] of the scene the point was solved for.
@@ -169,7 +171,7 @@ pub struct Point {
 }
 
 /// The header of `sweep.csv`: [`Point`]'s fields in order.
-pub const COLUMNS: [&str; 21] = [
+pub const COLUMNS: [&str; 22] = [
     "hmax",
     "dofs",
     "constraints",
@@ -189,6 +191,7 @@ pub const COLUMNS: [&str; 21] = [
     "max_penetration",
     "stationarity",
     "complementarity",
+    "backend_status",
     "probes",
     "scene_hash",
 ];
@@ -769,6 +772,7 @@ pub fn sweep(
                 backend: kind.name().to_string(),
                 tol: t,
                 status: sol.status.as_str().to_string(),
+                backend_status: sol.backend_status.as_str().to_string(),
                 iterations: sol.iterations,
                 mesh_s,
                 assemble_s,
@@ -894,6 +898,7 @@ mod tests {
             backend: "b".into(),
             tol: 1e-9,
             status: "solved".into(),
+            backend_status: "solved".into(),
             iterations: 1,
             mesh_s: 0.0,
             assemble_s: 0.0,
