@@ -13,6 +13,23 @@
 //! multiplier λ ≥ 0 is the normal contact force at X (force per unit thickness); dividing by the
 //! slave node's tributary length gives the contact pressure.  Coincident interface nodes
 //! (conforming meshes) give t ∈ {0, 1}: one row per coincident pair.
+//!
+//! # Initial overlap
+//!
+//! A slave node that starts strictly inside the master body (deeper than the scene tolerance) is
+//! always a candidate (with no region box) and always gets a row, on the closest master boundary
+//! segment whatever its orientation (candidate or not), with a negative gap g: the constraint
+//! pushes it out.  One that a region box leaves out is refused
+//! ([`ContactError::OverlapOutsideRegion`]): it would stay inside.  The pair's
+//! [`Overlap`] records how many nodes start inside and the deepest one.  An overlap deeper than
+//! the larger `hmax` of the pair ([`overlap_limit`]) is not read as contact but refused
+//! ([`ContactError::DeepOverlap`]): a linearised node-to-segment row cannot undo it, and such a
+//! scene almost always has a misplaced polygon.
+//!
+//! A node outside the master gets a row only on a segment that faces it and whose line it is not
+//! behind (g ≥ −tolerance): a projection through the master body (onto its far side) is no
+//! contact.  Candidates without any such segment are counted ([`PairRows::unmatched`]), never
+//! silently dropped.
 
 use crate::geometry::{self, Point};
 use crate::mesh::Mesh;
@@ -50,6 +67,36 @@ pub struct PairRows {
     pub rows: Vec<ContactRow>,
     /// True when every slave node on the interface (zero initial gap) coincides with a master node.
     pub conforming: bool,
+    /// Number of slave candidate nodes (each either has a row or is counted in `unmatched`).
+    pub candidates: usize,
+    /// Slave candidates that got no row: no master segment faces them (within its span, on
+    /// its outer side).
+    pub unmatched: usize,
+    /// Rows whose tributary length is not the half-lengths of slave edges facing the master
+    /// (it falls back to the other interface edges, then to every adjacent boundary edge, then to
+    /// 1.0): their pressure λ / length is an estimate.
+    pub tributary_fallbacks: usize,
+    /// Of `tributary_fallbacks`, the rows whose node has no boundary edge of positive length, so
+    /// that the length 1.0 was used.
+    pub unit_tributaries: usize,
+    /// The bodies' initial overlap, if any boundary node starts inside the other body.
+    pub overlap: Option<Overlap>,
+}
+
+/// Where two bodies of a pair overlap before any load (see the module documentation).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Overlap {
+    /// Slave nodes that start inside the master and got a row with a negative gap.
+    pub slave_nodes: usize,
+    /// Master boundary nodes that start inside the slave (node-to-segment rows constrain only
+    /// slave nodes; these come out only as far as the slave nodes push the master).
+    pub master_nodes: usize,
+    /// Position of the deepest node found inside the other body.
+    pub deepest: Point,
+    /// Its depth: distance to the other body's boundary.
+    pub depth: f64,
+    /// Index of the body the deepest node belongs to.
+    pub deepest_body: usize,
 }
 
 /// Why contact rows could not be built.
@@ -65,6 +112,46 @@ pub enum ContactError {
         /// Body name.
         body: String,
     },
+    /// Two bodies of a pair overlap too deeply at the start to be read as contact.
+    #[error("contact #{pair}: body \"{body}\" starts inside body \"{other}\": its boundary node at ({x}, {y}) lies {depth:e} deep, more than the larger element size {limit:e} of the pair; an overlap this deep is not a contact (move the bodies apart)", x = point[0], y = point[1])]
+    DeepOverlap {
+        /// 1-based pair index.
+        pair: usize,
+        /// Body whose node is inside the other.
+        body: String,
+        /// The body it is inside.
+        other: String,
+        /// The node's position.
+        point: Point,
+        /// Its distance to `other`'s boundary.
+        depth: f64,
+        /// The largest accepted depth ([`overlap_limit`]).
+        limit: f64,
+    },
+    /// Slave nodes start inside the master outside the pair's region box, so no row can push
+    /// them out.
+    #[error("contact #{pair}: {nodes} boundary node(s) of slave \"{slave}\" start inside master \"{master}\" outside the pair's region box (deepest {depth:e} at ({x}, {y})), so no constraint row can push them out; enlarge the region to cover the overlap or move the bodies apart", x = point[0], y = point[1])]
+    OverlapOutsideRegion {
+        /// 1-based pair index.
+        pair: usize,
+        /// Slave body name.
+        slave: String,
+        /// Master body name.
+        master: String,
+        /// Slave nodes inside the master without a row.
+        nodes: usize,
+        /// The deepest one's position.
+        point: Point,
+        /// Its depth.
+        depth: f64,
+    },
+}
+
+/// The deepest initial overlap accepted as contact in a pair: the larger `hmax` of its bodies.
+/// Deeper overlaps are refused ([`ContactError::DeepOverlap`]).
+pub fn overlap_limit(scene: &Scene, pair: &crate::scene::ContactPair) -> f64 {
+    let [k, l] = pair.bodies;
+    scene.bodies[k].hmax.max(scene.bodies[l].hmax)
 }
 
 /// Boundary edge lists per node: for each node, the boundary edges (as indices) that touch it.
@@ -86,13 +173,55 @@ fn boundary_node_mask(mesh: &Mesh) -> Vec<bool> {
     on
 }
 
-/// Candidate mask of `mesh`'s boundary nodes for a pair: in the region, or near `other`'s boundary.
+/// For every node of `mesh`: `Some(depth)` when it is a boundary node lying in the closed body
+/// `other` (polygon `polygon`, within `tol`), with `depth` its distance to `other`'s boundary
+/// (≤ `tol` on it); `None` when it is outside or not a boundary node.
+fn depths_inside(mesh: &Mesh, other: &Mesh, polygon: &[Point], tol: f64) -> Vec<Option<f64>> {
+    let on = boundary_node_mask(mesh);
+    let bbox = geometry::bounding_box(polygon);
+    mesh.nodes
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| {
+            if !on[i] || !geometry::in_box(p, &bbox, tol) || !geometry::contains(polygon, p, tol) {
+                return None;
+            }
+            let depth = other
+                .boundary
+                .iter()
+                .map(|&[a, b]| geometry::project_on_segment(p, other.nodes[a], other.nodes[b]).1)
+                .fold(f64::INFINITY, f64::min);
+            Some(depth)
+        })
+        .collect()
+}
+
+/// True when a depth from [`depths_inside`] is strictly inside (deeper than `tol`).
+fn strictly_inside(depth: Option<f64>, tol: f64) -> bool {
+    depth.is_some_and(|d| d > tol)
+}
+
+/// The deepest strictly inside entry of a depth list: (node, depth).
+fn deepest(depths: &[Option<f64>], tol: f64) -> Option<(usize, f64)> {
+    depths
+        .iter()
+        .enumerate()
+        .filter_map(|(i, d)| d.filter(|d| *d > tol).map(|d| (i, d)))
+        .fold(None, |best, (i, d)| match best {
+            Some((_, bd)) if bd >= d => best,
+            _ => Some((i, d)),
+        })
+}
+
+/// Candidate mask of `mesh`'s boundary nodes for a pair: in the region, or (no region) near
+/// `other`'s boundary or inside `other` (`inside`, from [`depths_inside`]).
 fn candidates(
     mesh: &Mesh,
     other: &Mesh,
     region: Option<&[f64; 4]>,
     reach: f64,
     tol: f64,
+    inside: &[Option<f64>],
 ) -> Vec<bool> {
     let on = boundary_node_mask(mesh);
     mesh.nodes
@@ -102,9 +231,13 @@ fn candidates(
             on[i]
                 && match region {
                     Some(r) => geometry::in_box(p, r, tol),
-                    None => other.boundary.iter().any(|&[a, b]| {
-                        geometry::project_on_segment(p, other.nodes[a], other.nodes[b]).1 <= reach
-                    }),
+                    None => {
+                        strictly_inside(inside[i], tol)
+                            || other.boundary.iter().any(|&[a, b]| {
+                                geometry::project_on_segment(p, other.nodes[a], other.nodes[b]).1
+                                    <= reach
+                            })
+                    }
                 }
         })
         .collect()
@@ -126,9 +259,30 @@ pub fn contact_rows(scene: &Scene, meshes: &[Mesh]) -> Result<Vec<PairRows>, Con
     for (p, pair) in scene.contacts.iter().enumerate() {
         let [k, l] = pair.bodies;
         let reach = scene.bodies[k].hmax.max(scene.bodies[l].hmax);
+        let limit = overlap_limit(scene, pair);
+        let inside_k = depths_inside(&meshes[k], &meshes[l], &scene.bodies[l].polygon, tol);
+        let inside_l = depths_inside(&meshes[l], &meshes[k], &scene.bodies[k].polygon, tol);
+        let deepest_k = deepest(&inside_k, tol).map(|(i, d)| (k, l, i, d));
+        let deepest_l = deepest(&inside_l, tol).map(|(i, d)| (l, k, i, d));
+        let deepest_all = match (deepest_k, deepest_l) {
+            (Some(a), Some(b)) => Some(if b.3 > a.3 { b } else { a }),
+            (a, b) => a.or(b),
+        };
+        if let Some((b, o, i, depth)) = deepest_all {
+            if depth > limit {
+                return Err(ContactError::DeepOverlap {
+                    pair: p + 1,
+                    body: scene.bodies[b].name.clone(),
+                    other: scene.bodies[o].name.clone(),
+                    point: meshes[b].nodes[i],
+                    depth,
+                    limit,
+                });
+            }
+        }
         let region = pair.region.as_ref();
-        let cand_k = candidates(&meshes[k], &meshes[l], region, reach, tol);
-        let cand_l = candidates(&meshes[l], &meshes[k], region, reach, tol);
+        let cand_k = candidates(&meshes[k], &meshes[l], region, reach, tol, &inside_k);
+        let cand_l = candidates(&meshes[l], &meshes[k], region, reach, tol, &inside_l);
         let count = |c: &[bool]| c.iter().filter(|x| **x).count();
         let (nk, nl) = (count(&cand_k), count(&cand_l));
         if let Some(r) = region {
@@ -144,34 +298,106 @@ pub fn contact_rows(scene: &Scene, meshes: &[Mesh]) -> Result<Vec<PairRows>, Con
         }
         let slave = pair.slave.unwrap_or(if nl > nk { l } else { k });
         let master = if slave == k { l } else { k };
-        let (cand_s, cand_m) = if slave == k {
-            (&cand_k, &cand_l)
+        let (cand_s, cand_m, inside_s, inside_m) = if slave == k {
+            (&cand_k, &cand_l, &inside_k, &inside_l)
         } else {
-            (&cand_l, &cand_k)
+            (&cand_l, &cand_k, &inside_l, &inside_k)
         };
-        let rows = pair_rows(&meshes[slave], &meshes[master], cand_s, cand_m, tol);
+        let built = pair_rows(
+            &meshes[slave],
+            &meshes[master],
+            cand_s,
+            cand_m,
+            inside_s,
+            tol,
+            limit,
+        );
+        let rows = built.rows;
         // Conforming: every slave node on the interface (zero gap) sits on a master node.
         let touching: Vec<&ContactRow> = rows.iter().filter(|r| r.gap == 0.0).collect();
         let conforming =
             !touching.is_empty() && touching.iter().all(|r| r.alpha == 0.0 || r.alpha == 1.0);
+        let mut with_row = vec![false; meshes[slave].nodes.len()];
+        for r in &rows {
+            with_row[r.slave_node] = true;
+        }
+        // Every slave node inside the master must be pushed out by a row: one that has none
+        // (outside the region box) would stay interpenetrating, so the scene is refused.
+        let stranded = inside_s
+            .iter()
+            .zip(&with_row)
+            .enumerate()
+            .filter(|(_, (d, w))| strictly_inside(**d, tol) && !**w)
+            .map(|(i, (d, _))| (i, d.unwrap_or(0.0)));
+        let (mut count_stranded, mut worst) = (0, None);
+        for (i, d) in stranded {
+            count_stranded += 1;
+            if worst.is_none_or(|(_, wd)| d > wd) {
+                worst = Some((i, d));
+            }
+        }
+        if let Some((i, depth)) = worst {
+            return Err(ContactError::OverlapOutsideRegion {
+                pair: p + 1,
+                slave: scene.bodies[slave].name.clone(),
+                master: scene.bodies[master].name.clone(),
+                nodes: count_stranded,
+                point: meshes[slave].nodes[i],
+                depth,
+            });
+        }
+        let overlap = deepest_all.map(|(b, _, i, depth)| {
+            let inside = |d: &&Option<f64>| strictly_inside(**d, tol);
+            let slave_nodes = inside_s
+                .iter()
+                .zip(&with_row)
+                .filter(|(d, w)| strictly_inside(**d, tol) && **w)
+                .count();
+            Overlap {
+                slave_nodes,
+                master_nodes: inside_m.iter().filter(inside).count(),
+                deepest: meshes[b].nodes[i],
+                depth,
+                deepest_body: b,
+            }
+        });
         all.push(PairRows {
             pair: p,
             slave,
             master,
             rows,
             conforming,
+            candidates: count(cand_s),
+            unmatched: built.unmatched,
+            tributary_fallbacks: built.tributary_fallbacks,
+            unit_tributaries: built.unit_tributaries,
+            overlap,
         });
     }
     Ok(all)
 }
+
+/// The rows of one pair with the counts of what could not be done exactly.
+struct Built {
+    rows: Vec<ContactRow>,
+    unmatched: usize,
+    tributary_fallbacks: usize,
+    unit_tributaries: usize,
+}
+
+/// The closest admissible master segment for one slave node: (distance, interior projection,
+/// facing, segment, t).
+type Choice = (f64, bool, bool, [usize; 2], f64);
 
 fn pair_rows(
     slave: &Mesh,
     master: &Mesh,
     cand_s: &[bool],
     cand_m: &[bool],
+    inside_s: &[Option<f64>],
     tol: f64,
-) -> Vec<ContactRow> {
+    limit: f64,
+) -> Built {
     // Master segments: boundary edges with both ends candidates.
     let segments: Vec<[usize; 2]> = master
         .boundary
@@ -180,11 +406,24 @@ fn pair_rows(
         .filter(|&[a, b]| cand_m[a] && cand_m[b])
         .collect();
     let slave_edges = edges_at_nodes(slave);
-    let mut rows = Vec::new();
+    let mut built = Built {
+        rows: Vec::new(),
+        unmatched: 0,
+        tributary_fallbacks: 0,
+        unit_tributaries: 0,
+    };
     for (x_node, &x) in slave.nodes.iter().enumerate() {
         if !cand_s[x_node] {
             continue;
         }
+        let inside = strictly_inside(inside_s[x_node], tol);
+        // On the master's boundary (within tolerance): a shallow negative gap is an overlap
+        // along the boundary; a deep one a projection through the body.
+        let behind_limit = if inside_s[x_node].is_some() {
+            limit
+        } else {
+            tol
+        };
         // The slave's outward normal at X, from its adjacent interface edges (all adjacent
         // boundary edges if none): only master segments facing it can be touched.
         let mut ns = [0.0, 0.0];
@@ -202,12 +441,17 @@ fn pair_rows(
             }
         }
         let ns_len = ns[0].hypot(ns[1]);
-        // Closest facing segment whose span (within tolerance) contains the projection of X.
-        let mut best: Option<(f64, bool, [usize; 2], f64)> = None;
-        for &[a, b] in &segments {
+        // Outside the master: the closest facing candidate segment whose span (within
+        // tolerance) contains the projection of X and whose line X is not behind.  Inside: the
+        // closest boundary segment of the master, candidate or not, of any orientation (the
+        // shortest way out), projection clamped to the segment.
+        let mut best: Option<Choice> = None;
+        let admissible = if inside { &master.boundary } else { &segments };
+        for &[a, b] in admissible {
             let (pa, pb) = (master.nodes[a], master.nodes[b]);
             let nm = outward_normal(pa, pb);
-            if ns_len > 0.0 && (nm[0] * ns[0] + nm[1] * ns[1]) / ns_len > -FACING {
+            let facing = ns_len == 0.0 || (nm[0] * ns[0] + nm[1] * ns[1]) / ns_len <= -FACING;
+            if !inside && !facing {
                 continue;
             }
             let d = [pb[0] - pa[0], pb[1] - pa[1]];
@@ -218,7 +462,7 @@ fn pair_rows(
             let len = len2.sqrt();
             let t_raw = ((x[0] - pa[0]) * d[0] + (x[1] - pa[1]) * d[1]) / len2;
             let eps = tol / len;
-            if t_raw < -eps || t_raw > 1.0 + eps {
+            if !inside && (t_raw < -eps || t_raw > 1.0 + eps) {
                 continue;
             }
             let t = if t_raw <= eps {
@@ -229,17 +473,28 @@ fn pair_rows(
                 t_raw
             };
             let y = [pa[0] + t * d[0], pa[1] + t * d[1]];
+            if !inside && (x[0] - y[0]) * nm[0] + (x[1] - y[1]) * nm[1] < -behind_limit {
+                // Behind the segment's line yet outside the master (or deeper than the overlap
+                // limit while on its boundary): the projection runs through the body to its
+                // far side.
+                continue;
+            }
             let dist = geometry::distance(x, y);
             let interior = t > 0.0 && t < 1.0;
             let better = match best {
                 None => true,
-                Some((bd, bi, _, _)) => dist < bd - tol || (dist <= bd + tol && interior && !bi),
+                Some((bd, bi, bf, _, _)) => {
+                    dist < bd - tol
+                        || (dist <= bd + tol
+                            && ((interior && !bi) || (interior == bi && facing && !bf)))
+                }
             };
             if better {
-                best = Some((dist, interior, [a, b], t));
+                best = Some((dist, interior, facing, [a, b], t));
             }
         }
-        let Some((_, _, [a, b], t)) = best else {
+        let Some((_, _, _, [a, b], t)) = best else {
+            built.unmatched += 1;
             continue;
         };
         let (pa, pb) = (master.nodes[a], master.nodes[b]);
@@ -264,11 +519,17 @@ fn pair_rows(
                 }
             }
         }
-        let tributary = [facing, interface, any]
-            .into_iter()
-            .find(|l| *l > 0.0)
-            .unwrap_or(1.0);
-        rows.push(ContactRow {
+        let tributary = match [facing, interface, any].into_iter().find(|l| *l > 0.0) {
+            Some(l) => l,
+            None => {
+                built.unit_tributaries += 1;
+                1.0
+            }
+        };
+        if facing <= 0.0 {
+            built.tributary_fallbacks += 1;
+        }
+        built.rows.push(ContactRow {
             slave_node: x_node,
             master_nodes: [a, b],
             alpha: 1.0 - t,
@@ -278,5 +539,5 @@ fn pair_rows(
             position: x,
         });
     }
-    rows
+    built
 }
