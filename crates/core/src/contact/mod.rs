@@ -31,9 +31,14 @@
 //! contact.  Candidates without any such segment are counted ([`PairRows::unmatched`]), never
 //! silently dropped.
 
+mod overlap;
+
+pub use overlap::{overlap_limit, Overlap};
+
 use crate::geometry::{self, Point};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
+use overlap::{deepest, depths_inside, strictly_inside};
 
 /// One constraint row.
 #[derive(Debug, Clone, PartialEq)]
@@ -81,22 +86,6 @@ pub struct PairRows {
     pub unit_tributaries: usize,
     /// The bodies' initial overlap, if any boundary node starts inside the other body.
     pub overlap: Option<Overlap>,
-}
-
-/// Where two bodies of a pair overlap before any load (see the module documentation).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Overlap {
-    /// Slave nodes that start inside the master and got a row with a negative gap.
-    pub slave_nodes: usize,
-    /// Master boundary nodes that start inside the slave (node-to-segment rows constrain only
-    /// slave nodes; these come out only as far as the slave nodes push the master).
-    pub master_nodes: usize,
-    /// Position of the deepest node found inside the other body.
-    pub deepest: Point,
-    /// Its depth: distance to the other body's boundary.
-    pub depth: f64,
-    /// Index of the body the deepest node belongs to.
-    pub deepest_body: usize,
 }
 
 /// Why contact rows could not be built.
@@ -147,13 +136,6 @@ pub enum ContactError {
     },
 }
 
-/// The deepest initial overlap accepted as contact in a pair: the larger `hmax` of its bodies.
-/// Deeper overlaps are refused ([`ContactError::DeepOverlap`]).
-pub fn overlap_limit(scene: &Scene, pair: &crate::scene::ContactPair) -> f64 {
-    let [k, l] = pair.bodies;
-    scene.bodies[k].hmax.max(scene.bodies[l].hmax)
-}
-
 /// Boundary edge lists per node: for each node, the boundary edges (as indices) that touch it.
 fn edges_at_nodes(mesh: &Mesh) -> Vec<Vec<usize>> {
     let mut at = vec![Vec::new(); mesh.nodes.len()];
@@ -164,6 +146,7 @@ fn edges_at_nodes(mesh: &Mesh) -> Vec<Vec<usize>> {
     at
 }
 
+/// True for each node on a boundary edge.
 fn boundary_node_mask(mesh: &Mesh) -> Vec<bool> {
     let mut on = vec![false; mesh.nodes.len()];
     for &[a, b] in &mesh.boundary {
@@ -171,46 +154,6 @@ fn boundary_node_mask(mesh: &Mesh) -> Vec<bool> {
         on[b] = true;
     }
     on
-}
-
-/// For every node of `mesh`: `Some(depth)` when it is a boundary node lying in the closed body
-/// `other` (polygon `polygon`, within `tol`), with `depth` its distance to `other`'s boundary
-/// (≤ `tol` on it); `None` when it is outside or not a boundary node.
-fn depths_inside(mesh: &Mesh, other: &Mesh, polygon: &[Point], tol: f64) -> Vec<Option<f64>> {
-    let on = boundary_node_mask(mesh);
-    let bbox = geometry::bounding_box(polygon);
-    mesh.nodes
-        .iter()
-        .enumerate()
-        .map(|(i, &p)| {
-            if !on[i] || !geometry::in_box(p, &bbox, tol) || !geometry::contains(polygon, p, tol) {
-                return None;
-            }
-            let depth = other
-                .boundary
-                .iter()
-                .map(|&[a, b]| geometry::project_on_segment(p, other.nodes[a], other.nodes[b]).1)
-                .fold(f64::INFINITY, f64::min);
-            Some(depth)
-        })
-        .collect()
-}
-
-/// True when a depth from [`depths_inside`] is strictly inside (deeper than `tol`).
-fn strictly_inside(depth: Option<f64>, tol: f64) -> bool {
-    depth.is_some_and(|d| d > tol)
-}
-
-/// The deepest strictly inside entry of a depth list: (node, depth).
-fn deepest(depths: &[Option<f64>], tol: f64) -> Option<(usize, f64)> {
-    depths
-        .iter()
-        .enumerate()
-        .filter_map(|(i, d)| d.filter(|d| *d > tol).map(|d| (i, d)))
-        .fold(None, |best, (i, d)| match best {
-            Some((_, bd)) if bd >= d => best,
-            _ => Some((i, d)),
-        })
 }
 
 /// Candidate mask of `mesh`'s boundary nodes for a pair: in the region, or (no region) near
