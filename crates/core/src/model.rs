@@ -4,11 +4,23 @@
 //! Only what the scene names is built: no contact pair → no rows and no QP; no gravity → no body
 //! force.  Prescribed displacements are eliminated with symmetric lifting, so the reduced
 //! stiffness stays symmetric: f̃ = f_F − K_FD u_D and g̃ = g − B_D u_D.
+//!
+//! Assembly refuses what no backend could solve meaningfully and records, as counted
+//! [`ModelWarning`]s, what it had to approximate:
+//!
+//! * contact rows whose every DOF (with a non-zero coefficient) is prescribed constrain nothing:
+//!   they are removed from B and g before any backend runs ([`ModelWarning::InertRows`]), unless
+//!   their reduced gap g − B_D u_D is negative — then the prescribed displacements themselves
+//!   interpenetrate and the scene is refused ([`ModelError::PrescribedPenetration`]);
+//! * a body whose rigid-body modes are free and that no remaining contact row touches (on a free
+//!   DOF) is refused ([`ModelError::NotHeld`]) — at assembly, so `check` refuses it too;
+//! * pairs with no row, slave nodes with no facing master segment, tributary-length fallbacks and
+//!   initial overlaps (see [`crate::contact`]) become warnings.
 
 use serde::Serialize;
 use sprs::TriMat;
 
-use crate::contact::{self, ContactError, PairRows};
+use crate::contact::{self, ContactError, ContactRow, PairRows};
 use crate::fem::{self, Dofs, FemError, Material};
 use crate::geometry::Point;
 use crate::mesh::{self, BodyGeometry, Mesh, MeshError, MeshLimits};
@@ -54,12 +66,244 @@ pub enum ModelError {
         /// Number of free rigid-body modes.
         modes: usize,
     },
+    /// A body with free rigid-body modes is in contact pairs, but no contact row acts on it, so
+    /// nothing holds it (found at assembly, before any backend runs).
+    #[error("body \"{body}\" is held only by contact ({modes} rigid-body mode(s) free), but its contact pair(s) {pairs} gave no constraint row acting on it; check the pair's region box and the bodies' positions, or add a [[dirichlet]] support")]
+    NotHeld {
+        /// Body name.
+        body: String,
+        /// Number of free rigid-body modes.
+        modes: usize,
+        /// The body's pairs, e.g. `#1 ("block" – "base")`, comma-separated.
+        pairs: String,
+    },
+    /// A contact row whose every DOF is prescribed has a negative reduced gap g − B_D u_D: the
+    /// prescribed displacements alone push the slave node into the master.
+    #[error("contact #{pair} (slave \"{slave}\", master \"{master}\"): at ({x}, {y}) both sides are fixed by [[dirichlet]] conditions whose prescribed displacements make the bodies interpenetrate by {depth:e}; the supports contradict the contact", x = point[0], y = point[1], depth = -gap)]
+    PrescribedPenetration {
+        /// 1-based pair index.
+        pair: usize,
+        /// Slave body name.
+        slave: String,
+        /// Master body name.
+        master: String,
+        /// Slave node position (undeformed).
+        point: Point,
+        /// The reduced gap g − B_D u_D (< 0).
+        gap: f64,
+    },
     /// The reduced QP failed its checks.
     #[error(transparent)]
     Qp(#[from] QpError),
     /// The reduced QP was already moved out of the model.
     #[error("the model's QP was already taken by a solve")]
     QpTaken,
+}
+
+/// Why a contact pair produced no constraint row.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NoRowReason {
+    /// No boundary node of either body is within one element size of the other (no region box).
+    NoCandidates,
+    /// Candidate slave nodes exist, but no master segment faces any of them.
+    NoFacingSegment,
+    /// Every row was inert (all its DOFs prescribed) and was removed.
+    AllInert,
+}
+
+/// Something assembly had to approximate or leave out, counted per contact pair.  `pair` is the
+/// 1-based index of the `[[contact]]` section; bodies are named.  [`std::fmt::Display`] gives a
+/// one-line message; serialised (JSON) with the variant name in `kind`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum ModelWarning {
+    /// The pair produced no constraint row at all (it has no effect on the solution).
+    NoContactRow {
+        /// 1-based pair index.
+        pair: usize,
+        /// The pair's two bodies, as in the scene.
+        bodies: [String; 2],
+        /// Why.
+        reason: NoRowReason,
+    },
+    /// Slave candidate nodes with no facing master segment (within its span, on its outer side):
+    /// they have no row, so nothing keeps them out of the master.
+    UnmatchedNodes {
+        /// 1-based pair index.
+        pair: usize,
+        /// Slave body.
+        slave: String,
+        /// Master body.
+        master: String,
+        /// Nodes without a row.
+        nodes: usize,
+        /// All slave candidate nodes of the pair.
+        candidates: usize,
+    },
+    /// Rows whose tributary length (for the pressure λ / length) does not come from slave edges
+    /// facing the master: it falls back to other interface edges, to any adjacent boundary edge,
+    /// or (`unit_length` of them) to 1.0.
+    TributaryFallback {
+        /// 1-based pair index.
+        pair: usize,
+        /// Slave body.
+        slave: String,
+        /// Master body.
+        master: String,
+        /// Rows with a fallback length.
+        rows: usize,
+        /// Of those, rows given the length 1.0 (no adjacent boundary edge of positive length).
+        unit_length: usize,
+    },
+    /// The bodies overlap at the start (by less than the pair's larger `hmax`): the slave nodes
+    /// inside the master have rows with negative gaps, which push them out.
+    InitialOverlap {
+        /// 1-based pair index.
+        pair: usize,
+        /// Slave body.
+        slave: String,
+        /// Master body.
+        master: String,
+        /// Slave nodes starting inside the master, each with a row (negative gap).
+        nodes: usize,
+        /// Master boundary nodes starting inside the slave (not constrained by node-to-segment
+        /// rows).
+        master_nodes: usize,
+        /// Body of the deepest node.
+        deepest_body: String,
+        /// Position of the deepest node (undeformed).
+        deepest: Point,
+        /// Its depth inside the other body.
+        depth: f64,
+    },
+    /// Rows whose every DOF is prescribed on both sides: they constrain nothing a solver can
+    /// change and were removed from B and g (their reduced gap is ≥ 0).
+    InertRows {
+        /// 1-based pair index.
+        pair: usize,
+        /// Slave body.
+        slave: String,
+        /// Master body.
+        master: String,
+        /// Rows removed.
+        rows: usize,
+        /// Slave node position of the first one.
+        first: Point,
+    },
+}
+
+impl ModelWarning {
+    /// The variant's name as serialised in `kind`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            ModelWarning::NoContactRow { .. } => "no_contact_row",
+            ModelWarning::UnmatchedNodes { .. } => "unmatched_nodes",
+            ModelWarning::TributaryFallback { .. } => "tributary_fallback",
+            ModelWarning::InitialOverlap { .. } => "initial_overlap",
+            ModelWarning::InertRows { .. } => "inert_rows",
+        }
+    }
+
+    /// The 1-based contact pair the warning is about.
+    pub fn pair(&self) -> usize {
+        match self {
+            ModelWarning::NoContactRow { pair, .. }
+            | ModelWarning::UnmatchedNodes { pair, .. }
+            | ModelWarning::TributaryFallback { pair, .. }
+            | ModelWarning::InitialOverlap { pair, .. }
+            | ModelWarning::InertRows { pair, .. } => *pair,
+        }
+    }
+}
+
+impl std::fmt::Display for ModelWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ModelWarning::NoContactRow {
+                pair,
+                bodies,
+                reason,
+            } => {
+                write!(
+                    f,
+                    "contact #{pair} (\"{}\" – \"{}\") gave no constraint row: ",
+                    bodies[0], bodies[1]
+                )?;
+                match reason {
+                    NoRowReason::NoCandidates => write!(
+                        f,
+                        "no boundary node of either body is within one element size of the other (give the pair a region box if they are meant to touch)"
+                    ),
+                    NoRowReason::NoFacingSegment => write!(
+                        f,
+                        "no master segment faces any candidate slave node (check the region box and the bodies' positions)"
+                    ),
+                    NoRowReason::AllInert => write!(
+                        f,
+                        "every row had all its DOFs prescribed on both sides and was removed as inert"
+                    ),
+                }
+            }
+            ModelWarning::UnmatchedNodes {
+                pair,
+                slave,
+                master,
+                nodes,
+                candidates,
+            } => write!(
+                f,
+                "contact #{pair}: {nodes} of {candidates} candidate node(s) of slave \"{slave}\" face no segment of master \"{master}\" and have no constraint row"
+            ),
+            ModelWarning::TributaryFallback {
+                pair,
+                slave,
+                master,
+                rows,
+                unit_length,
+            } => {
+                write!(
+                    f,
+                    "contact #{pair} (slave \"{slave}\", master \"{master}\"): {rows} row(s) have no slave edge facing the master; their pressure uses the length of other adjacent edges"
+                )?;
+                if *unit_length > 0 {
+                    write!(f, " ({unit_length} with no edge at all: length 1.0)")?;
+                }
+                Ok(())
+            }
+            ModelWarning::InitialOverlap {
+                pair,
+                slave,
+                master,
+                nodes,
+                master_nodes,
+                deepest_body,
+                deepest,
+                depth,
+            } => {
+                write!(
+                    f,
+                    "contact #{pair}: bodies \"{slave}\" (slave) and \"{master}\" (master) overlap at the start, deepest {depth:e} at ({}, {}) of \"{deepest_body}\"; {nodes} slave node(s) start inside the master and are pushed out by rows with negative gaps",
+                    deepest[0], deepest[1]
+                )?;
+                if *master_nodes > 0 {
+                    write!(f, ", {master_nodes} master node(s) start inside the slave")?;
+                }
+                Ok(())
+            }
+            ModelWarning::InertRows {
+                pair,
+                slave,
+                master,
+                rows,
+                first,
+            } => write!(
+                f,
+                "contact #{pair} (slave \"{slave}\", master \"{master}\"): {rows} row(s) have every DOF fixed by [[dirichlet]] on both sides (first at ({}, {})) and were removed as inert",
+                first[0], first[1]
+            ),
+        }
+    }
 }
 
 /// Meshes every body.  Break points make the mesh exact where it matters: other bodies' corners
@@ -158,6 +402,9 @@ pub struct Model {
     pub kernel: Vec<Vec<f64>>,
     /// What was assembled.
     pub effects: Vec<Effect>,
+    /// What assembly approximated or left out (inert rows removed, unmatched nodes, fallbacks,
+    /// initial overlaps, pairs without rows), in pair order.
+    pub warnings: Vec<ModelWarning>,
     /// The reduced QP (see [`Model::qp`]); `None` once taken by [`Model::take_qp`].
     reduced: Option<QpProblem>,
 }
@@ -200,26 +447,56 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Model, ModelError> {
         );
     }
 
-    let contacts = contact::contact_rows(scene, &meshes)?;
+    let mut contacts = contact::contact_rows(scene, &meshes)?;
+    let mut warnings = Vec::new();
+    for pair in &mut contacts {
+        warnings.extend(screen_pair(scene, &dofs, &fixed, pair)?);
+    }
+    for &(b, modes) in &floating {
+        let range = dofs.body_range(b);
+        let held = contacts.iter().any(|pair| {
+            pair.rows.iter().any(|r| {
+                row_entries(&dofs, pair, r)
+                    .iter()
+                    .any(|&(d, v)| v != 0.0 && range.contains(&d) && fixed[d].is_none())
+            })
+        });
+        if !held {
+            let name = |i: usize| &scene.bodies[i].name;
+            let pairs: Vec<String> = scene
+                .contacts
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.bodies.contains(&b))
+                .map(|(p, c)| {
+                    format!(
+                        "#{} (\"{}\" – \"{}\")",
+                        p + 1,
+                        name(c.bodies[0]),
+                        name(c.bodies[1])
+                    )
+                })
+                .collect();
+            return Err(ModelError::NotHeld {
+                body: name(b).clone(),
+                modes,
+                pairs: pairs.join(", "),
+            });
+        }
+    }
+
     let m: usize = contacts.iter().map(|p| p.rows.len()).sum();
     let mut b = TriMat::with_capacity((m, dofs.len()), 6 * m);
     let mut gap = Vec::with_capacity(m);
-    let mut row = 0;
-    for pair in &contacts {
-        for r in &pair.rows {
-            let [ma, mb] = r.master_nodes;
-            for (c, &nc) in r.normal.iter().enumerate() {
-                b.add_triplet(row, dofs.dof(pair.slave, r.slave_node, c), -nc);
-                if r.alpha != 0.0 {
-                    b.add_triplet(row, dofs.dof(pair.master, ma, c), r.alpha * nc);
-                }
-                if r.alpha != 1.0 {
-                    b.add_triplet(row, dofs.dof(pair.master, mb, c), (1.0 - r.alpha) * nc);
-                }
-            }
-            gap.push(r.gap);
-            row += 1;
+    for (row, (pair, r)) in contacts
+        .iter()
+        .flat_map(|pair| pair.rows.iter().map(move |r| (pair, r)))
+        .enumerate()
+    {
+        for (d, v) in row_entries(&dofs, pair, r) {
+            b.add_triplet(row, d, v);
         }
+        gap.push(r.gap);
     }
     let constraints: CscMatrix = b.to_csc();
 
@@ -266,8 +543,128 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Model, ModelError> {
         floating,
         kernel,
         effects,
+        warnings,
         reduced: Some(reduced),
     })
+}
+
+/// The entries (DOF, coefficient) of a contact row of B, in the order B stores them: for each
+/// component c, the slave node's −n_c, then α n_c on master node A and (1 − α) n_c on B when
+/// non-zero weights.
+fn row_entries(dofs: &Dofs, pair: &PairRows, r: &ContactRow) -> Vec<(usize, f64)> {
+    let [ma, mb] = r.master_nodes;
+    let mut entries = Vec::with_capacity(6);
+    for (c, &nc) in r.normal.iter().enumerate() {
+        entries.push((dofs.dof(pair.slave, r.slave_node, c), -nc));
+        if r.alpha != 0.0 {
+            entries.push((dofs.dof(pair.master, ma, c), r.alpha * nc));
+        }
+        if r.alpha != 1.0 {
+            entries.push((dofs.dof(pair.master, mb, c), (1.0 - r.alpha) * nc));
+        }
+    }
+    entries
+}
+
+/// Removes a pair's inert rows (every DOF with a non-zero coefficient prescribed) and returns
+/// the pair's warnings; refuses an inert row whose reduced gap g − B_D u_D is below −tolerance.
+fn screen_pair(
+    scene: &Scene,
+    dofs: &Dofs,
+    fixed: &[Option<f64>],
+    pair: &mut PairRows,
+) -> Result<Vec<ModelWarning>, ModelError> {
+    let tol = scene.tolerance();
+    let name = |b: usize| scene.bodies[b].name.clone();
+    let number = pair.pair + 1;
+    let mut warnings = Vec::new();
+    let mut inert = 0;
+    let mut first = None;
+    let mut kept = Vec::with_capacity(pair.rows.len());
+    for r in std::mem::take(&mut pair.rows) {
+        let entries = row_entries(dofs, pair, &r);
+        let mut lifted = 0.0;
+        let mut all_fixed = true;
+        for &(d, v) in entries.iter().filter(|(_, v)| *v != 0.0) {
+            match fixed[d] {
+                Some(u) => lifted += v * u,
+                None => all_fixed = false,
+            }
+        }
+        if !all_fixed {
+            kept.push(r);
+            continue;
+        }
+        let reduced = r.gap - lifted;
+        if reduced < -tol {
+            return Err(ModelError::PrescribedPenetration {
+                pair: number,
+                slave: name(pair.slave),
+                master: name(pair.master),
+                point: r.position,
+                gap: reduced,
+            });
+        }
+        inert += 1;
+        first.get_or_insert(r.position);
+    }
+    pair.rows = kept;
+    let (slave, master) = (name(pair.slave), name(pair.master));
+    if let Some(o) = &pair.overlap {
+        warnings.push(ModelWarning::InitialOverlap {
+            pair: number,
+            slave: slave.clone(),
+            master: master.clone(),
+            nodes: o.slave_nodes,
+            master_nodes: o.master_nodes,
+            deepest_body: name(o.deepest_body),
+            deepest: o.deepest,
+            depth: o.depth,
+        });
+    }
+    if pair.unmatched > 0 && pair.unmatched < pair.candidates {
+        warnings.push(ModelWarning::UnmatchedNodes {
+            pair: number,
+            slave: slave.clone(),
+            master: master.clone(),
+            nodes: pair.unmatched,
+            candidates: pair.candidates,
+        });
+    }
+    if pair.tributary_fallbacks > 0 {
+        warnings.push(ModelWarning::TributaryFallback {
+            pair: number,
+            slave: slave.clone(),
+            master: master.clone(),
+            rows: pair.tributary_fallbacks,
+            unit_length: pair.unit_tributaries,
+        });
+    }
+    if let Some(first) = first {
+        warnings.push(ModelWarning::InertRows {
+            pair: number,
+            slave: slave.clone(),
+            master: master.clone(),
+            rows: inert,
+            first,
+        });
+    }
+    if pair.rows.is_empty() {
+        let reason = if inert > 0 {
+            NoRowReason::AllInert
+        } else if pair.candidates == 0 {
+            NoRowReason::NoCandidates
+        } else {
+            NoRowReason::NoFacingSegment
+        };
+        let [k, l] = scene.contacts[pair.pair].bodies;
+        warnings.push(ModelWarning::NoContactRow {
+            pair: number,
+            bodies: [name(k), name(l)],
+            reason,
+        });
+    }
+    Ok(warnings)
 }
 
 /// Index of each DOF among the free ones (`usize::MAX` for a fixed DOF).

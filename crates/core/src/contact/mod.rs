@@ -1,0 +1,486 @@
+//! Node-to-segment contact constraints.
+//!
+//! For each contact pair, candidate boundary nodes are those in the pair's region box (or, with no
+//! box, within one element size of the other body).  The side with more candidates is the slave
+//! (unless the scene names it).  Each slave node X is projected onto the closest master segment
+//! A–B, X ≈ Y = (1 − t) A + t B, and gives one row
+//!
+//! ```text
+//! −n·u_X + α n·u_A + (1 − α) n·u_B ≤ g,   α = 1 − t,   g = (X − Y)·n,
+//! ```
+//!
+//! with n the master's outward unit normal: the slave may not cross the master segment.  The row's
+//! multiplier λ ≥ 0 is the normal contact force at X (force per unit thickness); dividing by the
+//! slave node's tributary length gives the contact pressure.  Coincident interface nodes
+//! (conforming meshes) give t ∈ {0, 1}: one row per coincident pair.
+//!
+//! # Initial overlap
+//!
+//! A slave node that starts strictly inside the master body (deeper than the scene tolerance) is
+//! always a candidate (with no region box) and always gets a row, on the closest master boundary
+//! segment whatever its orientation (candidate or not), with a negative gap g: the constraint
+//! pushes it out.  One that a region box leaves out is refused
+//! ([`ContactError::OverlapOutsideRegion`]): it would stay inside.  The pair's
+//! [`Overlap`] records how many nodes start inside and the deepest one.  An overlap deeper than
+//! the larger `hmax` of the pair ([`overlap_limit`]) is not read as contact but refused
+//! ([`ContactError::DeepOverlap`]): a linearised node-to-segment row cannot undo it, and such a
+//! scene almost always has a misplaced polygon.
+//!
+//! A node outside the master gets a row only on a segment that faces it and whose line it is not
+//! behind (g ≥ −tolerance): a projection through the master body (onto its far side) is no
+//! contact.  Candidates without any such segment are counted ([`PairRows::unmatched`]), never
+//! silently dropped.
+
+mod overlap;
+
+pub use overlap::{overlap_limit, Overlap};
+
+use crate::geometry::{self, Point};
+use crate::mesh::Mesh;
+use crate::scene::Scene;
+use overlap::{deepest, depths_inside, strictly_inside};
+
+/// One constraint row.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactRow {
+    /// Slave node (body-local index).
+    pub slave_node: usize,
+    /// The master segment's end nodes `[A, B]` (body-local indices).
+    pub master_nodes: [usize; 2],
+    /// Weight α of A (B gets 1 − α).
+    pub alpha: f64,
+    /// Master outward unit normal n.
+    pub normal: Point,
+    /// Initial normal gap g = (X − Y)·n.
+    pub gap: f64,
+    /// Slave node's tributary length on the interface (for pressure = λ / length).
+    pub tributary: f64,
+    /// Slave node position X.
+    pub position: Point,
+}
+
+/// The rows of one contact pair.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PairRows {
+    /// Index of the pair in the scene.
+    pub pair: usize,
+    /// Slave body index.
+    pub slave: usize,
+    /// Master body index.
+    pub master: usize,
+    /// Constraint rows, ordered by slave node.
+    pub rows: Vec<ContactRow>,
+    /// True when every slave node on the interface (zero initial gap) coincides with a master node.
+    pub conforming: bool,
+    /// Number of slave candidate nodes (each either has a row or is counted in `unmatched`).
+    pub candidates: usize,
+    /// Slave candidates that got no row: no master segment faces them (within its span, on
+    /// its outer side).
+    pub unmatched: usize,
+    /// Rows whose tributary length is not the half-lengths of slave edges facing the master
+    /// (it falls back to the other interface edges, then to every adjacent boundary edge, then to
+    /// 1.0): their pressure λ / length is an estimate.
+    pub tributary_fallbacks: usize,
+    /// Of `tributary_fallbacks`, the rows whose node has no boundary edge of positive length, so
+    /// that the length 1.0 was used.
+    pub unit_tributaries: usize,
+    /// The bodies' initial overlap, if any boundary node starts inside the other body.
+    pub overlap: Option<Overlap>,
+}
+
+/// Why contact rows could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum ContactError {
+    /// A region box holds no boundary node of a body.
+    #[error("contact #{pair}: region {region:?} holds no boundary node of body \"{body}\"")]
+    EmptyRegion {
+        /// 1-based pair index.
+        pair: usize,
+        /// The region.
+        region: [f64; 4],
+        /// Body name.
+        body: String,
+    },
+    /// Two bodies of a pair overlap too deeply at the start to be read as contact.
+    #[error("contact #{pair}: body \"{body}\" starts inside body \"{other}\": its boundary node at ({x}, {y}) lies {depth:e} deep, more than the larger element size {limit:e} of the pair; an overlap this deep is not a contact (move the bodies apart)", x = point[0], y = point[1])]
+    DeepOverlap {
+        /// 1-based pair index.
+        pair: usize,
+        /// Body whose node is inside the other.
+        body: String,
+        /// The body it is inside.
+        other: String,
+        /// The node's position.
+        point: Point,
+        /// Its distance to `other`'s boundary.
+        depth: f64,
+        /// The largest accepted depth ([`overlap_limit`]).
+        limit: f64,
+    },
+    /// Slave nodes start inside the master outside the pair's region box, so no row can push
+    /// them out.
+    #[error("contact #{pair}: {nodes} boundary node(s) of slave \"{slave}\" start inside master \"{master}\" outside the pair's region box (deepest {depth:e} at ({x}, {y})), so no constraint row can push them out; enlarge the region to cover the overlap or move the bodies apart", x = point[0], y = point[1])]
+    OverlapOutsideRegion {
+        /// 1-based pair index.
+        pair: usize,
+        /// Slave body name.
+        slave: String,
+        /// Master body name.
+        master: String,
+        /// Slave nodes inside the master without a row.
+        nodes: usize,
+        /// The deepest one's position.
+        point: Point,
+        /// Its depth.
+        depth: f64,
+    },
+}
+
+/// Boundary edge lists per node: for each node, the boundary edges (as indices) that touch it.
+fn edges_at_nodes(mesh: &Mesh) -> Vec<Vec<usize>> {
+    let mut at = vec![Vec::new(); mesh.nodes.len()];
+    for (e, &[a, b]) in mesh.boundary.iter().enumerate() {
+        at[a].push(e);
+        at[b].push(e);
+    }
+    at
+}
+
+/// True for each node on a boundary edge.
+fn boundary_node_mask(mesh: &Mesh) -> Vec<bool> {
+    let mut on = vec![false; mesh.nodes.len()];
+    for &[a, b] in &mesh.boundary {
+        on[a] = true;
+        on[b] = true;
+    }
+    on
+}
+
+/// Candidate mask of `mesh`'s boundary nodes for a pair: in the region, or (no region) near
+/// `other`'s boundary or inside `other` (`inside`, from [`depths_inside`]).
+fn candidates(
+    mesh: &Mesh,
+    other: &Mesh,
+    region: Option<&[f64; 4]>,
+    reach: f64,
+    tol: f64,
+    inside: &[Option<f64>],
+) -> Vec<bool> {
+    let on = boundary_node_mask(mesh);
+    mesh.nodes
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| {
+            on[i]
+                && match region {
+                    Some(r) => geometry::in_box(p, r, tol),
+                    None => {
+                        strictly_inside(inside[i], tol)
+                            || other.boundary.iter().any(|&[a, b]| {
+                                geometry::project_on_segment(p, other.nodes[a], other.nodes[b]).1
+                                    <= reach
+                            })
+                    }
+                }
+        })
+        .collect()
+}
+
+/// A master segment faces a slave node when cos(angle between their outward normals) < −FACING.
+const FACING: f64 = 0.3;
+
+fn outward_normal(a: Point, b: Point) -> Point {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len = dx.hypot(dy);
+    [dy / len, -dx / len]
+}
+
+/// Builds every pair's rows.
+pub fn contact_rows(scene: &Scene, meshes: &[Mesh]) -> Result<Vec<PairRows>, ContactError> {
+    let tol = scene.tolerance();
+    let mut all = Vec::with_capacity(scene.contacts.len());
+    for (p, pair) in scene.contacts.iter().enumerate() {
+        let [k, l] = pair.bodies;
+        let reach = scene.bodies[k].hmax.max(scene.bodies[l].hmax);
+        let limit = overlap_limit(scene, pair);
+        let inside_k = depths_inside(&meshes[k], &meshes[l], &scene.bodies[l].polygon, tol);
+        let inside_l = depths_inside(&meshes[l], &meshes[k], &scene.bodies[k].polygon, tol);
+        let deepest_k = deepest(&inside_k, tol).map(|(i, d)| (k, l, i, d));
+        let deepest_l = deepest(&inside_l, tol).map(|(i, d)| (l, k, i, d));
+        let deepest_all = match (deepest_k, deepest_l) {
+            (Some(a), Some(b)) => Some(if b.3 > a.3 { b } else { a }),
+            (a, b) => a.or(b),
+        };
+        if let Some((b, o, i, depth)) = deepest_all {
+            if depth > limit {
+                return Err(ContactError::DeepOverlap {
+                    pair: p + 1,
+                    body: scene.bodies[b].name.clone(),
+                    other: scene.bodies[o].name.clone(),
+                    point: meshes[b].nodes[i],
+                    depth,
+                    limit,
+                });
+            }
+        }
+        let region = pair.region.as_ref();
+        let cand_k = candidates(&meshes[k], &meshes[l], region, reach, tol, &inside_k);
+        let cand_l = candidates(&meshes[l], &meshes[k], region, reach, tol, &inside_l);
+        let count = |c: &[bool]| c.iter().filter(|x| **x).count();
+        let (nk, nl) = (count(&cand_k), count(&cand_l));
+        if let Some(r) = region {
+            for (n, b) in [(nk, k), (nl, l)] {
+                if n == 0 {
+                    return Err(ContactError::EmptyRegion {
+                        pair: p + 1,
+                        region: *r,
+                        body: scene.bodies[b].name.clone(),
+                    });
+                }
+            }
+        }
+        let slave = pair.slave.unwrap_or(if nl > nk { l } else { k });
+        let master = if slave == k { l } else { k };
+        let (cand_s, cand_m, inside_s, inside_m) = if slave == k {
+            (&cand_k, &cand_l, &inside_k, &inside_l)
+        } else {
+            (&cand_l, &cand_k, &inside_l, &inside_k)
+        };
+        let built = pair_rows(
+            &meshes[slave],
+            &meshes[master],
+            cand_s,
+            cand_m,
+            inside_s,
+            tol,
+            limit,
+        );
+        let rows = built.rows;
+        // Conforming: every slave node on the interface (zero gap) sits on a master node.
+        let touching: Vec<&ContactRow> = rows.iter().filter(|r| r.gap == 0.0).collect();
+        let conforming =
+            !touching.is_empty() && touching.iter().all(|r| r.alpha == 0.0 || r.alpha == 1.0);
+        let mut with_row = vec![false; meshes[slave].nodes.len()];
+        for r in &rows {
+            with_row[r.slave_node] = true;
+        }
+        // Every slave node inside the master must be pushed out by a row: one that has none
+        // (outside the region box) would stay interpenetrating, so the scene is refused.
+        let stranded = inside_s
+            .iter()
+            .zip(&with_row)
+            .enumerate()
+            .filter(|(_, (d, w))| strictly_inside(**d, tol) && !**w)
+            .map(|(i, (d, _))| (i, d.unwrap_or(0.0)));
+        let (mut count_stranded, mut worst) = (0, None);
+        for (i, d) in stranded {
+            count_stranded += 1;
+            if worst.is_none_or(|(_, wd)| d > wd) {
+                worst = Some((i, d));
+            }
+        }
+        if let Some((i, depth)) = worst {
+            return Err(ContactError::OverlapOutsideRegion {
+                pair: p + 1,
+                slave: scene.bodies[slave].name.clone(),
+                master: scene.bodies[master].name.clone(),
+                nodes: count_stranded,
+                point: meshes[slave].nodes[i],
+                depth,
+            });
+        }
+        let overlap = deepest_all.map(|(b, _, i, depth)| {
+            let inside = |d: &&Option<f64>| strictly_inside(**d, tol);
+            let slave_nodes = inside_s
+                .iter()
+                .zip(&with_row)
+                .filter(|(d, w)| strictly_inside(**d, tol) && **w)
+                .count();
+            Overlap {
+                slave_nodes,
+                master_nodes: inside_m.iter().filter(inside).count(),
+                deepest: meshes[b].nodes[i],
+                depth,
+                deepest_body: b,
+            }
+        });
+        all.push(PairRows {
+            pair: p,
+            slave,
+            master,
+            rows,
+            conforming,
+            candidates: count(cand_s),
+            unmatched: built.unmatched,
+            tributary_fallbacks: built.tributary_fallbacks,
+            unit_tributaries: built.unit_tributaries,
+            overlap,
+        });
+    }
+    Ok(all)
+}
+
+/// The rows of one pair with the counts of what could not be done exactly.
+struct Built {
+    rows: Vec<ContactRow>,
+    unmatched: usize,
+    tributary_fallbacks: usize,
+    unit_tributaries: usize,
+}
+
+/// The closest admissible master segment for one slave node: (distance, interior projection,
+/// facing, segment, t).
+type Choice = (f64, bool, bool, [usize; 2], f64);
+
+fn pair_rows(
+    slave: &Mesh,
+    master: &Mesh,
+    cand_s: &[bool],
+    cand_m: &[bool],
+    inside_s: &[Option<f64>],
+    tol: f64,
+    limit: f64,
+) -> Built {
+    // Master segments: boundary edges with both ends candidates.
+    let segments: Vec<[usize; 2]> = master
+        .boundary
+        .iter()
+        .copied()
+        .filter(|&[a, b]| cand_m[a] && cand_m[b])
+        .collect();
+    let slave_edges = edges_at_nodes(slave);
+    let mut built = Built {
+        rows: Vec::new(),
+        unmatched: 0,
+        tributary_fallbacks: 0,
+        unit_tributaries: 0,
+    };
+    for (x_node, &x) in slave.nodes.iter().enumerate() {
+        if !cand_s[x_node] {
+            continue;
+        }
+        let inside = strictly_inside(inside_s[x_node], tol);
+        // On the master's boundary (within tolerance): a shallow negative gap is an overlap
+        // along the boundary; a deep one a projection through the body.
+        let behind_limit = if inside_s[x_node].is_some() {
+            limit
+        } else {
+            tol
+        };
+        // The slave's outward normal at X, from its adjacent interface edges (all adjacent
+        // boundary edges if none): only master segments facing it can be touched.
+        let mut ns = [0.0, 0.0];
+        for pass in [true, false] {
+            for &e in &slave_edges[x_node] {
+                let [p, q] = slave.boundary[e];
+                if pass && !(cand_s[p] && cand_s[q]) {
+                    continue;
+                }
+                let n = outward_normal(slave.nodes[p], slave.nodes[q]);
+                ns = [ns[0] + n[0], ns[1] + n[1]];
+            }
+            if ns != [0.0, 0.0] {
+                break;
+            }
+        }
+        let ns_len = ns[0].hypot(ns[1]);
+        // Outside the master: the closest facing candidate segment whose span (within
+        // tolerance) contains the projection of X and whose line X is not behind.  Inside: the
+        // closest boundary segment of the master, candidate or not, of any orientation (the
+        // shortest way out), projection clamped to the segment.
+        let mut best: Option<Choice> = None;
+        let admissible = if inside { &master.boundary } else { &segments };
+        for &[a, b] in admissible {
+            let (pa, pb) = (master.nodes[a], master.nodes[b]);
+            let nm = outward_normal(pa, pb);
+            let facing = ns_len == 0.0 || (nm[0] * ns[0] + nm[1] * ns[1]) / ns_len <= -FACING;
+            if !inside && !facing {
+                continue;
+            }
+            let d = [pb[0] - pa[0], pb[1] - pa[1]];
+            let len2 = d[0] * d[0] + d[1] * d[1];
+            if len2 == 0.0 {
+                continue;
+            }
+            let len = len2.sqrt();
+            let t_raw = ((x[0] - pa[0]) * d[0] + (x[1] - pa[1]) * d[1]) / len2;
+            let eps = tol / len;
+            if !inside && (t_raw < -eps || t_raw > 1.0 + eps) {
+                continue;
+            }
+            let t = if t_raw <= eps {
+                0.0
+            } else if t_raw >= 1.0 - eps {
+                1.0
+            } else {
+                t_raw
+            };
+            let y = [pa[0] + t * d[0], pa[1] + t * d[1]];
+            if !inside && (x[0] - y[0]) * nm[0] + (x[1] - y[1]) * nm[1] < -behind_limit {
+                // Behind the segment's line yet outside the master (or deeper than the overlap
+                // limit while on its boundary): the projection runs through the body to its
+                // far side.
+                continue;
+            }
+            let dist = geometry::distance(x, y);
+            let interior = t > 0.0 && t < 1.0;
+            let better = match best {
+                None => true,
+                Some((bd, bi, bf, _, _)) => {
+                    dist < bd - tol
+                        || (dist <= bd + tol
+                            && ((interior && !bi) || (interior == bi && facing && !bf)))
+                }
+            };
+            if better {
+                best = Some((dist, interior, facing, [a, b], t));
+            }
+        }
+        let Some((_, _, _, [a, b], t)) = best else {
+            built.unmatched += 1;
+            continue;
+        };
+        let (pa, pb) = (master.nodes[a], master.nodes[b]);
+        let normal = outward_normal(pa, pb);
+        let y = [pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1])];
+        let gap = (x[0] - y[0]) * normal[0] + (x[1] - y[1]) * normal[1];
+        // Tributary length: half of each adjacent interface edge that faces the master (its
+        // outward normal opposes n); a side edge caught by a thin region box does not count.
+        let mut facing = 0.0;
+        let mut interface = 0.0;
+        let mut any = 0.0;
+        for &e in &slave_edges[x_node] {
+            let [p, q] = slave.boundary[e];
+            let (pp, pq) = (slave.nodes[p], slave.nodes[q]);
+            let half = 0.5 * geometry::distance(pp, pq);
+            any += half;
+            if cand_s[p] && cand_s[q] {
+                interface += half;
+                let ns = outward_normal(pp, pq);
+                if ns[0] * normal[0] + ns[1] * normal[1] < -0.5 {
+                    facing += half;
+                }
+            }
+        }
+        let tributary = match [facing, interface, any].into_iter().find(|l| *l > 0.0) {
+            Some(l) => l,
+            None => {
+                built.unit_tributaries += 1;
+                1.0
+            }
+        };
+        if facing <= 0.0 {
+            built.tributary_fallbacks += 1;
+        }
+        built.rows.push(ContactRow {
+            slave_node: x_node,
+            master_nodes: [a, b],
+            alpha: 1.0 - t,
+            normal,
+            gap: if gap.abs() <= tol { 0.0 } else { gap },
+            tributary,
+            position: x,
+        });
+    }
+    built
+}
