@@ -347,11 +347,24 @@ pub fn mesh_scene(scene: &Scene, limits: &MeshLimits) -> Result<Vec<Mesh>, Model
         };
         for c in scene.contacts.iter().filter(|c| c.bodies.contains(&b)) {
             if let Some(r) = &c.region {
-                breaks.extend(
-                    mesh::box_crossings(&body.polygon, r, tol)
-                        .into_iter()
-                        .filter(|p| !near_corner(p)),
-                );
+                let crossings = mesh::box_crossings(&body.polygon, r, tol);
+                let holds_vertex = body
+                    .polygon
+                    .iter()
+                    .any(|v| crate::geometry::in_box(*v, r, tol));
+                let kept: Vec<Point> = crossings
+                    .iter()
+                    .copied()
+                    .filter(|p| !near_corner(p))
+                    .collect();
+                // A box that meets the boundary only next to a corner (and holds no vertex)
+                // would otherwise hold no mesh node: keep its crossings, sliver or not, so that
+                // "the box meets the boundary" (checked at validation) always gives a node.
+                if kept.is_empty() && !holds_vertex {
+                    breaks.extend(crossings);
+                } else {
+                    breaks.extend(kept);
+                }
             }
         }
         let geometry = BodyGeometry {

@@ -287,3 +287,27 @@ fn polygons_whose_area_overflows_are_refused() {
         "{s} {k} {r}"
     );
 }
+
+#[test]
+fn a_contact_box_meeting_the_boundary_only_near_a_corner_still_gets_a_node() {
+    // Experiment 2b at hmax 0.25 with a contact box that crosses the interface 0.02 from the
+    // corner (1, 1) and holds no vertex: validation accepts it (the box meets both boundaries),
+    // so assembly must give it a row. Its crossings used to be dropped as "near a corner"
+    // (to avoid slivers), leaving no node in the box and failing after meshing.
+    let text = std::fs::read_to_string(
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/seed/exp2b.toml"),
+    )
+    .expect("fixture");
+    let text = text.replace("hmax = 0.2", "hmax = 0.25").replace(
+        "region = [1, 2, 0.99, 1.01]",
+        "region = [1.02, 1.03, 0.99, 1.01]",
+    );
+    assert!(
+        text.contains("[1.02, 1.03, 0.99, 1.01]"),
+        "the fixture's box changed"
+    );
+    let scene = signorini_core::scene::Scene::from_toml(&text).expect("valid scene");
+    let meshes = signorini_core::model::mesh_scene(&scene, &Default::default()).expect("mesh");
+    let model = signorini_core::model::assemble(&scene, meshes).expect("assembles");
+    assert!(model.rows() >= 1);
+}
