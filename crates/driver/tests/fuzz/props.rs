@@ -349,8 +349,8 @@ fn run_stages(
             ("-min_multiplier", -r.min_multiplier),
         ];
         for (what, v) in measures {
-            // `!(v <= tol)` so that NaN fails too.
-            if !(v <= tol) {
+            // NaN fails too.
+            if v.is_nan() || v > tol {
                 fail(
                     found,
                     "solved-residuals",
