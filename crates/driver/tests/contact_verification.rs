@@ -271,3 +271,104 @@ fn incline_normal_force_is_weight_over_cos_theta() {
     assert!(block.reaction[1].abs() <= 1e-7 * n);
     assert!((block.applied[1] + w).abs() <= 1e-12 * w);
 }
+
+/// Hertz line contact: an elastic cylinder (radius R = 1; only its bottom cap is modelled, 0.3
+/// high, its flat top loaded by a total force P per unit length and held sideways) pressed onto
+/// an elastic block (0.8 × 0.4, clamped at its base), both E = 1, ν = 0.3, plane strain.
+/// Hertz: half-width a = √(4PR / (π E*)), 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂, and the
+/// elliptical pressure p(x) = p₀ √(1 − x²/a²), p₀ = 2P / (π a).  P is chosen for a = 0.05.
+///
+/// Tolerances: hmax h = 0.005 = a/10.  The half-width from the second moment of the pressure
+/// (Σλx² / Σλ = a²/4 for the ellipse) averages over ~20 nodes: O((h/a)²) = 1 % discretisation
+/// plus the finite block (depth 8a: O((a/d)²) ≈ 1.6 %) — 3 %.  The active half-width is located
+/// to the nearest node: within 1.5 h.  The peak nodal pressure is a pointwise, first-order
+/// quantity: O(h/a) = 10 % a priori, 8 % asked.  The total force equals P by equilibrium.
+#[test]
+fn hertz_line_contact() {
+    let (r, cx, base, top) = (1.0_f64, 0.4, 0.4, 0.7);
+    let centre = base + r;
+    let e_star = 1.0 / (2.0 * (1.0 - 0.3_f64.powi(2)));
+    let a = 0.05;
+    let p = a * a * std::f64::consts::PI * e_star / (4.0 * r);
+    // The cap's arc as a polygon with 160 segments (sag (1 cm)²/8R ≈ 1 % of the gap at x = a).
+    let phi0 = ((centre - top) / r).acos();
+    let n = 160;
+    let arc: Vec<[f64; 2]> = (0..=n)
+        .map(|i| {
+            let phi = -phi0 + 2.0 * phi0 * i as f64 / n as f64;
+            [cx + r * phi.sin(), centre - r * phi.cos()]
+        })
+        .collect();
+    let (xl, xr) = (arc[0][0], arc[n][0]);
+    let polygon = arc
+        .iter()
+        .map(|q| format!("[{:?}, {:?}]", q[0], q[1]))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let text = format!(
+        r#"
+        [[body]]
+        name = "cap"
+        polygon = [{polygon}]
+        hmax = 0.005
+        young = 1.0
+        poisson = 0.3
+        [[body]]
+        name = "block"
+        polygon = [[0, 0], [0.8, 0], [0.8, 0.4], [0, 0.4]]
+        hmax = 0.005
+        young = 1.0
+        poisson = 0.3
+        [[dirichlet]]
+        body = "block"
+        region = [0, 0.8, 0, 0]
+        [[dirichlet]]
+        body = "cap"
+        region = [{xl:?}, {xr:?}, {top}, {top}]
+        components = ["x"]
+        [[neumann]]
+        body = "cap"
+        region = [{xl:?}, {xr:?}, {top}, {top}]
+        traction = [0, {t:?}]
+        [[contact]]
+        bodies = ["cap", "block"]
+        region = [0.2, 0.6, 0.39, 0.45]
+        "#,
+        t = -p / (xr - xl),
+    );
+    let o = solve(&text);
+    let c = &o.report.contacts[0];
+    let total: f64 = c.nodes.iter().map(|q| q.multiplier).sum();
+    assert!((total - p).abs() <= 1e-7 * p, "Σλ = {total:e}, P = {p:e}");
+    let second: f64 = c
+        .nodes
+        .iter()
+        .map(|q| q.multiplier * (q.x - cx).powi(2))
+        .sum::<f64>()
+        / total;
+    let a_moment = 2.0 * second.sqrt();
+    assert!(
+        (a_moment / a - 1.0).abs() <= 0.03,
+        "half-width from the pressure's second moment {a_moment:.5} vs Hertz {a}"
+    );
+    let force_scale = total.max(o.report.bodies.iter().map(|b| b.applied[1].abs()).sum());
+    let active: Vec<f64> = c
+        .nodes
+        .iter()
+        .filter(|q| signorini_core::report::is_active(q.multiplier, force_scale))
+        .map(|q| q.x)
+        .collect();
+    let span = 0.5
+        * (active.iter().copied().fold(f64::MIN, f64::max)
+            - active.iter().copied().fold(f64::MAX, f64::min));
+    assert!(
+        (span - a).abs() <= 1.5 * 0.005,
+        "active half-width {span:.5} vs Hertz {a}"
+    );
+    let p0 = 2.0 * p / (std::f64::consts::PI * a);
+    let peak = c.nodes.iter().map(|q| q.pressure).fold(0.0, f64::max);
+    assert!(
+        (peak / p0 - 1.0).abs() <= 0.08,
+        "peak pressure {peak:e} vs Hertz p₀ {p0:e}"
+    );
+}
