@@ -214,10 +214,15 @@ fn fuzz_survey() {
     let start = std::time::Instant::now();
     let mut hangs = 0;
     let mut ran = 0;
+    // An abandoned (hung) case keeps a core busy until the process exits: stop after
+    // FUZZ_MAX_HANGS of them (default 2; scripts/fuzz.sh runs chunks in separate processes).
+    let max_hangs: usize = std::env::var("FUZZ_MAX_HANGS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(2);
     for _ in 0..n {
-        // An abandoned (hung) case keeps a core busy: stop after two.
-        if hangs >= 2 {
-            println!("stopping early: two cases did not finish");
+        if hangs >= max_hangs {
+            println!("stopping early: {hangs} cases did not finish");
             break;
         }
         ran += 1;
@@ -270,7 +275,7 @@ fn fuzz_survey() {
         println!("  {c:>7} {} {k}", if known { "*" } else { " " });
     }
     let dump = std::env::var_os("FUZZ_DUMP").map(PathBuf::from);
-    for (i, (k, (case, found))) in examples.iter().enumerate() {
+    for (k, (case, found)) in &examples {
         println!("\n=== {k} ===\n{}", describe(case, found));
         if let Some(dir) = &dump {
             std::fs::create_dir_all(dir).expect("dump dir");
@@ -279,7 +284,17 @@ fn fuzz_survey() {
                 text.push_str(&format!("# fuzz-must-refuse: {why}\n"));
             }
             text.push_str(&case.toml);
-            std::fs::write(dir.join(format!("case-{i:02}.toml")), text).expect("dump");
+            // Named after the kind, so that later runs replace rather than pile up.
+            let slug: String = k
+                .chars()
+                .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+                .collect::<String>()
+                .split('-')
+                .filter(|w| !w.is_empty())
+                .collect::<Vec<_>>()
+                .join("-");
+            let slug: String = slug.chars().take(80).collect();
+            std::fs::write(dir.join(format!("{slug}.toml")), text).expect("dump");
         }
     }
     let enforced: Vec<&String> = kinds
