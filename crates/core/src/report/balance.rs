@@ -176,3 +176,87 @@ pub fn force_balance(scene: &Scene, model: &Model, u: &[f64], multipliers: &[f64
     };
     ForceBalance { bodies, relative }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::MeshLimits;
+    use crate::model;
+
+    fn model_of(text: &str) -> (Scene, Model) {
+        let scene = Scene::from_toml(text).unwrap();
+        let meshes = model::mesh_scene(&scene, &MeshLimits::default()).unwrap();
+        let model = model::assemble(&scene, meshes).unwrap();
+        (scene, model)
+    }
+
+    /// A linear traction over part of an edge and gravity, integrated by hand.
+    #[test]
+    fn applied_loads_are_the_analytic_integrals() {
+        let (scene, model) = model_of(
+            r#"
+            [model]
+            plane = "stress"
+            thickness = 0.5
+            gravity = [0.5, -2.0]
+            [[body]]
+            name = "b"
+            polygon = [[0, 0], [3, 0], [3, 1], [0, 1]]
+            hmax = 0.3
+            young = 1.0
+            poisson = 0.3
+            density = 4.0
+            [[dirichlet]]
+            body = "b"
+            region = [0, 0, 0, 1]
+            [[neumann]]
+            body = "b"
+            region = [1, 3, 1, 1]
+            points = [[0, 1], [1, 1], [0, 0]]
+            tx = [1, 2, 1]
+            ty = [0, 3, 5]
+            "#,
+        );
+        // On y = 1: tx = 1 + x, ty = 3x (from the three points); over x ∈ [1, 3]:
+        // ∫ tx = 2 + 4 = 6, ∫ ty = 12; times the thickness 0.5.  Gravity: ρ A g t = 4·3·g·0.5.
+        let a = applied_loads(&scene, &model)[0];
+        let want = [0.5 * 6.0 + 6.0 * 0.5, 0.5 * 12.0 + 6.0 * -2.0];
+        for c in 0..2 {
+            assert!((a[c] - want[c]).abs() <= 1e-12, "{a:?} vs {want:?}");
+        }
+    }
+
+    /// Without a solve, u = 0 and λ = 0: the reactions are minus the assembled loads on the
+    /// supports, so the imbalance is exactly the load the free DOFs carry.
+    #[test]
+    fn zero_displacement_leaves_the_free_loads_unbalanced() {
+        let (scene, model) = model_of(
+            r#"
+            [[body]]
+            name = "b"
+            polygon = [[0, 0], [1, 0], [1, 1], [0, 1]]
+            hmax = 0.5
+            young = 1.0
+            poisson = 0.3
+            [[dirichlet]]
+            body = "b"
+            region = [0, 1, 0, 0]
+            [[neumann]]
+            body = "b"
+            region = [0, 1, 1, 1]
+            traction = [0, -1]
+            "#,
+        );
+        let u = vec![0.0; model.dofs.len()];
+        let fb = force_balance(&scene, &model, &u, &[]);
+        let free_load: f64 = model
+            .free
+            .iter()
+            .filter(|d| *d % 2 == 1)
+            .map(|&d| model.load[d])
+            .sum();
+        assert!((fb.bodies[0].imbalance()[1] - free_load).abs() <= 1e-15);
+        assert!((free_load + 1.0).abs() <= 1e-15);
+        assert!((fb.relative - 1.0).abs() <= 1e-15);
+    }
+}
