@@ -4,7 +4,8 @@
 //!
 //! * no panic;
 //! * the status is a documented one;
-//! * `solved` ⇒ every number written is finite and the residuals meet the tolerance;
+//! * `solved` ⇒ every number written is finite, the residuals meet the tolerance and no body
+//!   ends inside another;
 //! * a refusal names a key and writes nothing;
 //! * `check` accepts exactly what `solve` accepts;
 //! * a broken scene (wrong array length, unknown or missing key, `nan`, unknown body) is refused;
@@ -54,6 +55,9 @@ const KNOWN_GAPS: &[(&str, &str)] = &[
     ("check-equals-solve", "check accepted, solve refused"),
     // Control characters in body names make deformed.svg invalid XML.
     ("outputs-well-formed", "non-XML character"),
+    // `solved` with a body ending inside another (small displacements): an initial overlap of
+    // two bodies is solved as if the overlapping nodes had no row (issue 8's dropped rows).
+    ("solved-no-interpenetration", ""),
     // write_outputs never returns: deformed.svg's axis ticks for a 1e9-sized body whose
     // displacement overflows (plotters' key-point loop).
     ("finishes", ""),

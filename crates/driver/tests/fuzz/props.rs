@@ -20,7 +20,7 @@ pub struct Finding {
 }
 
 /// Every property, by name.
-pub const PROPERTIES: [&str; 10] = [
+pub const PROPERTIES: [&str; 11] = [
     // Nothing panics: not parsing, checking, solving nor writing.
     "no-panic",
     // Every stage ends: a case finishes within [`CASE_TIMEOUT`].
@@ -31,6 +31,9 @@ pub const PROPERTIES: [&str; 10] = [
     "solved-finite",
     // `solved` ⇒ the residuals meet the tolerance asked for.
     "solved-residuals",
+    // `solved` ⇒ no boundary node of a body in a contact pair ends up inside the other body
+    // (deformed geometry, checked independently of the contact rows).
+    "solved-no-interpenetration",
     // A refusal names the key or section at fault.
     "refusal-names-key",
     // A refusal writes nothing.
@@ -359,6 +362,11 @@ fn run_stages(
             }
         }
     }
+    if status == "solved" {
+        if let Some(detail) = interpenetration(&scene, &outcome) {
+            fail(found, "solved-no-interpenetration", detail);
+        }
+    }
     match run::write_outputs(target, &scene, &outcome) {
         Ok(paths) => {
             for p in paths {
@@ -394,4 +402,100 @@ fn run_stages(
         }
         Err(e) => fail(found, "outputs-well-formed", format!("write_outputs: {e}")),
     }
+}
+
+/// The deformed boundary of body `b`: its boundary edges with displaced end points.
+fn deformed_edges(outcome: &run::Outcome, b: usize) -> Vec<([f64; 2], [f64; 2])> {
+    let mesh = &outcome.model.meshes[b];
+    let u = &outcome.fields[b].displacement;
+    let at = |n: usize| [mesh.nodes[n][0] + u[n][0], mesh.nodes[n][1] + u[n][1]];
+    mesh.boundary.iter().map(|&[a, c]| (at(a), at(c))).collect()
+}
+
+/// Ray casting: is `p` inside the closed curve made of `edges`?
+fn inside(p: [f64; 2], edges: &[([f64; 2], [f64; 2])]) -> bool {
+    let mut crossings = 0;
+    for (a, b) in edges {
+        if (a[1] > p[1]) != (b[1] > p[1]) {
+            let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+            if x > p[0] {
+                crossings += 1;
+            }
+        }
+    }
+    crossings % 2 == 1
+}
+
+fn distance_to_edges(p: [f64; 2], edges: &[([f64; 2], [f64; 2])]) -> f64 {
+    edges
+        .iter()
+        .map(|(a, b)| signorini_core::geometry::project_on_segment(p, *a, *b).1)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The deepest boundary node of one body of a contact pair inside the other (deformed), when
+/// deeper than 1e-6 of the scene size plus 10 % of the pair's largest displacement (what the
+/// node-to-segment discretisation may leave: a master node against a sagging slave segment
+/// penetrates by about h²κ/8, a small fraction of the displacement).  Only checked where the
+/// linear (small-displacement) model holds: the largest displacement at most 10 % of the smaller
+/// body's size; beyond that, bodies may sweep through each other in the deformed picture
+/// without any error of the solver.
+fn interpenetration(scene: &Scene, outcome: &run::Outcome) -> Option<String> {
+    let finite = outcome
+        .fields
+        .iter()
+        .all(|f| f.displacement.iter().flatten().all(|v| v.is_finite()));
+    if !finite {
+        return None;
+    }
+    for (i, pair) in scene.contacts.iter().enumerate() {
+        let umax = pair
+            .bodies
+            .iter()
+            .flat_map(|&b| outcome.fields[b].displacement.iter())
+            .map(|d| d[0].hypot(d[1]))
+            .fold(0.0, f64::max);
+        let smaller = pair
+            .bodies
+            .iter()
+            .map(|&b| {
+                let bb = signorini_core::geometry::bounding_box(scene.bodies[b].polygon.iter());
+                (bb[1] - bb[0]).min(bb[3] - bb[2])
+            })
+            .fold(f64::INFINITY, f64::min);
+        if umax > 0.1 * smaller {
+            continue;
+        }
+        let tol = 1e-6 * scene.size() + 0.1 * umax;
+        for (a, b) in [
+            (pair.bodies[0], pair.bodies[1]),
+            (pair.bodies[1], pair.bodies[0]),
+        ] {
+            let edges = deformed_edges(outcome, b);
+            let mesh = &outcome.model.meshes[a];
+            let u = &outcome.fields[a].displacement;
+            let mut deepest = (0.0_f64, [0.0, 0.0]);
+            for &[n, _] in &mesh.boundary {
+                let p = [mesh.nodes[n][0] + u[n][0], mesh.nodes[n][1] + u[n][1]];
+                if inside(p, &edges) {
+                    let d = distance_to_edges(p, &edges);
+                    if d > deepest.0 {
+                        deepest = (d, mesh.nodes[n]);
+                    }
+                }
+            }
+            if deepest.0 > tol {
+                return Some(format!(
+                    "contact #{}: body {:?} node at {:?} ends {:.3e} inside body {:?} \
+                     (allowed {tol:.1e})",
+                    i + 1,
+                    scene.bodies[a].name,
+                    deepest.1,
+                    deepest.0,
+                    scene.bodies[b].name
+                ));
+            }
+        }
+    }
+    None
 }
