@@ -6,8 +6,9 @@ use std::path::PathBuf;
 use signorini::run::{self, Outcome};
 use signorini_clarabel::ClarabelBackend;
 use signorini_core::mesh::MeshLimits;
-use signorini_core::qp::{QpStatus, SolveOptions};
-use signorini_core::report::RunReport;
+use signorini_core::model::Model;
+use signorini_core::qp::{mat_t_vec, mat_vec, norm_inf, QpProblem, QpStatus, SolveOptions};
+use signorini_core::report::{self, RunReport};
 use signorini_core::scene::Scene;
 
 fn fixture(name: &str) -> PathBuf {
@@ -44,6 +45,9 @@ fn check_contract(name: &str, scene: &Scene, o: &Outcome) {
         r.residuals
     );
     assert_eq!(r.status, "solved");
+    // `solved` at tol 1e-10 implies penetration ≤ 1e-10 · max |u| (≤ scene size here) and
+    // complementarity, −min multiplier ≤ 1e-10: the bounds below are those implications with
+    // one to two orders of margin for the differing denominators.
     assert!(
         r.residuals.max_penetration <= 1e-9 * scene.size(),
         "{name}: penetration {}",
@@ -54,12 +58,21 @@ fn check_contract(name: &str, scene: &Scene, o: &Outcome) {
         "{name}: {:?}",
         r.residuals
     );
+    // Force balance, against a bound derived from the tolerance (not a measured threshold):
+    // the imbalance of a body is −Σ_F r_d (+ the analytic − assembled load difference, round-off
+    // here), so |imbalance| ≤ n_F ‖r‖∞ ≤ n_F · tol · F, with F the force scale of the
+    // stationarity measure; relative to the largest force figure `scale`.
+    let check = residual_check(scene, o);
+    assert_identity(name, &check);
+    let bound = check.free as f64 * o.report.tolerance * check.force_scale / check.scale + 1e-12;
     assert!(
-        r.force_balance <= 1e-8,
-        "{name}: force balance {}",
+        r.force_balance <= bound,
+        "{name}: force balance {:.3e} above n_F·tol·F/scale = {bound:.3e}",
         r.force_balance
     );
-    // Newton's third law across every pair: the contact forces on all bodies sum to zero.
+    // Newton's third law across every pair: the contact forces on all bodies sum to zero.  Each
+    // row of B has slave coefficients −n and master α n, (1 − α) n: zero in exact arithmetic,
+    // so only round-off (1e-12 of the summed magnitudes) is allowed.
     for c in 0..2 {
         let total: f64 = r.bodies.iter().map(|b| b.contact_force[c]).sum();
         let scale: f64 = r
@@ -84,6 +97,167 @@ fn check_contract(name: &str, scene: &Scene, o: &Outcome) {
         );
         assert!(n.gap >= -1e-9 * scene.size());
     }
+}
+
+/// What an independent computation says the force balance must be: per body and component,
+/// −Σ_F r_d over the body's free DOFs, with r = A x − f̃ + B_Fᵀλ the equilibrium residual of the
+/// reduced QP (built again here: `solve_scene` consumed its copy), plus the difference between
+/// the report's analytic loads and the assembled load vector.
+struct ResidualCheck {
+    /// Per body: (the report's applied + contact + reaction, the independent prediction).
+    bodies: Vec<([f64; 2], [f64; 2])>,
+    /// Round-off allowance of the comparison (see [`assert_identity`]).
+    roundoff: f64,
+    /// Free DOFs.
+    free: usize,
+    /// max(‖f̃‖∞, ‖A x‖∞, ‖B_Fᵀλ‖∞): the force scale of the stationarity measure.
+    force_scale: f64,
+    /// The largest force figure (the denominator of `force_balance`).
+    scale: f64,
+}
+
+fn reduced_residual(qp: &QpProblem, x: &[f64], lambda: &[f64]) -> (Vec<f64>, f64, f64) {
+    let ax = mat_vec(&qp.stiffness, x);
+    let btl = if lambda.is_empty() {
+        vec![0.0; x.len()]
+    } else {
+        mat_t_vec(&qp.constraints, lambda)
+    };
+    let r: Vec<f64> = (0..x.len()).map(|k| ax[k] - qp.load[k] + btl[k]).collect();
+    let force_scale = norm_inf(&ax).max(norm_inf(&qp.load)).max(norm_inf(&btl));
+    let magnitude = ax
+        .iter()
+        .chain(&qp.load)
+        .chain(&btl)
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
+    (r, force_scale, magnitude)
+}
+
+fn prediction(
+    scene: &Scene,
+    model: &Model,
+    qp: &QpProblem,
+    u: &[f64],
+    lambda: &[f64],
+) -> ResidualCheck {
+    let x: Vec<f64> = model.free.iter().map(|&d| u[d]).collect();
+    let (r, force_scale, magnitude) = reduced_residual(qp, &x, lambda);
+    let balance = report::force_balance(scene, model, u, lambda);
+    let mut bodies = Vec::new();
+    let mut largest_support = 0.0_f64;
+    for (b, figures) in balance.bodies.iter().enumerate() {
+        let range = model.dofs.body_range(b);
+        let mut predicted = figures.applied;
+        for d in range.clone() {
+            predicted[d % 2] -= model.load[d];
+        }
+        for (k, &d) in model.free.iter().enumerate() {
+            if range.contains(&d) {
+                predicted[d % 2] -= r[k];
+            }
+        }
+        bodies.push((figures.imbalance(), predicted));
+    }
+    for v in model.support_forces(u) {
+        largest_support = largest_support.max(v.abs());
+    }
+    ResidualCheck {
+        bodies,
+        // Both sides are sums of at most `dofs` terms no larger than `magnitude` (or the support
+        // forces), each rounded to ε = 2.2e-16 relative: n·ε·M with n ≤ 10⁵ stays below 1e-10·M.
+        roundoff: 1e-10
+            * magnitude
+                .max(largest_support)
+                .max(balance.bodies.iter().map(|b| b.scale()).fold(0.0, f64::max)),
+        free: model.free.len(),
+        force_scale,
+        scale: balance.bodies.iter().map(|b| b.scale()).fold(0.0, f64::max),
+    }
+}
+
+fn residual_check(scene: &Scene, o: &Outcome) -> ResidualCheck {
+    let prepared = run::prepare(scene, &MeshLimits::default()).expect("prepare");
+    let qp = prepared.model.qp().expect("qp");
+    prediction(
+        scene,
+        &prepared.model,
+        &qp,
+        &o.solution.displacement,
+        &o.solution.multipliers,
+    )
+}
+
+/// The report's imbalance is exactly what the module docs of `report::balance` say it is.
+fn assert_identity(name: &str, check: &ResidualCheck) {
+    for (b, (got, want)) in check.bodies.iter().enumerate() {
+        for c in 0..2 {
+            assert!(
+                (got[c] - want[c]).abs() <= check.roundoff,
+                "{name}: body {b} component {c}: imbalance {:.6e}, −Σ_F r + load difference {:.6e}",
+                got[c],
+                want[c]
+            );
+        }
+    }
+}
+
+#[test]
+fn force_balance_fails_for_a_wrong_displacement_or_multiplier() {
+    let scene = Scene::from_path(&fixture("exp2b")).expect("scene");
+    let prepared = run::prepare(&scene, &MeshLimits::default()).expect("prepare");
+    let model = &prepared.model;
+    let qp = model.qp().expect("qp");
+    let mut backend = ClarabelBackend::default();
+    let options = SolveOptions {
+        tol: 1e-10,
+        ..SolveOptions::default()
+    };
+    let s =
+        signorini_core::solve::solve_problem(model, &qp, &mut backend, &options).expect("solve");
+    assert_eq!(s.status, QpStatus::Solved);
+    let (u, lambda) = (&s.displacement, &s.multipliers);
+    let good = report::force_balance(&scene, model, u, lambda).relative;
+    assert!(good <= 1e-8, "solved answer: {good:e}");
+    assert_identity("exp2b", &prediction(&scene, model, &qp, u, lambda));
+
+    // Every free DOF of the lower body (clamped on its right edge) moved down by 1 % of max |u|:
+    // the support rows see K_DF·δu, a reaction change of the order of 1 % of the load.
+    let lower = scene.body_index("lower").expect("lower");
+    let shift = 0.01 * norm_inf(u);
+    let mut wrong_u = u.clone();
+    for d in model.dofs.body_range(lower).filter(|d| d % 2 == 1) {
+        if model.fixed[d].is_none() {
+            wrong_u[d] -= shift;
+        }
+    }
+    let bad = report::force_balance(&scene, model, &wrong_u, lambda).relative;
+    assert!(bad > 1e-4, "perturbed u: {bad:e}");
+    assert_identity(
+        "exp2b, perturbed u",
+        &prediction(&scene, model, &qp, &wrong_u, lambda),
+    );
+
+    // Multipliers 10 % too large: the contact resultant is off by 10 % of the normal force.
+    let wrong_l: Vec<f64> = lambda.iter().map(|l| 1.1 * l).collect();
+    let bad = report::force_balance(&scene, model, u, &wrong_l).relative;
+    assert!(bad > 1e-3, "perturbed λ: {bad:e}");
+    assert_identity(
+        "exp2b, perturbed λ",
+        &prediction(&scene, model, &qp, u, &wrong_l),
+    );
+
+    // The analytic load: exp2b's traction over its loaded edge, by hand (SCENE values).
+    let applied: f64 = report::balance::applied_loads(&scene, model)
+        .iter()
+        .map(|a| a[1])
+        .sum();
+    let n = &scene.neumann[0];
+    let length = n.region[1] - n.region[0];
+    let expected = n.traction.at([n.region[0], n.region[2]])[1] * length * scene.thickness;
+    assert!(
+        (applied - expected).abs() <= 1e-14 * expected.abs(),
+        "applied {applied:e} vs {expected:e}"
+    );
 }
 
 fn body<'a>(r: &'a RunReport, name: &str) -> &'a signorini_core::report::BodyReport {
@@ -125,6 +299,8 @@ fn exp2a_poisson_expansion_presses_lightly() {
     let (_, o) = solve("exp2a");
     let r = &o.report;
     let ratio = normal_force(r) / total_load(r);
+    // No analytic reference: the finding is that contact is neither zero (as the thesis says)
+    // nor a sizeable share of the load; the bracket spans a factor 4 around the 0.5 % measured.
     assert!((0.001..0.02).contains(&ratio), "contact/load = {ratio}");
     let moved = body(r, "lower").max_displacement / body(r, "upper").max_displacement;
     assert!(
@@ -197,6 +373,9 @@ fn exp3_upper_displacement_converges_in_hmax() {
     for series in ["body2", "both"] {
         let d = exp3_series(series);
         let rel = |a: f64, b: f64| (a - b).abs() / b;
+        // Convergence in hmax (no closed form): P1 displacement error is O(h²) away from the
+        // contact edges, O(h) near them; from h = 0.2 to 0.08 that bounds the change by about
+        // (0.2/1)·(1 − 0.4) ≈ 10 %, and from 0.1 to 0.08 by about 2 %.
         assert!(rel(d[0], d[3]) <= 0.10, "{series}: {d:?}");
         assert!(rel(d[2], d[3]) <= 0.02, "{series}: {d:?}");
     }
@@ -322,6 +501,8 @@ fn results_do_not_depend_on_units() {
             .zip(u0)
             .map(|(a, b)| (a / factor - b).abs())
             .fold(0.0, f64::max);
+        // Exact invariance (the QP is nondimensionalised), up to the solve tolerance 1e-10
+        // amplified by the conditioning of the reduced stiffness (≤ 10³ here).
         assert!(
             worst <= 1e-7 * scale,
             "{name}: max |Δu| = {worst:e} of {scale:e}"

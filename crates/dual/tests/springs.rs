@@ -98,22 +98,36 @@ fn floating_body_held_only_by_contact() {
     }
 }
 
+/// A floating body pushed away from its only contact: the objective is unbounded below, and the
+/// backend must say so itself (dual infeasible), with finite numbers.
+fn check_pushed_away(mut b: signorini_dual::DualBackend) {
+    let problem = floating(3.0);
+    let (sol, status) = solve(&mut b, &problem, 1e-10);
+    assert_ne!(status, QpStatus::Solved, "{}", b.name());
+    assert!(sol.x.iter().chain(&sol.multipliers).all(|v| v.is_finite()));
+    assert_eq!(
+        sol.status,
+        QpStatus::DualInfeasible,
+        "{}: {:?}",
+        b.name(),
+        sol.message
+    );
+}
+
 #[test]
 fn floating_body_pushed_away_is_unbounded_not_nan() {
-    let problem = floating(3.0);
-    for mut b in backends() {
-        let (sol, status) = solve(&mut b, &problem, 1e-10);
-        assert_ne!(status, QpStatus::Solved, "{}", b.name());
-        assert!(sol.x.iter().chain(&sol.multipliers).all(|v| v.is_finite()));
-        if b.name() != "dual-ssn" {
-            assert_eq!(
-                sol.status,
-                QpStatus::DualInfeasible,
-                "{}: {:?}",
-                b.name(),
-                sol.message
-            );
-        }
+    for b in backends().into_iter().filter(|b| b.name() != "dual-ssn") {
+        check_pushed_away(b);
+    }
+}
+
+/// The same for dual-ssn, which is not exempt: it currently reports `numerical-error`
+/// ("singular active-set system on 0 rows …") instead of detecting the unbounded direction.
+#[test]
+#[ignore = "dual-ssn misreports an unbounded problem as numerical-error (issue 8)"]
+fn floating_body_pushed_away_is_unbounded_for_dual_ssn() {
+    for b in backends().into_iter().filter(|b| b.name() == "dual-ssn") {
+        check_pushed_away(b);
     }
 }
 

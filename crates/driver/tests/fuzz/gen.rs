@@ -1,0 +1,641 @@
+//! The scene generator: scenes as TOML text, valid, near-degenerate and broken.
+//!
+//! A scene is built as a list of sections of `key = value` entries (so that a mutation can
+//! remove, add, lengthen, shorten or poison one entry), then rendered as TOML.
+
+use proptest::prelude::*;
+use proptest::sample::{select, Index};
+
+use signorini::backends::BackendKind;
+
+/// One `key = value` line.
+#[derive(Debug, Clone)]
+pub struct Entry {
+    /// The key.
+    pub key: &'static str,
+    /// The value, already TOML.
+    pub value: String,
+    /// The scene is invalid without it.
+    pub required: bool,
+    /// An array whose length the contract fixes (so one more or one less element is an error).
+    pub fixed_array: bool,
+    /// Holds numbers (a `nan` may replace one).
+    pub numeric: bool,
+}
+
+impl Entry {
+    fn new(key: &'static str, value: String) -> Self {
+        Self {
+            key,
+            value,
+            required: true,
+            fixed_array: false,
+            numeric: false,
+        }
+    }
+    fn optional(mut self) -> Self {
+        self.required = false;
+        self
+    }
+    fn array(mut self) -> Self {
+        self.fixed_array = true;
+        self
+    }
+    fn num(mut self) -> Self {
+        self.numeric = true;
+        self
+    }
+}
+
+/// A `[table]` or `[[array]]` of entries (`header` empty for the top level).
+#[derive(Debug, Clone)]
+pub struct Section {
+    /// `"[model]"`, `"[[body]]"`, … or `""`.
+    pub header: &'static str,
+    /// Its lines.
+    pub entries: Vec<Entry>,
+}
+
+/// A change that makes a scene broken (or, for `ControlChar`, merely hostile).
+#[derive(Debug, Clone)]
+pub enum Mutation {
+    /// Nothing.
+    None,
+    /// Drop one entry.
+    RemoveKey(Index),
+    /// Add a key no table knows.
+    UnknownKey(Index),
+    /// One element more (`true`) or fewer in a fixed-length array.
+    WrongLength(Index, bool),
+    /// Replace a number with `nan`.
+    Nan(Index),
+    /// Refer to a body that does not exist.
+    UnknownBody(Index),
+    /// Put a control character into a body name (every reference renamed consistently).
+    ControlChar(Index, char),
+}
+
+/// A generated test case.
+#[derive(Debug, Clone)]
+pub struct Case {
+    /// The scene file.
+    pub toml: String,
+    /// When the scene is broken and must be refused: what breaks it.
+    pub must_refuse: Option<String>,
+    /// Backend to solve with.
+    pub backend: BackendKind,
+}
+
+fn f(v: f64) -> String {
+    // `{:?}` is valid TOML for every finite f64 (`1e300`, `0.5`, `-2.0`).
+    format!("{v:?}")
+}
+
+fn arr(v: &[f64]) -> String {
+    format!(
+        "[{}]",
+        v.iter().map(|x| f(*x)).collect::<Vec<_>>().join(", ")
+    )
+}
+
+fn log_uniform(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
+    (lo.log10()..hi.log10()).prop_map(|e| 10f64.powf(e))
+}
+
+/// Young's modulus: ordinary, or from 1e-200 to 1e300, zero or negative.
+fn young() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        8 => log_uniform(1e-3, 1e3),
+        2 => select(vec![1e-200, 1e-100, 1e-30, 1e30, 1e100, 1e200, 1e300, 1.7e308]),
+        1 => select(vec![0.0, -1.0, f64::MIN_POSITIVE]),
+    ]
+}
+
+/// Poisson's ratio: ordinary, or close to 0.5 and −1, or out of range.
+fn poisson() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        8 => 0.0..0.45f64,
+        2 => select(vec![0.49, 0.4999999, 0.499999999999, -0.9999999, -0.999999999999, -0.5]),
+        1 => select(vec![0.5, -1.0, 0.7, -1.5]),
+    ]
+}
+
+/// A traction component: ordinary or up to 1e200.
+fn traction() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        8 => (-1.0..1.0f64).prop_map(|t| t * 1e-3),
+        2 => select(vec![1e-200, -1e-100, -1e30, 1e100, -1e200, 1e200, -1e300]),
+        1 => Just(0.0),
+    ]
+}
+
+/// A prescribed displacement: usually zero, sometimes up to 1e300.
+fn dirichlet_value() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        8 => Just(0.0),
+        3 => -0.1..0.1f64,
+        1 => select(vec![1e-200, -1e10, 1e100, 1e300, -1e300]),
+    ]
+}
+
+/// hmax as a fraction of the body's smaller side, or extreme absolute values.
+#[derive(Debug, Clone, Copy)]
+enum Hmax {
+    Relative(f64),
+    Absolute(f64),
+}
+
+fn hmax() -> impl Strategy<Value = Hmax> {
+    prop_oneof![
+        10 => (0.15..0.7f64).prop_map(Hmax::Relative),
+        1 => (0.01..0.05f64).prop_map(Hmax::Relative),
+        2 => select(vec![1e-300, 1e-12, 1e300, 0.0, -1.0]).prop_map(Hmax::Absolute),
+    ]
+}
+
+/// Unit scale of a body: mostly 1, sometimes millimetres or kilometres against the others.
+fn unit() -> impl Strategy<Value = f64> {
+    prop_oneof![10 => Just(1.0), 1 => select(vec![1e-3, 1e3, 1e-9, 1e9])]
+}
+
+/// Vertical gap between a body and the one below it (in units of the lower body's height).
+fn gap() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        10 => Just(0.0),
+        2 => 0.001..0.1f64,
+        2 => -0.5..-1e-3f64,
+        1 => select(vec![1e-12, -1e-12, 1e6, -1e6]),
+    ]
+}
+
+#[derive(Debug, Clone)]
+struct BodyParams {
+    width: f64,
+    height: f64,
+    sliver: bool,
+    unit: f64,
+    gap: f64,
+    shift: f64,
+    hmax: Hmax,
+    q1: bool,
+    young: f64,
+    poisson: f64,
+    support: u8,
+}
+
+fn body_params() -> impl Strategy<Value = BodyParams> {
+    (
+        (0.3..3.0f64, 0.3..2.0f64, prop::bool::weighted(0.08), unit()),
+        (gap(), -0.5..0.5f64, hmax(), prop::bool::weighted(0.3)),
+        (young(), poisson(), 0u8..4),
+    )
+        .prop_map(
+            |((width, height, sliver, unit), (gap, shift, hmax, q1), (young, poisson, support))| {
+                BodyParams {
+                    width,
+                    height,
+                    sliver,
+                    unit,
+                    gap,
+                    shift,
+                    hmax,
+                    q1,
+                    young,
+                    poisson,
+                    support,
+                }
+            },
+        )
+}
+
+#[derive(Debug, Clone)]
+struct SceneParams {
+    bodies: Vec<BodyParams>,
+    plane_stress: Option<f64>,
+    gravity: Option<f64>,
+    load: [f64; 2],
+    linear: Option<[f64; 2]>,
+    values: [f64; 2],
+    contact_region: bool,
+    slave: Option<bool>,
+    probe: bool,
+}
+
+fn scene_params() -> impl Strategy<Value = SceneParams> {
+    (
+        prop::collection::vec(body_params(), 1..=3),
+        (
+            prop::option::weighted(0.2, select(vec![1.0, 0.01, 1e-200, 1e200])),
+            prop::option::weighted(0.15, select(vec![-9.81, -1e-3, -1e200, 1e-300])),
+        ),
+        (traction(), traction()),
+        prop::option::weighted(0.2, (traction(), traction()).prop_map(|(a, b)| [a, b])),
+        (dirichlet_value(), dirichlet_value()),
+        (
+            prop::bool::weighted(0.6),
+            prop::option::weighted(0.3, any::<bool>()),
+            any::<bool>(),
+        ),
+    )
+        .prop_map(
+            |(
+                bodies,
+                (plane_stress, gravity),
+                load,
+                linear,
+                values,
+                (contact_region, slave, probe),
+            )| {
+                SceneParams {
+                    bodies,
+                    plane_stress,
+                    gravity,
+                    load: [load.0, load.1],
+                    linear,
+                    values: [values.0, values.1],
+                    contact_region,
+                    slave,
+                    probe,
+                }
+            },
+        )
+}
+
+/// Builds the sections of a scene: bodies stacked bottom to top, the bottom one clamped, the top
+/// one loaded on its top edge, consecutive bodies in contact.
+fn sections(p: &SceneParams) -> Vec<Section> {
+    let mut out = vec![Section {
+        header: "",
+        entries: vec![Entry::new("title", "\"fuzz\"".into()).optional()],
+    }];
+    let mut model = Vec::new();
+    if let Some(t) = p.plane_stress {
+        model.push(Entry::new("plane", "\"stress\"".into()).optional());
+        model.push(Entry::new("thickness", f(t)).optional().num());
+    }
+    if let Some(g) = p.gravity {
+        model.push(
+            Entry::new("gravity", arr(&[0.0, g]))
+                .optional()
+                .array()
+                .num(),
+        );
+    }
+    if !model.is_empty() {
+        out.push(Section {
+            header: "[model]",
+            entries: model,
+        });
+    }
+    // Rectangles [x0, x0 + w] × [y0, y0 + h].
+    let mut rects: Vec<[f64; 4]> = Vec::new();
+    let mut y = 0.0;
+    let mut x_prev = 0.0;
+    let mut h_prev = 0.0;
+    for b in &p.bodies {
+        let w = b.width * b.unit;
+        let h = if b.sliver {
+            w * 1e-5
+        } else {
+            b.height * b.unit
+        };
+        let y0 = if rects.is_empty() {
+            0.0
+        } else {
+            y + b.gap * h_prev
+        };
+        let x0 = x_prev + b.shift * w;
+        rects.push([x0, x0 + w, y0, y0 + h]);
+        y = y0 + h;
+        x_prev = x0;
+        h_prev = h;
+    }
+    let names: Vec<String> = (0..p.bodies.len()).map(|i| format!("b{i}")).collect();
+    for (i, (b, r)) in p.bodies.iter().zip(&rects).enumerate() {
+        let [x0, x1, y0, y1] = *r;
+        let polygon = format!(
+            "[{}, {}, {}, {}]",
+            arr(&[x0, y0]),
+            arr(&[x1, y0]),
+            arr(&[x1, y1]),
+            arr(&[x0, y1])
+        );
+        let small = (x1 - x0).min(y1 - y0);
+        let h = match b.hmax {
+            Hmax::Relative(k) => k * small.max((x1 - x0) * 0.02),
+            Hmax::Absolute(v) => v,
+        };
+        let mut e = vec![
+            Entry::new("name", format!("\"{}\"", names[i])),
+            Entry::new("polygon", polygon).num(),
+            Entry::new("hmax", f(h)).num(),
+            Entry::new("young", f(b.young)).num(),
+            Entry::new("poisson", f(b.poisson)).num(),
+        ];
+        if b.q1 {
+            e.push(Entry::new("element", "\"q1\"".into()).optional());
+        }
+        if p.gravity.is_some() {
+            e.push(Entry::new("density", f(1.0)).num());
+        }
+        out.push(Section {
+            header: "[[body]]",
+            entries: e,
+        });
+    }
+    for (i, (b, r)) in p.bodies.iter().zip(&rects).enumerate() {
+        let [x0, x1, y0, y1] = *r;
+        let name = format!("\"{}\"", names[i]);
+        // Bottom body: clamped bottom edge.  Others: by `support`, nothing (held by contact),
+        // the left edge clamped, a roller on the left edge, or the left edge moved by `values`.
+        let (region, value, components) = if i == 0 {
+            ([x0, x1, y0, y0], p.values, None)
+        } else {
+            match b.support {
+                0 => continue,
+                1 => ([x0, x0, y0, y1], [0.0, 0.0], None),
+                2 => ([x0, x0, y0, y1], [0.0, 0.0], Some("[\"x\"]")),
+                _ => ([x0, x0, y0, y1], p.values, None),
+            }
+        };
+        let mut e = vec![
+            Entry::new("body", name),
+            Entry::new("region", arr(&region)).array().num(),
+        ];
+        if value != [0.0, 0.0] {
+            e.push(Entry::new("value", arr(&value)).optional().array().num());
+        }
+        if let Some(c) = components {
+            e.push(Entry::new("components", c.into()).optional());
+        }
+        out.push(Section {
+            header: "[[dirichlet]]",
+            entries: e,
+        });
+    }
+    let top = rects.len() - 1;
+    let [x0, x1, y0, y1] = rects[top];
+    let mut e = vec![
+        Entry::new("body", format!("\"{}\"", names[top])),
+        Entry::new("region", arr(&[x0, x1, y1, y1])).array().num(),
+    ];
+    match p.linear {
+        None => e.push(Entry::new("traction", arr(&p.load)).array().num()),
+        Some(t2) => {
+            let xm = 0.5 * (x0 + x1);
+            let ym = 0.5 * (y0 + y1);
+            e.push(
+                Entry::new(
+                    "points",
+                    format!(
+                        "[{}, {}, {}]",
+                        arr(&[x0, y1]),
+                        arr(&[x1, y1]),
+                        arr(&[xm, ym])
+                    ),
+                )
+                .array()
+                .num(),
+            );
+            e.push(
+                // Whether `tx` alone (or `ty` alone) is enough is not fixed by the contract, so
+                // removing one of them is not counted as breaking the scene.
+                Entry::new("tx", arr(&[p.load[0], t2[0], 0.0]))
+                    .optional()
+                    .array()
+                    .num(),
+            );
+            e.push(
+                Entry::new("ty", arr(&[p.load[1], t2[1], p.load[1]]))
+                    .optional()
+                    .array()
+                    .num(),
+            );
+        }
+    }
+    out.push(Section {
+        header: "[[neumann]]",
+        entries: e,
+    });
+    for i in 1..rects.len() {
+        let (lo, hi) = (rects[i - 1], rects[i]);
+        let mut e = vec![Entry::new(
+            "bodies",
+            format!("[\"{}\", \"{}\"]", names[i - 1], names[i]),
+        )
+        .array()];
+        if p.contact_region {
+            let y = hi[2];
+            let d = 0.01 * (hi[3] - hi[2]).min(lo[3] - lo[2]);
+            let region = [lo[0].max(hi[0]), lo[1].min(hi[1]), y - d, y + d];
+            e.push(Entry::new("region", arr(&region)).optional().array().num());
+        }
+        if let Some(upper) = p.slave {
+            let s = if upper { &names[i] } else { &names[i - 1] };
+            e.push(Entry::new("slave", format!("\"{s}\"")).optional());
+        }
+        out.push(Section {
+            header: "[[contact]]",
+            entries: e,
+        });
+    }
+    if p.probe {
+        let [x0, x1, y0, y1] = rects[top];
+        out.push(Section {
+            header: "[[probe]]",
+            entries: vec![
+                Entry::new("name", "\"centre\"".into()),
+                Entry::new("body", format!("\"{}\"", names[top])),
+                Entry::new("point", arr(&[0.5 * (x0 + x1), 0.5 * (y0 + y1)]))
+                    .array()
+                    .num(),
+            ],
+        });
+    }
+    out
+}
+
+/// Renders sections as TOML.
+pub fn render(sections: &[Section]) -> String {
+    let mut s = String::new();
+    for sec in sections {
+        if !sec.header.is_empty() {
+            s.push('\n');
+            s.push_str(sec.header);
+            s.push('\n');
+        }
+        for e in &sec.entries {
+            s.push_str(e.key);
+            s.push_str(" = ");
+            s.push_str(&e.value);
+            s.push('\n');
+        }
+    }
+    s
+}
+
+/// The `(section, entry)` positions of entries that satisfy `keep`.
+fn positions(sections: &[Section], keep: impl Fn(&Entry) -> bool) -> Vec<(usize, usize)> {
+    sections
+        .iter()
+        .enumerate()
+        .flat_map(|(s, sec)| {
+            sec.entries
+                .iter()
+                .enumerate()
+                .filter(|(_, e)| keep(e))
+                .map(move |(i, _)| (s, i))
+        })
+        .collect()
+}
+
+/// Replaces the first number of a TOML value with `nan`.
+fn poison(value: &str) -> String {
+    let bytes = value.as_bytes();
+    let start = (0..bytes.len()).find(|&i| {
+        let c = bytes[i] as char;
+        (c.is_ascii_digit() || c == '-')
+            && (i == 0 || matches!(bytes[i - 1] as char, '[' | ' ' | ','))
+    });
+    match start {
+        Some(i) => {
+            let end = (i..bytes.len())
+                .find(|&j| matches!(bytes[j] as char, ',' | ']'))
+                .unwrap_or(bytes.len());
+            format!("{}nan{}", &value[..i], &value[end..])
+        }
+        None => "nan".into(),
+    }
+}
+
+/// One element more or fewer in the first innermost array of a TOML value.
+fn relength(value: &str, longer: bool) -> String {
+    let Some(close) = value.find(']') else {
+        return value.to_string();
+    };
+    let open = value[..close].rfind('[').unwrap_or(0);
+    let inner = &value[open + 1..close];
+    if longer {
+        let extra = if inner.trim_start().starts_with('"') {
+            ", \"b0\""
+        } else {
+            ", 0.5"
+        };
+        format!("{}{}{}", &value[..close], extra, &value[close..])
+    } else {
+        match inner.rfind(',') {
+            Some(c) => format!("{}{}", &value[..open + 1 + c], &value[close..]),
+            None => format!("{}{}", &value[..open + 1], &value[close..]),
+        }
+    }
+}
+
+/// Applies a mutation; returns what makes the scene broken when it must be refused.
+fn mutate(sections: &mut [Section], m: &Mutation) -> Option<String> {
+    match m {
+        Mutation::None => None,
+        Mutation::RemoveKey(ix) => {
+            let pos = positions(sections, |_| true);
+            let (s, i) = pos[ix.index(pos.len())];
+            let e = sections[s].entries.remove(i);
+            e.required
+                .then(|| format!("missing required key `{}` in {}", e.key, sections[s].header))
+        }
+        Mutation::UnknownKey(ix) => {
+            let s = ix.index(sections.len());
+            sections[s]
+                .entries
+                .push(Entry::new("colour", "\"red\"".into()));
+            Some(format!("unknown key `colour` in {:?}", sections[s].header))
+        }
+        Mutation::WrongLength(ix, longer) => {
+            let pos = positions(sections, |e| e.fixed_array);
+            if pos.is_empty() {
+                return None;
+            }
+            let (s, i) = pos[ix.index(pos.len())];
+            let e = &mut sections[s].entries[i];
+            e.value = relength(&e.value, *longer);
+            Some(format!(
+                "array `{}` one {} ({})",
+                e.key,
+                if *longer { "longer" } else { "shorter" },
+                sections[s].header
+            ))
+        }
+        Mutation::Nan(ix) => {
+            let pos = positions(sections, |e| e.numeric);
+            let (s, i) = pos[ix.index(pos.len())];
+            let e = &mut sections[s].entries[i];
+            e.value = poison(&e.value);
+            Some(format!("nan in `{}` ({})", e.key, sections[s].header))
+        }
+        Mutation::UnknownBody(ix) => {
+            let pos = positions(sections, |e| matches!(e.key, "body" | "bodies" | "slave"));
+            if pos.is_empty() {
+                return None;
+            }
+            let (s, i) = pos[ix.index(pos.len())];
+            let e = &mut sections[s].entries[i];
+            e.value = e.value.replacen("\"b", "\"nobody", 1);
+            Some(format!(
+                "unknown body name in `{}` ({})",
+                e.key, sections[s].header
+            ))
+        }
+        Mutation::ControlChar(ix, c) => {
+            let names = positions(sections, |e| e.key == "name" && e.value.starts_with("\"b"));
+            if names.is_empty() {
+                return None;
+            }
+            let (s, i) = names[ix.index(names.len())];
+            let old = sections[s].entries[i].value.clone();
+            let bare = old.trim_matches('"');
+            let escaped = format!("\"{}\\u{:04X}{}\"", bare, *c as u32, "x");
+            // Rename every reference, so the scene stays consistent.
+            for sec in sections.iter_mut() {
+                for e in &mut sec.entries {
+                    if matches!(e.key, "name" | "body" | "bodies" | "slave") {
+                        e.value = e.value.replace(&old, &escaped);
+                    }
+                }
+            }
+            None
+        }
+    }
+}
+
+fn mutation() -> impl Strategy<Value = Mutation> {
+    prop_oneof![
+        12 => Just(Mutation::None),
+        1 => any::<Index>().prop_map(Mutation::RemoveKey),
+        1 => any::<Index>().prop_map(Mutation::UnknownKey),
+        2 => (any::<Index>(), any::<bool>()).prop_map(|(i, l)| Mutation::WrongLength(i, l)),
+        1 => any::<Index>().prop_map(Mutation::Nan),
+        1 => any::<Index>().prop_map(Mutation::UnknownBody),
+        1 => (any::<Index>(), select(vec!['\u{1}', '\u{8}', '\u{1b}', '\u{7f}', '\u{c}']))
+            .prop_map(|(i, c)| Mutation::ControlChar(i, c)),
+    ]
+}
+
+/// The backends of this build.
+pub fn backends() -> Vec<BackendKind> {
+    BackendKind::ALL
+        .into_iter()
+        .filter(|k| k.available())
+        .collect()
+}
+
+/// A whole test case: scene text, whether it must be refused, and a backend.
+pub fn case() -> impl Strategy<Value = Case> {
+    let kinds = backends();
+    (scene_params(), mutation(), select(kinds)).prop_map(|(p, m, backend)| {
+        let mut secs = sections(&p);
+        let must_refuse = mutate(&mut secs, &m);
+        Case {
+            toml: render(&secs),
+            must_refuse,
+            backend,
+        }
+    })
+}
