@@ -10,7 +10,7 @@ pub use balance::{force_balance, BodyBalance, ForceBalance};
 use crate::fem::{self, element};
 use crate::geometry::Point;
 use crate::mesh::{Cells, Mesh};
-use crate::model::{Effect, Model};
+use crate::model::{Effect, Model, ModelWarning};
 use crate::qp::{mat_vec, KktResiduals};
 use crate::scene::Scene;
 use crate::solve::Solution;
@@ -143,8 +143,19 @@ pub struct RunReport {
     pub message: Option<String>,
     /// The backend's own verdict before the core's residual check (`status` is the program's).
     pub backend_status: String,
-    /// What the program noticed and worked around, one line each (empty when nothing).
-    pub warnings: Vec<String>,
+    /// What the program noticed and worked around (empty when nothing).
+    pub warnings: Vec<WarningReport>,
+}
+
+/// One warning of `result.json`: its one-line message and the figures of its kind (`kind`,
+/// `pair`, counts, places; see [`ModelWarning`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct WarningReport {
+    /// The warning in one line (as printed to stderr).
+    pub message: String,
+    /// Its kind and figures.
+    #[serde(flatten)]
+    pub warning: ModelWarning,
 }
 
 /// Per-body fields for output files.
@@ -391,6 +402,13 @@ pub fn run_report(
         force_balance: balance.relative,
         message: solution.message.clone(),
         backend_status: solution.backend_status.as_str().to_string(),
-        warnings: Vec::new(),
+        warnings: model
+            .warnings
+            .iter()
+            .map(|w| WarningReport {
+                message: w.to_string(),
+                warning: w.clone(),
+            })
+            .collect(),
     }
 }

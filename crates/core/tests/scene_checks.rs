@@ -256,6 +256,20 @@ fn tiny_material_values_are_legitimate() {
 }
 
 #[test]
+fn underflowing_material_values_are_refused() {
+    // E = 2.2e-308 (f64::MIN_POSITIVE) gave element stiffnesses of zero: `check` accepted the
+    // scene and the Cholesky factorisation of `solve` then failed (found by the fuzz harness).
+    let (_, k, r) = invalid(&with("young = 0.0012", "young = 2.2250738585072014e-308"));
+    assert!(k == "young" && r.contains("underflow"), "{k}: {r}");
+    // Plane stress: E = 1e-200 is fine alone, but with thickness 1e-200 the product underflows.
+    let (_, k, _) = invalid(&format!(
+        "{}\n[model]\nplane = \"stress\"\nthickness = 1e-200\n",
+        with("young = 0.0012", "young = 1e-200")
+    ));
+    assert_eq!(k, "young");
+}
+
+#[test]
 fn overflowing_body_force_is_refused() {
     let gravity = |rho: &str| {
         format!(

@@ -249,7 +249,7 @@ fn solve(
     }
     con.finish()?;
     for w in &r.warnings {
-        warn(format_args!("warning: {w}"));
+        warn(format_args!("warning: {}", w.message));
     }
     if outcome.solution.status == QpStatus::Solved {
         Ok(Exit::Success)

@@ -309,3 +309,31 @@ fn touching_bodies_have_no_overlap_warning() {
         .all(|w| !matches!(w, ModelWarning::InitialOverlap { .. })));
     assert!(model.contacts[0].rows.iter().all(|r| r.gap == 0.0));
 }
+
+#[test]
+fn an_overlap_only_the_master_makes_is_refused_or_turned_round() {
+    // A small block poking 1.5 into the side of a large one whose boundary nodes are 45 apart
+    // (found by the fuzz harness): no node of the large body lies inside the small one, so with
+    // the large body as slave no row could push the small one out, and it used to be `solved`
+    // with the bodies interpenetrating.
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fuzz-cases/interpenetration-initial-overlap.toml");
+    let text = std::fs::read_to_string(path).expect("fuzz case");
+    assert!(text.contains("slave = \"b0\""));
+    let scene = Scene::from_toml(&text).expect("valid scene");
+    match assemble(&scene) {
+        Err(ModelError::Contact(ContactError::MasterInsideSlave { master, nodes, .. })) => {
+            assert_eq!(master, "b1");
+            assert!(nodes > 0);
+        }
+        other => panic!("expected MasterInsideSlave, got {other:?}"),
+    }
+    // Without a named slave, the body whose nodes start inside the other becomes the slave.
+    let scene = Scene::from_toml(&text.replace("slave = \"b0\"", "")).expect("valid scene");
+    let model = assemble(&scene).expect("assembles");
+    assert_eq!(model.contacts[0].slave, 1, "b1 is the slave");
+    assert!(
+        model.gap.iter().any(|g| *g < 0.0),
+        "rows with negative gaps push it out"
+    );
+}

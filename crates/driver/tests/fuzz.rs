@@ -40,28 +40,7 @@ use signorini::backends::BackendKind;
 /// report), as (property, text the failure's detail contains — "" for any).  They are still
 /// evaluated and counted by the survey, but do not fail `fuzz_scenes` or `fuzz_cases_replay`.
 /// Remove an entry to turn it on once its fix is merged; every other failure is enforced now.
-const KNOWN_GAPS: &[(&str, &str)] = &[
-    // Over-long arrays are truncated silently (`region = [0, 1, 0, 0, 0.5]`, 3-number vertices,
-    // three bodies in a contact pair…).  Shorter arrays, NaN, unknown/missing keys and unknown
-    // bodies are already refused and stay enforced.
-    ("broken-refused", "one longer"),
-    // `solved` with non-finite numbers: E = 1e-200 or 2.2e-308 with large tractions, stresses
-    // overflowing with E = 1e300 (max_von_mises, objective, reactions become null in JSON).
-    ("solved-finite", ""),
-    // `solved` although a residual is NaN (`KktResiduals::worst` uses f64::max, which drops NaN).
-    ("solved-residuals", "NaN"),
-    // check accepts, solve refuses: bodies far apart (floating body, no contact row), E near the
-    // underflow limit (Cholesky pivot vanishes), thickness 1e200 (NaN in f), OSQP setup failure.
-    ("check-equals-solve", "check accepted, solve refused"),
-    // Control characters in body names make deformed.svg invalid XML.
-    ("outputs-well-formed", "non-XML character"),
-    // `solved` with a body ending inside another (small displacements): an initial overlap of
-    // two bodies is solved as if the overlapping nodes had no row (issue 8's dropped rows).
-    ("solved-no-interpenetration", ""),
-    // write_outputs never returns: deformed.svg's axis ticks for a 1e9-sized body whose
-    // displacement overflows (plotters' key-point loop).
-    ("finishes", ""),
-];
+const KNOWN_GAPS: &[(&str, &str)] = &[];
 
 /// True when a finding is one of the [`KNOWN_GAPS`].
 fn known_gap(f: &Finding) -> bool {

@@ -134,6 +134,23 @@ pub enum ContactError {
         /// Its depth.
         depth: f64,
     },
+    /// Only master nodes start inside the slave: node-to-segment rows constrain slave nodes, so
+    /// nothing would push them out.
+    #[error("contact #{pair}: {nodes} boundary node(s) of master \"{master}\" start inside slave \"{slave}\" (deepest {depth:e} at ({x}, {y})) and no slave node starts inside the master; node-to-segment rows constrain only slave nodes, so nothing would push them out: set slave = \"{master}\" or move the bodies apart", x = point[0], y = point[1])]
+    MasterInsideSlave {
+        /// 1-based pair index.
+        pair: usize,
+        /// Slave body name.
+        slave: String,
+        /// Master body name.
+        master: String,
+        /// Master nodes inside the slave.
+        nodes: usize,
+        /// The deepest one's position.
+        point: Point,
+        /// Its depth.
+        depth: f64,
+    },
 }
 
 /// Boundary edge lists per node: for each node, the boundary edges (as indices) that touch it.
@@ -239,13 +256,35 @@ pub fn contact_rows(scene: &Scene, meshes: &[Mesh]) -> Result<Vec<PairRows>, Con
                 }
             }
         }
-        let slave = pair.slave.unwrap_or(if nl > nk { l } else { k });
+        // An initial overlap is undone by slave rows only: when the nodes of just one body start
+        // inside the other, that body is the slave (unless the scene names one).
+        let inside_count =
+            |d: &[Option<f64>]| d.iter().filter(|x| strictly_inside(**x, tol)).count();
+        let (ik, il) = (inside_count(&inside_k), inside_count(&inside_l));
+        let slave = pair.slave.unwrap_or(match (ik > 0, il > 0) {
+            (true, false) => k,
+            (false, true) => l,
+            _ if nl > nk => l,
+            _ => k,
+        });
         let master = if slave == k { l } else { k };
         let (cand_s, cand_m, inside_s, inside_m) = if slave == k {
             (&cand_k, &cand_l, &inside_k, &inside_l)
         } else {
             (&cand_l, &cand_k, &inside_l, &inside_k)
         };
+        if inside_count(inside_s) == 0 {
+            if let Some((i, depth)) = deepest(inside_m, tol) {
+                return Err(ContactError::MasterInsideSlave {
+                    pair: p + 1,
+                    slave: scene.bodies[slave].name.clone(),
+                    master: scene.bodies[master].name.clone(),
+                    nodes: inside_count(inside_m),
+                    point: meshes[master].nodes[i],
+                    depth,
+                });
+            }
+        }
         let built = pair_rows(
             &meshes[slave],
             &meshes[master],

@@ -30,18 +30,19 @@ pub struct KktResiduals {
 }
 
 impl KktResiduals {
-    /// The worst of the four dimensionless measures.
+    /// The worst of the four dimensionless measures; infinite when any of them is NaN
+    /// (`f64::max` would silently drop a NaN).
     pub fn worst(&self) -> f64 {
-        let m = self
-            .relative_penetration
-            .max(self.stationarity)
-            .max(self.complementarity)
-            .max(-self.min_multiplier);
-        if m.is_nan() {
-            f64::INFINITY
-        } else {
-            m
+        let all = [
+            self.relative_penetration,
+            self.stationarity,
+            self.complementarity,
+            -self.min_multiplier,
+        ];
+        if all.iter().any(|v| v.is_nan()) {
+            return f64::INFINITY;
         }
+        all.into_iter().fold(f64::NEG_INFINITY, f64::max)
     }
 
     /// True when every dimensionless measure is at most `tol` (and none is NaN).

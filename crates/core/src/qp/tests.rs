@@ -150,3 +150,18 @@ fn overlap_sets_the_scales_of_an_unloaded_problem() {
     assert!(kkt_residuals(&p, &[-0.5], &[2.0]).meet(1e-15));
     assert!((kkt_residuals(&p, &[0.0], &[0.0]).relative_penetration - 1.0).abs() < 1e-15);
 }
+
+#[test]
+fn a_nan_residual_is_never_met() {
+    // f64::max drops NaN: worst() used to return the largest of the other three.
+    let r = KktResiduals {
+        stationarity: f64::NAN,
+        ..KktResiduals::default()
+    };
+    assert_eq!(r.worst(), f64::INFINITY);
+    assert!(!r.meet(1.0));
+    assert_eq!(
+        checked_status(QpStatus::Solved, &r, 1.0),
+        QpStatus::NumericalError
+    );
+}

@@ -32,7 +32,7 @@ pub use file::{
     ProbeSection, SceneFile,
 };
 pub use types::{Body, ContactPair, Dirichlet, Neumann, Probe, Traction};
-pub use validate::{name_forbidden, MAX_COEFFICIENT};
+pub use validate::{name_forbidden, MAX_COEFFICIENT, MIN_COEFFICIENT};
 
 use crate::geometry;
 

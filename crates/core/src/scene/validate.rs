@@ -25,6 +25,12 @@ use crate::mesh::ElementKind;
 /// program nondimensionalises the problem before a backend sees it.
 pub const MAX_COEFFICIENT: f64 = 1e-10 * f64::MAX;
 
+/// The smallest stiffness coefficient accepted, 1 / [`MAX_COEFFICIENT`] ≈ 5.6e-299: below it the
+/// element stiffness entries (the coefficient times geometric factors of order one in 2D) come
+/// close to the subnormal range and lose their digits or vanish (E = 2.2e-308 gave a zero
+/// stiffness matrix), so the Cholesky factorisation fails after `check` accepted the scene.
+pub const MIN_COEFFICIENT: f64 = 1.0 / MAX_COEFFICIENT;
+
 /// Characters refused in names and the title: Unicode control characters (C0, DEL, C1) and the
 /// non-characters U+FFFE and U+FFFF — all of them invalid or unsafe in the XML and JSON the
 /// program writes (SVG, VTU, result.json).
@@ -212,7 +218,7 @@ fn validate_body(b: BodySection, model: &ModelContext) -> Result<Body, SceneErro
         ));
     }
     let coefficient = elastic_coefficient(b.young, b.poisson, model.plane) * model.thickness;
-    if !(coefficient.is_finite() && coefficient <= MAX_COEFFICIENT) {
+    if !(coefficient.is_finite() && (MIN_COEFFICIENT..=MAX_COEFFICIENT).contains(&coefficient)) {
         let what = match model.plane {
             Plane::Strain => "(λ + 2μ)·thickness",
             Plane::Stress => "E/(1 − ν²)·thickness",
@@ -222,8 +228,8 @@ fn validate_body(b: BodySection, model: &ModelContext) -> Result<Body, SceneErro
             "young",
             format!(
                 "= {:e} with poisson = {} and thickness {} gives a stiffness {what} of {coefficient:e}, \
-                 beyond {MAX_COEFFICIENT:e}: the element stiffness would overflow; rescale the \
-                 scene's units",
+                 outside [{MIN_COEFFICIENT:e}, {MAX_COEFFICIENT:e}]: the element stiffness would \
+                 overflow or underflow; rescale the scene's units",
                 b.young, b.poisson, model.thickness
             ),
         ));

@@ -207,8 +207,8 @@ pub fn render_deformed_svg(title: &str, bodies: &[BodyField]) -> Result<String, 
 
 /// Renders the plot to an SVG string.
 fn render_svg(title: &str, bodies: &[BodyField]) -> Result<String, OutputError> {
-    let factor = magnification(bodies);
-    let deformed: Vec<Vec<(f64, f64)>> = bodies
+    let mut factor = magnification(bodies);
+    let mut deformed: Vec<Vec<(f64, f64)>> = bodies
         .iter()
         .map(|b| {
             b.mesh
@@ -223,6 +223,22 @@ fn render_svg(title: &str, bodies: &[BodyField]) -> Result<String, OutputError> 
         .iter()
         .map(|b| b.mesh.nodes.iter().map(|p| (p[0], p[1])).collect())
         .collect();
+    // A displacement that dwarfs the bodies (or is not finite) cannot be drawn with them: the
+    // axes would span 1e300 (plotters' tick loop never ends there). Draw the undeformed shape
+    // only and say so in the legend (factor 0).
+    let extent = |shapes: &[Vec<(f64, f64)>]| {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for &(x, y) in shapes.iter().flatten() {
+            lo = [lo[0].min(x), lo[1].min(y)];
+            hi = [hi[0].max(x), hi[1].max(y)];
+        }
+        (hi[0] - lo[0]).max(hi[1] - lo[1])
+    };
+    let (body_size, drawn_size) = (extent(&undeformed), extent(&deformed));
+    if !(drawn_size.is_finite() && drawn_size <= 1e3 * body_size.max(f64::MIN_POSITIVE)) {
+        factor = 0.0;
+        deformed = undeformed.clone();
+    }
 
     // Data range: both shapes, padded; a degenerate or empty scene gets a unit box.
     let all = undeformed.iter().chain(&deformed).flatten();
@@ -379,12 +395,13 @@ fn draw_chart(
         .into_font()
         .style(FontStyle::Bold)
         .color(&BLACK);
-    area.draw(&Text::new(
-        format!("displacement × {}", factor_label(factor)),
-        (x0, y),
-        bold,
-    ))
-    .map_err(plot_err)?;
+    let label = if factor == 0.0 {
+        "deformed shape too large to draw".to_string()
+    } else {
+        format!("displacement × {}", factor_label(factor))
+    };
+    area.draw(&Text::new(label, (x0, y), bold))
+        .map_err(plot_err)?;
     area.draw(&Text::new(
         format!("max |u| = {umax:.3e}"),
         (x0, y + 24),
