@@ -675,7 +675,7 @@ pub fn sweep(
         let mut assemble_times = Vec::with_capacity(repeat);
         let mut prepared = None;
         for _ in 0..repeat {
-            let p = run::prepare(&s, limits).map_err(RunError::from)?;
+            let p = run::prepare(&s, limits)?;
             mesh_times.push(p.mesh_s);
             assemble_times.push(p.assemble_s);
             prepared = Some(p);
