@@ -94,12 +94,8 @@ enum Command {
     Compare {
         #[command(flatten)]
         common: Common,
-        /// Comma-separated backends.
-        #[arg(
-            long,
-            value_delimiter = ',',
-            default_value = "clarabel,osqp,dual-pgs,dual-uzawa"
-        )]
+        /// Comma-separated backends [default: clarabel,osqp,dual-pgs,dual-uzawa, those compiled in].
+        #[arg(long, value_delimiter = ',')]
         backends: Vec<String>,
         /// Relative KKT tolerance every backend is asked to meet.
         #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
@@ -121,12 +117,8 @@ enum Command {
         /// Comma-separated bodies whose hmax is swept (default: all).
         #[arg(long, value_delimiter = ',')]
         bodies: Vec<String>,
-        /// Comma-separated backends.
-        #[arg(
-            long,
-            value_delimiter = ',',
-            default_value = "clarabel,osqp,dual-pgs,dual-uzawa"
-        )]
+        /// Comma-separated backends [default: clarabel,osqp,dual-pgs,dual-uzawa, those compiled in].
+        #[arg(long, value_delimiter = ',')]
         backends: Vec<String>,
         /// Comma-separated tolerances.
         #[arg(long, value_delimiter = ',', default_value = "1e-9", value_parser = parse_tol)]
@@ -413,7 +405,22 @@ fn sweep(
     }
 }
 
+/// The backends `compare` and `sweep` run when `--backends` is not given (osqp only when built
+/// with it).
+const DEFAULT_BACKENDS: [BackendKind; 4] = [
+    BackendKind::Clarabel,
+    BackendKind::Osqp,
+    BackendKind::DualPgs,
+    BackendKind::DualUzawa,
+];
+
 fn parse_backends(names: &[String]) -> Result<Vec<BackendKind>> {
+    if names.is_empty() {
+        return Ok(DEFAULT_BACKENDS
+            .into_iter()
+            .filter(|k| k.available())
+            .collect());
+    }
     let kinds: Vec<BackendKind> = names.iter().map(|n| n.parse()).collect::<Result<_, _>>()?;
     anyhow::ensure!(!kinds.is_empty(), "--backends names no backend");
     for k in &kinds {
