@@ -140,11 +140,15 @@ fn solve_with_osqp(
                 "OSQP setup: A is not positive semidefinite",
             ))
         }
+        // Data OSQP refuses (e.g. bounds beyond its ±1e30 infinity) is a failure of this solve,
+        // reported as a status so that `solve` still writes its result: not a refusal of the scene.
         Err(error) => {
-            return Err(QpError::Backend {
-                backend: NAME,
-                reason: format!("OSQP setup failed: {error}"),
-            })
+            return Ok(failed(
+                n,
+                m,
+                QpStatus::NumericalError,
+                &format!("OSQP setup failed: {error}"),
+            ))
         }
     };
     if let Some((x, y)) = warm {

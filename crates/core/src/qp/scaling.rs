@@ -12,7 +12,8 @@ use super::problem::QpProblem;
 pub struct QpScaling {
     /// Stiffness unit (the mean diagonal of A).
     pub stiffness: f64,
-    /// Displacement unit (‖f‖∞ / stiffness unit, or the largest finite gap when unloaded).
+    /// Displacement unit: the larger of ‖f‖∞ / stiffness unit and the deepest initial overlap
+    /// max(0, −minᵢ gᵢ); the largest gap when both are zero; 1 when g is zero too.
     pub displacement: f64,
 }
 
@@ -29,8 +30,12 @@ impl QpScaling {
             1.0
         };
         let load = norm_inf(&problem.load);
-        let displacement = if load > 0.0 {
-            load / stiffness
+        // An initial overlap is a displacement the solve must make: scaling by it keeps the
+        // scaled gaps ≥ −1 (a tiny load beside an overlap gave ĝ = −1e40, beyond what OSQP
+        // accepts as a finite bound).
+        let overlap = problem.gap.iter().fold(0.0_f64, |m, g| m.max(-g));
+        let displacement = if load > 0.0 || overlap > 0.0 {
+            (load / stiffness).max(overlap)
         } else {
             let gap = norm_inf(&problem.gap);
             if gap > 0.0 {

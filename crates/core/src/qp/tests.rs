@@ -165,3 +165,16 @@ fn a_nan_residual_is_never_met() {
         QpStatus::NumericalError
     );
 }
+
+#[test]
+fn an_overlap_bounds_the_scaled_gaps() {
+    // A load of 1e-40 beside an overlap of 1: scaling by the load alone gave ĝ = −1e40.
+    let mut a = TriMat::new((1, 1));
+    a.add_triplet(0, 0, 1.0);
+    let mut b = TriMat::new((1, 1));
+    b.add_triplet(0, 0, 1.0);
+    let p = QpProblem::try_new(a.to_csc(), vec![1e-40], b.to_csc(), vec![-1.0]).unwrap();
+    let s = QpScaling::of(&p);
+    assert_eq!(s.displacement, 1.0);
+    assert_eq!(s.scale(&p).gap, vec![-1.0]);
+}
