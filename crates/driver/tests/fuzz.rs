@@ -58,6 +58,14 @@ const KNOWN_GAPS: &[(&str, &str)] = &[
     // `solved` with a body ending inside another (small displacements): an initial overlap of
     // two bodies is solved as if the overlapping nodes had no row (issue 8's dropped rows).
     ("solved-no-interpenetration", ""),
+    // An unloaded scene (no traction, gravity or prescribed value, bodies touching or apart)
+    // "solved" with max |u| ≈ 2: a slave node with no facing segment in reach is projected onto
+    // a far segment of the other body (here its opposite side), giving a large negative initial
+    // gap that pushes the bodies apart.
+    ("unloaded-at-rest", ""),
+    // write_outputs panics inside plotters (`assertion failed: !(range.0.is_nan() || …)`) when
+    // the deformed shape holds NaN: E = 2.2e-308 under gravity, reported `solved` first.
+    ("no-panic", "range.0.is_nan()"),
     // write_outputs never returns: deformed.svg's axis ticks for a 1e9-sized body whose
     // displacement overflows (plotters' key-point loop).
     ("finishes", ""),
@@ -87,8 +95,8 @@ fn describe(case: &Case, findings: &[Finding]) -> String {
         s.push_str(&format!("[{}] {}\n", f.property, f.detail));
     }
     s.push_str(&format!(
-        "backend: {}\nmust refuse: {:?}\n--- scene ---\n{}",
-        case.backend, case.must_refuse, case.toml
+        "backend: {}\nmust refuse: {:?}\nat rest: {}\n--- scene ---\n{}",
+        case.backend, case.must_refuse, case.at_rest, case.toml
     ));
     s
 }
@@ -104,7 +112,7 @@ proptest! {
 
     #[test]
     fn fuzz_scenes(case in gen::case()) {
-        let found = enforced(props::run_case(&case.toml, case.must_refuse.as_deref(), case.backend));
+        let found = enforced(props::run_case(&case));
         prop_assert!(found.is_empty(), "{}", describe(&case, &found));
     }
 }
@@ -124,6 +132,7 @@ fn saved_case(text: &str) -> Case {
         toml: text.to_string(),
         must_refuse: header("# fuzz-must-refuse:"),
         backend,
+        at_rest: header("# fuzz-at-rest:").is_some_and(|v| v == "true"),
     }
 }
 
@@ -156,11 +165,7 @@ fn fuzz_cases_replay() {
             );
             continue;
         }
-        let found = enforced(props::run_case(
-            &case.toml,
-            case.must_refuse.as_deref(),
-            case.backend,
-        ));
+        let found = enforced(props::run_case(&case));
         if !found.is_empty() {
             failures.push(format!("{}:\n{}", path.display(), describe(&case, &found)));
         }
@@ -172,7 +177,7 @@ fn fuzz_cases_replay() {
 /// last failing case.
 fn shrink(tree: &mut impl ValueTree<Value = Case>, kind: &str) -> (Case, Vec<Finding>) {
     let fails = |c: &Case| {
-        let f = props::run_case(&c.toml, c.must_refuse.as_deref(), c.backend);
+        let f = props::run_case(c);
         f.iter().any(|x| props::signature(x) == kind).then_some(f)
     };
     let mut best = tree.current();
@@ -232,7 +237,7 @@ fn fuzz_survey() {
         ran += 1;
         let mut tree = strategy.new_tree(&mut runner).expect("generate");
         let case = tree.current();
-        let found = props::run_case(&case.toml, case.must_refuse.as_deref(), case.backend);
+        let found = props::run_case(&case);
         if found.is_empty() {
             passed += 1;
         }
@@ -286,6 +291,9 @@ fn fuzz_survey() {
             let mut text = format!("# fuzz-kind: {k}\n# fuzz-backend: {}\n", case.backend);
             if let Some(why) = &case.must_refuse {
                 text.push_str(&format!("# fuzz-must-refuse: {why}\n"));
+            }
+            if case.at_rest {
+                text.push_str("# fuzz-at-rest: true\n");
             }
             text.push_str(&case.toml);
             // Named after the kind, so that later runs replace rather than pile up.
