@@ -141,6 +141,50 @@ pub fn solve_scaled(
         }
         .checked_finite());
     }
+    let force_unit = units.stiffness * units.displacement;
+    if !(units.displacement.is_finite() && force_unit.is_finite() && force_unit > 0.0) {
+        // ‖f‖/k̄ beyond the floating-point range (E = 1e-200 under a traction of 1e200): the
+        // displacements cannot be represented in the scene's units, whatever the backend does.
+        return Ok(Solution {
+            backend: backend.name().to_string(),
+            displacement: vec![f64::NAN; model.dofs.len()],
+            multipliers: vec![f64::NAN; problem.rows()],
+            status: QpStatus::NumericalError,
+            backend_status: QpStatus::NumericalError,
+            iterations: 0,
+            residuals: KktResiduals {
+                max_penetration: f64::NAN,
+                relative_penetration: f64::INFINITY,
+                stationarity: f64::INFINITY,
+                complementarity: f64::INFINITY,
+                min_multiplier: f64::NEG_INFINITY,
+            },
+            objective: f64::NAN,
+            solve_time: std::time::Duration::ZERO,
+            message: Some(format!(
+                "the displacement scale ‖f‖∞ / k̄ (k̄ = {:e}) overflows: the answer cannot be represented in the scene's units; rescale them (the backend was not run)",
+                units.stiffness
+            )),
+        });
+    }
+    if problem.load.iter().all(|f| *f == 0.0) && problem.gap.iter().all(|g| *g >= 0.0) {
+        // Nothing loads the bodies and nothing overlaps: x = 0, λ = 0 is the exact answer
+        // (feasible, stationary, complementary), so no backend runs.  An iterative backend would
+        // only add noise of the size its tolerance allows, in units the data do not fix.
+        return Ok(Solution {
+            backend: backend.name().to_string(),
+            displacement: model.expand(&vec![0.0; problem.dofs()]),
+            multipliers: vec![0.0; problem.rows()],
+            status: QpStatus::Solved,
+            backend_status: QpStatus::Solved,
+            iterations: 0,
+            residuals: KktResiduals::default(),
+            objective: 0.0,
+            solve_time: std::time::Duration::ZERO,
+            message: Some("unloaded and no initial overlap: the answer is exactly zero; the backend was not run".into()),
+        }
+        .checked_finite());
+    }
     let start = Instant::now();
     let raw = backend.solve(problem, options)?;
     let elapsed = start.elapsed();

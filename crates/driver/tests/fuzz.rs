@@ -66,8 +66,8 @@ fn describe(case: &Case, findings: &[Finding]) -> String {
         s.push_str(&format!("[{}] {}\n", f.property, f.detail));
     }
     s.push_str(&format!(
-        "backend: {}\nmust refuse: {:?}\n--- scene ---\n{}",
-        case.backend, case.must_refuse, case.toml
+        "backend: {}\nmust refuse: {:?}\nat rest: {}\n--- scene ---\n{}",
+        case.backend, case.must_refuse, case.at_rest, case.toml
     ));
     s
 }
@@ -83,7 +83,7 @@ proptest! {
 
     #[test]
     fn fuzz_scenes(case in gen::case()) {
-        let found = enforced(props::run_case(&case.toml, case.must_refuse.as_deref(), case.backend));
+        let found = enforced(props::run_case(&case));
         prop_assert!(found.is_empty(), "{}", describe(&case, &found));
     }
 }
@@ -103,6 +103,7 @@ fn saved_case(text: &str) -> Case {
         toml: text.to_string(),
         must_refuse: header("# fuzz-must-refuse:"),
         backend,
+        at_rest: header("# fuzz-at-rest:").is_some_and(|v| v == "true"),
     }
 }
 
@@ -135,11 +136,7 @@ fn fuzz_cases_replay() {
             );
             continue;
         }
-        let found = enforced(props::run_case(
-            &case.toml,
-            case.must_refuse.as_deref(),
-            case.backend,
-        ));
+        let found = enforced(props::run_case(&case));
         if !found.is_empty() {
             failures.push(format!("{}:\n{}", path.display(), describe(&case, &found)));
         }
@@ -151,7 +148,7 @@ fn fuzz_cases_replay() {
 /// last failing case.
 fn shrink(tree: &mut impl ValueTree<Value = Case>, kind: &str) -> (Case, Vec<Finding>) {
     let fails = |c: &Case| {
-        let f = props::run_case(&c.toml, c.must_refuse.as_deref(), c.backend);
+        let f = props::run_case(c);
         f.iter().any(|x| props::signature(x) == kind).then_some(f)
     };
     let mut best = tree.current();
@@ -211,7 +208,7 @@ fn fuzz_survey() {
         ran += 1;
         let mut tree = strategy.new_tree(&mut runner).expect("generate");
         let case = tree.current();
-        let found = props::run_case(&case.toml, case.must_refuse.as_deref(), case.backend);
+        let found = props::run_case(&case);
         if found.is_empty() {
             passed += 1;
         }
@@ -265,6 +262,9 @@ fn fuzz_survey() {
             let mut text = format!("# fuzz-kind: {k}\n# fuzz-backend: {}\n", case.backend);
             if let Some(why) = &case.must_refuse {
                 text.push_str(&format!("# fuzz-must-refuse: {why}\n"));
+            }
+            if case.at_rest {
+                text.push_str("# fuzz-at-rest: true\n");
             }
             text.push_str(&case.toml);
             // Named after the kind, so that later runs replace rather than pile up.

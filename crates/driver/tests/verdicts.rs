@@ -58,14 +58,21 @@ fn json(path: &Path) -> serde_json::Value {
 
 #[test]
 fn an_answer_that_overflows_the_users_units_is_not_solved() {
-    // E = 1e-200 under a traction of 1e200: the dimensionless QP is benign and solved, but the
-    // displacements are ~1e400 in the scene's units. This used to be reported `solved` with
-    // nulls (NaN) in result.json.
+    // E = 1e-200 under a traction of 1e200: the displacements are ~1e400 in the scene's units.
+    // This used to be reported `solved` with nulls (NaN) in result.json.
     let dir = tempfile::tempdir().expect("tempdir");
     std::fs::write(dir.path().join("s.toml"), blocks("1e-200", "-1e200", "0")).expect("write");
     let o = signorini(&["solve", "s.toml", "--out", "res"], dir.path());
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     let r = json(&dir.path().join("res/result.json"));
+    assert_eq!(r["status"], "numerical-error");
+    assert!(stderr(&o).contains("overflows"), "{}", stderr(&o));
+    // A huge load the units can hold (E = 1, traction 1e200 → u ≈ 1e200): solved by the backend,
+    // but the objective (~u·f ≈ 1e400) overflows: the backend's own verdict is kept beside ours.
+    std::fs::write(dir.path().join("t.toml"), blocks("1", "-1e200", "0")).expect("write");
+    let o = signorini(&["solve", "t.toml", "--out", "res2"], dir.path());
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let r = json(&dir.path().join("res2/result.json"));
     assert_eq!(r["status"], "numerical-error");
     assert_eq!(
         r["backend_status"], "solved",

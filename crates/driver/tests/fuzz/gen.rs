@@ -84,6 +84,8 @@ pub struct Case {
     pub must_refuse: Option<String>,
     /// Backend to solve with.
     pub backend: BackendKind,
+    /// Nothing is loaded or prescribed and no two bodies overlap: the answer is u = 0.
+    pub at_rest: bool,
 }
 
 fn f(v: f64) -> String {
@@ -629,13 +631,34 @@ pub fn backends() -> Vec<BackendKind> {
 /// A whole test case: scene text, whether it must be refused, and a backend.
 pub fn case() -> impl Strategy<Value = Case> {
     let kinds = backends();
-    (scene_params(), mutation(), select(kinds)).prop_map(|(p, m, backend)| {
-        let mut secs = sections(&p);
-        let must_refuse = mutate(&mut secs, &m);
-        Case {
-            toml: render(&secs),
-            must_refuse,
-            backend,
-        }
-    })
+    (
+        scene_params(),
+        mutation(),
+        select(kinds),
+        prop::bool::weighted(0.1),
+    )
+        .prop_map(|(mut p, m, backend, unload)| {
+            // One scene in ten has nothing loaded or prescribed (its answer is known: u = 0).
+            if unload {
+                p.load = [0.0, 0.0];
+                p.linear = None;
+                p.gravity = None;
+                p.values = [0.0, 0.0];
+            }
+            let mut secs = sections(&p);
+            let must_refuse = mutate(&mut secs, &m);
+            // Bodies are stacked upwards, so a gap ≥ 0 to the one below means no overlap at all.
+            let unloaded = p.load == [0.0, 0.0]
+                && p.linear.is_none_or(|t| t == [0.0, 0.0])
+                && p.gravity.is_none()
+                && p.values == [0.0, 0.0];
+            let apart = p.bodies.iter().skip(1).all(|b| b.gap >= 0.0);
+            let at_rest = unloaded && apart && matches!(m, Mutation::None);
+            Case {
+                toml: render(&secs),
+                must_refuse,
+                backend,
+                at_rest,
+            }
+        })
 }
