@@ -1,5 +1,5 @@
 //! The result of a run: full displacements, reactions, stresses, contact pressures and probes, as
-//! the `result.json` of `SCENE.md`.
+//! the `result.json` of `docs/scene.md`.
 
 use serde::Serialize;
 
@@ -24,7 +24,9 @@ pub struct Timings {
     pub assemble: f64,
     /// The solve (backend or direct).
     pub solve: f64,
-    /// Everything, including output.
+    /// From the start of meshing (the element estimate) to the output fields (stresses,
+    /// pressures): reading the scene, building the report and writing the files are not
+    /// included (the report cannot contain the time of its own writing).
     pub total: f64,
 }
 

@@ -1,4 +1,4 @@
-//! The TOML scene file as written by the user (`SCENE.md`), before validation.
+//! The TOML scene file as written by the user (`docs/scene.md`), before validation.
 //!
 //! Every table refuses unknown keys, so a typo is an error and never silently ignored.  Arrays are
 //! read as vectors of any length, so that validation can refuse a wrong length naming the section

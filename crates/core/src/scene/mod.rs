@@ -1,4 +1,4 @@
-//! Scenes: the TOML contract of `SCENE.md`, parsed with unknown keys refused, then validated into
+//! Scenes: the TOML contract of `docs/scene.md`, parsed with unknown keys refused, then validated into
 //! typed values whose errors name the section, the body and the key at fault.
 //!
 //! ```
