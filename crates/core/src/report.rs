@@ -68,6 +68,9 @@ pub struct ContactNodeReport {
     pub multiplier: f64,
     /// λ divided by the node's tributary length.
     pub pressure: f64,
+    /// Whether the row counts as in contact ([`is_active`]); the VTU's pressure and the SVG's
+    /// contact edges use the same test.
+    pub active: bool,
 }
 
 /// One contact pair.
@@ -284,16 +287,32 @@ pub fn body_fields(model: &Model, solution: &Solution) -> Vec<BodyFields> {
             }
         })
         .collect();
+    // Only active rows carry pressure into the fields: round-off multipliers (1e-17 from an
+    // interior-point method) must not mark a node as in contact in the VTU or the SVG.
+    let scale = active_scale(model, solution);
     let mut row = 0;
     for pair in &model.contacts {
         for r in &pair.rows {
-            if let Some(l) = solution.multipliers.get(row) {
-                fields[pair.slave].contact_pressure[r.slave_node] += l / r.tributary;
+            if let Some(&l) = solution.multipliers.get(row) {
+                if is_active(l, scale) {
+                    fields[pair.slave].contact_pressure[r.slave_node] += l / r.tributary;
+                }
             }
             row += 1;
         }
     }
     fields
+}
+
+/// The force scale of [`is_active`] for a solution: the larger of the largest multiplier and the
+/// total applied load Σ|fᵢ|.
+pub fn active_scale(model: &Model, solution: &Solution) -> f64 {
+    solution
+        .multipliers
+        .iter()
+        .copied()
+        .fold(0.0, f64::max)
+        .max(model.load.iter().map(|f| f.abs()).sum())
 }
 
 /// Builds `result.json`'s content.
@@ -326,12 +345,7 @@ pub fn run_report(
             max_von_mises: f.von_mises.iter().copied().fold(0.0, f64::max),
         });
     }
-    let largest = solution
-        .multipliers
-        .iter()
-        .copied()
-        .fold(0.0, f64::max)
-        .max(model.load.iter().map(|f| f.abs()).sum());
+    let largest = active_scale(model, solution);
     let bu = mat_vec(&model.constraints, u);
     let mut contacts = Vec::with_capacity(model.contacts.len());
     let mut row = 0;
@@ -342,7 +356,8 @@ pub fn run_report(
         let mut normal_force = 0.0;
         for r in &pair.rows {
             let l = solution.multipliers.get(row).copied().unwrap_or(0.0);
-            if is_active(l, largest) {
+            let on = is_active(l, largest);
+            if on {
                 active += 1;
             }
             normal_force += l;
@@ -353,6 +368,7 @@ pub fn run_report(
                 initial_gap: r.gap,
                 multiplier: l,
                 pressure: l / r.tributary,
+                active: on,
             });
             row += 1;
         }

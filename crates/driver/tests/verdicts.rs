@@ -220,3 +220,38 @@ fn a_closed_stdout_pipe_is_a_clean_io_error() {
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
 }
+
+#[test]
+fn round_off_multipliers_are_contact_nowhere() {
+    // Experiment 2c pulls the bodies apart: clarabel leaves multipliers of ~1e-17 on every row.
+    // One threshold (report::is_active) decides contact for result.json, the VTU's pressure and
+    // the SVG's contact edges; the SVG used to draw them as contact (pressure > 0).
+    let dir = tempfile::tempdir().expect("tempdir");
+    let scene =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/seed/exp2c.toml");
+    let o = signorini(
+        &["solve", scene.to_str().expect("path"), "--out", "res"],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let r = json(&dir.path().join("res/result.json"));
+    let nodes = r["contacts"][0]["nodes"].as_array().expect("nodes");
+    assert!(!nodes.is_empty());
+    assert!(nodes.iter().all(|n| n["active"] == false), "{nodes:?}");
+    assert_eq!(r["active_constraints"], 0);
+    let svg = std::fs::read_to_string(dir.path().join("res/deformed.svg")).expect("svg");
+    assert!(!svg.contains("contact (active)") && !svg.contains("contact (p > 0)"));
+    // The VTU's contact_pressure is zero everywhere: its values are all "0".
+    let vtu = std::fs::read_to_string(dir.path().join("res/solution.vtu")).expect("vtu");
+    let start = vtu
+        .find("Name=\"contact_pressure\"")
+        .expect("pressure array");
+    let body = &vtu[start..];
+    let values = &body[body.find('>').expect(">") + 1..body.find("</DataArray>").expect("end")];
+    assert!(
+        values
+            .split_whitespace()
+            .all(|v| v.parse::<f64>() == Ok(0.0)),
+        "nonzero contact pressure in the VTU"
+    );
+}

@@ -388,7 +388,7 @@ fn draw_chart(
         )?;
     }
     if any_contact {
-        entry("contact (p > 0)", CONTACT.stroke_width(4))?;
+        entry("contact (active)", CONTACT.stroke_width(4))?;
     }
     y += 12;
     let bold = ("sans-serif", 16)
