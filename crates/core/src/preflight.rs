@@ -98,10 +98,10 @@ pub struct Preflight {
 pub enum PreflightError {
     /// The estimated total of elements over all bodies exceeds [`MeshLimits::max_elements`].
     #[error(
-        "the scene would mesh into about {} elements over all {} bodies ({}), more than the \
+        "the scene would mesh into {} elements over all {} bodies ({}), more than the \
          limit of {limit}; solving it would take about {} of memory ({} with a dual backend); \
          increase hmax or raise the element limit (--max-elements)",
-        .preflight.elements,
+        count(.preflight.elements),
         .preflight.bodies.len(),
         body_list(&.preflight.bodies),
         gib(.preflight.bytes),
@@ -118,9 +118,18 @@ pub enum PreflightError {
 fn body_list(bodies: &[BodyEstimate]) -> String {
     let parts: Vec<String> = bodies
         .iter()
-        .map(|b| format!("{:?} ~{}", b.name, b.elements))
+        .map(|b| format!("{:?} {}", b.name, count(b.elements)))
         .collect();
     parts.join(", ")
+}
+
+/// An estimated count for a message: `~N`, or "over 1.8e19" when it saturated at `usize::MAX`.
+pub fn count(n: usize) -> String {
+    if n == usize::MAX {
+        format!("over {:.1e}", usize::MAX as f64)
+    } else {
+        format!("~{n}")
+    }
 }
 
 /// Bytes as GiB for a message: one decimal, or scientific notation when huge.
