@@ -277,7 +277,7 @@ fn svg_has_labels_and_each_edge_once() {
     assert!(svg.contains("upper"));
     assert!(svg.contains("lower &amp; base"));
     assert!(svg.contains("Experiment &lt;2b&gt;"));
-    assert!(svg.contains("contact (p &gt; 0)"));
+    assert!(svg.contains("contact (active)"));
     roxmltree::Document::parse(&svg).unwrap();
 }
 
