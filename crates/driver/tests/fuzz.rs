@@ -49,6 +49,13 @@ fn known_gap(f: &Finding) -> bool {
         .any(|(p, text)| f.property == *p && f.detail.contains(text))
 }
 
+fn seed() -> u64 {
+    std::env::var("FUZZ_SEED")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(20_261_123)
+}
+
 fn cases() -> u32 {
     std::env::var("PROPTEST_CASES")
         .ok()
@@ -78,6 +85,9 @@ proptest! {
         // Every case is a full solve: shrinking a few hundred steps is plenty.
         max_shrink_iters: 400,
         failure_persistence: None,
+        // Fixed (FUZZ_SEED overrides it): the suite must not pass or fail by the draw; surveys
+        // (scripts/fuzz.sh) draw afresh.
+        rng_seed: proptest::test_runner::RngSeed::Fixed(seed()),
         ..ProptestConfig::default()
     })]
 

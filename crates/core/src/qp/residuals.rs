@@ -11,19 +11,19 @@ use super::problem::QpProblem;
 /// never against the answer itself, so a wrong x cannot scale its own residual down, and every
 /// backend is judged by the same yardstick.  With the force scale F and the length scale X:
 /// * `max_penetration` = max(0, maxᵢ (Bx − g)ᵢ), in the problem's length unit;
-/// * `relative_penetration` = `max_penetration` / X;
+/// * `relative_penetration` = maxᵢ max(0, (Bx − g)ᵢ) / Xᵢ;
 /// * `stationarity` = ‖Ax − f + Bᵀλ‖∞ / F;
-/// * `complementarity` = maxᵢ |λᵢ (g − Bx)ᵢ| / (F X);
+/// * `complementarity` = maxᵢ |λᵢ (g − Bx)ᵢ| / (F Xᵢ);
 /// * `min_multiplier` = min(0, minᵢ λᵢ) / F (zero when every λᵢ ≥ 0).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
 pub struct KktResiduals {
     /// Largest constraint violation max(0, Bx − g), in length units.
     pub max_penetration: f64,
-    /// `max_penetration` relative to the length scale X.
+    /// Largest violation of a row relative to that row's length scale Xᵢ.
     pub relative_penetration: f64,
     /// Relative equilibrium residual ‖Ax − f + Bᵀλ‖∞ / F.
     pub stationarity: f64,
-    /// Relative complementarity maxᵢ |λᵢ sᵢ| / (F X).
+    /// Relative complementarity maxᵢ |λᵢ sᵢ| / (F Xᵢ).
     pub complementarity: f64,
     /// Most negative multiplier relative to F (≤ 0).
     pub min_multiplier: f64,
@@ -60,23 +60,27 @@ impl KktResiduals {
 /// Smallest scale used as a denominator, so that an all-zero problem gives zero residuals.
 const TINY: f64 = 1e-300;
 
-/// The fixed scales residuals are measured against, computed from A, f and g only.
+/// The fixed scales residuals are measured against, computed from A, B, f and g only.
 ///
 /// * k̄ = n / Σⱼ 1/|Aⱼⱼ|, the harmonic mean of the diagonal (zero entries skipped; 1 when there
-///   is none): the stiffness unit, dominated by the softest DOFs, so that a soft body pressed by a
-///   stiff one (contrast 10⁶) is measured by its own displacements, not the stiff body's;
+///   is none), and per row i, kᵢ, the same mean over the DOFs row i touches: stiffness units,
+///   dominated by the softest DOFs, so that a soft body pressed by a stiff one (contrast 10⁶) is
+///   judged by its own displacements — and, per row, only by the bodies that row joins (a soft
+///   body elsewhere in the scene must not loosen the check of a stiff pair);
 /// * G = max(0, −minᵢ gᵢ), the deepest initial overlap;
-/// * X = max(‖f‖₁ / k̄, G) — the displacement the total load would give a spring of stiffness k̄
-///   (independent of the mesh size, unlike ‖f‖∞, which shrinks with the elements), or the
-///   overlap to be undone; when both are zero, ‖g‖∞, and 1 when g is zero too;
+/// * X = max(‖f‖₁ / k̄, G) and Xᵢ = max(‖f‖₁ / kᵢ, G) — the displacement the total load would
+///   give a spring of that stiffness (independent of the mesh size, unlike ‖f‖∞, which shrinks
+///   with the elements), or the overlap to be undone; when zero, ‖g‖∞, and 1 when g is zero too;
 /// * F = max(‖f‖∞, k̄ G) — the largest nodal load, or the force of a k̄ spring over the overlap;
 ///   when both are zero, k̄ X.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ResidualScales {
     /// Force scale F (per DOF).
     pub force: f64,
-    /// Length scale X.
+    /// Length scale X of the whole problem.
     pub length: f64,
+    /// Length scale Xᵢ of each constraint row.
+    pub rows: Vec<f64>,
 }
 
 impl ResidualScales {
@@ -92,24 +96,54 @@ impl ResidualScales {
     /// assert_eq!((s.force, s.length), (3.0, 1.0));
     /// ```
     pub fn of(problem: &QpProblem) -> Self {
-        let (count, compliance) = (0..problem.dofs())
+        let diag: Vec<f64> = (0..problem.dofs())
             .map(|j| problem.stiffness.get(j, j).copied().unwrap_or(0.0).abs())
-            .filter(|d| *d > 0.0)
-            .fold((0usize, 0.0_f64), |(c, s), d| (c + 1, s + 1.0 / d));
-        let stiffness = if count > 0 && compliance > 0.0 && compliance.is_finite() {
-            count as f64 / compliance
-        } else {
-            1.0
+            .collect();
+        let harmonic = |count: usize, compliance: f64| {
+            (count > 0 && compliance > 0.0 && compliance.is_finite())
+                .then(|| count as f64 / compliance)
         };
+        let (count, compliance) = diag
+            .iter()
+            .filter(|d| **d > 0.0)
+            .fold((0usize, 0.0_f64), |(c, s), d| (c + 1, s + 1.0 / d));
+        let stiffness = harmonic(count, compliance).unwrap_or(1.0);
         let overlap = problem.gap.iter().fold(0.0_f64, |m, g| m.max(-g));
         let load_1: f64 = problem.load.iter().map(|v| v.abs()).sum();
-        let mut length = (load_1 / stiffness).max(overlap);
-        if length == 0.0 {
-            length = norm_inf(&problem.gap);
+        let fallback = {
+            let g = norm_inf(&problem.gap);
+            if g > 0.0 {
+                g
+            } else {
+                1.0
+            }
+        };
+        let length_for = |k: f64| {
+            let x = (load_1 / k).max(overlap);
+            if x > 0.0 && x.is_finite() {
+                x
+            } else if x > 0.0 {
+                f64::MAX
+            } else {
+                fallback
+            }
+        };
+        let length = length_for(stiffness);
+        let mut row_count = vec![0usize; problem.rows()];
+        let mut row_compliance = vec![0.0_f64; problem.rows()];
+        for (j, col) in problem.constraints.outer_iterator().enumerate() {
+            if diag[j] > 0.0 {
+                for (i, _) in col.iter() {
+                    row_count[i] += 1;
+                    row_compliance[i] += 1.0 / diag[j];
+                }
+            }
         }
-        if length == 0.0 {
-            length = 1.0;
-        }
+        let rows = row_count
+            .iter()
+            .zip(&row_compliance)
+            .map(|(&c, &s)| harmonic(c, s).map_or(length, length_for))
+            .collect();
         let mut force = norm_inf(&problem.load).max(stiffness * overlap);
         if force == 0.0 {
             force = stiffness * length;
@@ -117,6 +151,7 @@ impl ResidualScales {
         Self {
             force: force.max(TINY),
             length: length.max(TINY),
+            rows,
         }
     }
 }
@@ -161,7 +196,7 @@ pub fn kkt_residuals_with(
     let ax = mat_vec(&problem.stiffness, x);
     let bx = mat_vec(&problem.constraints, x);
     let btl = mat_t_vec(&problem.constraints, multipliers);
-    let (force_scale, length_scale) = (scales.force, scales.length);
+    let force_scale = scales.force;
 
     let stationarity = ax
         .iter()
@@ -172,19 +207,27 @@ pub fn kkt_residuals_with(
         / force_scale;
     let mut max_penetration = 0.0_f64;
     let mut complementarity = 0.0_f64;
-    for ((bxi, gi), li) in bx.iter().zip(&problem.gap).zip(multipliers) {
+    let mut relative_penetration = 0.0_f64;
+    for (((bxi, gi), li), xi) in bx
+        .iter()
+        .zip(&problem.gap)
+        .zip(multipliers)
+        .zip(&scales.rows)
+    {
         let slack = gi - bxi;
+        let xi = xi.max(TINY);
         max_penetration = max_penetration.max(-slack);
-        complementarity = complementarity.max((li * slack).abs());
+        relative_penetration = relative_penetration.max(-slack / xi);
+        // F·Xᵢ can underflow to 0 when both are tiny: keep the quotient finite.
+        complementarity = complementarity.max((li * slack).abs() / (force_scale * xi).max(TINY));
     }
     let min_multiplier = multipliers.iter().copied().fold(0.0, f64::min) / force_scale;
     let finite_or_inf = |v: f64| if v.is_finite() { v } else { f64::INFINITY };
     KktResiduals {
         max_penetration,
-        relative_penetration: finite_or_inf(max_penetration / length_scale),
+        relative_penetration: finite_or_inf(relative_penetration),
         stationarity: finite_or_inf(stationarity),
-        // F·X can underflow to 0 when both are tiny: keep the quotient finite.
-        complementarity: finite_or_inf(complementarity / (force_scale * length_scale).max(TINY)),
+        complementarity: finite_or_inf(complementarity),
         min_multiplier,
     }
 }

@@ -178,3 +178,22 @@ fn an_overlap_bounds_the_scaled_gaps() {
     assert_eq!(s.displacement, 1.0);
     assert_eq!(s.scale(&p).gap, vec![-1.0]);
 }
+
+#[test]
+fn a_soft_dof_elsewhere_does_not_loosen_a_stiff_row() {
+    // DOF 0 (stiffness 1) carries the load and the constraint; DOF 1 is 1e-200 stiff and in no
+    // row. The global harmonic mean k̄ ≈ 2e-200 makes X ≈ 5e199, but row 0 touches only DOF 0:
+    // X₀ = ‖f‖₁ / 1 = 1, so a penetration of 1e-3 is seen as 1e-3 (found by the fuzz harness:
+    // a 1e-200 body under a stiff pair let a slave node sink 6e-5 and still be `solved`).
+    let mut a = TriMat::new((2, 2));
+    a.add_triplet(0, 0, 1.0);
+    a.add_triplet(1, 1, 1e-200);
+    let mut b = TriMat::new((1, 2));
+    b.add_triplet(0, 0, 1.0);
+    let p = QpProblem::try_new(a.to_csc(), vec![1.0, 0.0], b.to_csc(), vec![0.5]).unwrap();
+    let s = ResidualScales::of(&p);
+    assert!(s.length > 1e199);
+    assert_eq!(s.rows, vec![1.0]);
+    let r = kkt_residuals(&p, &[0.501, 0.0], &[0.499]);
+    assert!((r.relative_penetration - 1e-3).abs() < 1e-12, "{r:?}");
+}
