@@ -120,7 +120,32 @@ pub fn solve_scaled(
         let start = Instant::now();
         let mut x = problem.load.clone();
         if problem.dofs() > 0 {
-            SparseCholesky::factor(&problem.stiffness)?.solve_in_place(&mut x);
+            match SparseCholesky::factor(&problem.stiffness) {
+                Ok(factor) => factor.solve_in_place(&mut x),
+                // The scene was valid and held (assembly checked the rigid modes): a factorisation
+                // that breaks down is this solve's numerical failure (a stiffness contrast beyond
+                // the floating-point range, say), a status with its reason, not a refusal.
+                Err(e) => {
+                    return Ok(Solution {
+                        backend: DIRECT.to_string(),
+                        displacement: vec![f64::NAN; model.dofs.len()],
+                        multipliers: Vec::new(),
+                        status: QpStatus::NumericalError,
+                        backend_status: QpStatus::NumericalError,
+                        iterations: 0,
+                        residuals: KktResiduals {
+                            max_penetration: 0.0,
+                            relative_penetration: 0.0,
+                            stationarity: f64::INFINITY,
+                            complementarity: 0.0,
+                            min_multiplier: 0.0,
+                        },
+                        objective: f64::NAN,
+                        solve_time: start.elapsed(),
+                        message: Some(format!("the sparse Cholesky factorisation failed: {e}")),
+                    });
+                }
+            }
         }
         let elapsed = start.elapsed();
         let residuals = kkt_residuals(problem, &x, &[]).with_length_scale(units.displacement);

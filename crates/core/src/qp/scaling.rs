@@ -35,7 +35,11 @@ impl QpScaling {
         // accepts as a finite bound).
         let overlap = problem.gap.iter().fold(0.0_f64, |m, g| m.max(-g));
         let displacement = if load > 0.0 || overlap > 0.0 {
-            (load / stiffness).max(overlap)
+            // Kept ≥ 1e-150 ‖g‖∞ so that the scaled gaps stay finite when a tiny load meets a
+            // huge stiffness (1e-100 / 1e212 underflowed to 0 and ĝ became infinite).
+            (load / stiffness)
+                .max(overlap)
+                .max(1e-150 * norm_inf(&problem.gap))
         } else {
             let gap = norm_inf(&problem.gap);
             if gap > 0.0 {
