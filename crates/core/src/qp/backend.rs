@@ -8,7 +8,7 @@ use super::status::QpStatus;
 /// Settings common to every backend.  Backend-specific knobs live in the backend crates.
 #[derive(Debug, Clone)]
 pub struct SolveOptions {
-    /// Relative KKT tolerance the answer must meet to be called `solved` (see [`KktResiduals`]).
+    /// Relative KKT tolerance the answer must meet to be called `solved` (see [`KktResiduals`](super::KktResiduals)).
     /// Default `1e-9`.
     pub tol: f64,
     /// Iteration cap; `None` lets the backend choose.  Default `None`.
@@ -37,7 +37,7 @@ pub struct QpSolution {
     pub x: Vec<f64>,
     /// Multipliers λ of B x ≤ g (length m), the contact forces.
     pub multipliers: Vec<f64>,
-    /// The backend's own verdict (to be passed through [`checked_status`]).
+    /// The backend's own verdict (to be passed through [`checked_status`](super::checked_status)).
     pub status: QpStatus,
     /// Iterations the backend took (its own notion of an iteration).
     pub iterations: usize,

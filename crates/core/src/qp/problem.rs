@@ -8,7 +8,7 @@ use super::ops::{dot, mat_vec};
 pub type CscMatrix = CsMat<f64>;
 
 /// Why a QP could not even be attempted (as opposed to a solve that did not converge, which is a
-/// [`QpStatus`]).
+/// [`QpStatus`](super::QpStatus)).
 #[derive(Debug, thiserror::Error)]
 pub enum QpError {
     /// Matrix or vector dimensions disagree.
