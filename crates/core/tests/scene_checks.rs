@@ -2,63 +2,26 @@
 //! the section and the key named: control characters in names, contact boxes that miss a body,
 //! bodies that nothing holds, and elastic constants or body forces that overflow.
 
+use common::invalid;
 use signorini_core::mesh::MeshLimits;
 use signorini_core::model;
-use signorini_core::scene::{Scene, SceneError, MAX_COEFFICIENT};
+use signorini_core::scene::{Scene, MAX_COEFFICIENT};
 
-const BASE: &str = r#"
-title = "two blocks"
-[[body]]
-name = "upper"
-polygon = [[0, 1], [2, 1], [2, 2], [0, 2]]
-hmax = 0.25
-young = 0.0021
-poisson = 0.3
+mod common;
 
-[[body]]
-name = "lower"
-polygon = [[1, 0], [3, 0], [3, 1], [1, 1]]
-hmax = 0.25
-young = 0.0012
-poisson = 0.34
+use common::TWO_BLOCKS;
 
-[[dirichlet]]
-body = "upper"
-region = [0, 0, 1, 2]
-
-[[dirichlet]]
-body = "lower"
-region = [3, 3, 0, 1]
-
-[[neumann]]
-body = "upper"
-region = [1, 2, 2, 2]
-traction = [0, -1e-4]
-
-[[contact]]
-bodies = ["upper", "lower"]
-region = [1, 2, 0.99, 1.01]
-
-[[probe]]
-name = "corner"
-body = "upper"
-point = [2, 2]
-"#;
-
-fn with(replace: &str, by: &str) -> String {
-    assert!(BASE.contains(replace), "{replace}");
-    BASE.replacen(replace, by, 1)
+/// The two blocks at hmax 0.25 with a probe at the upper block's corner.
+fn base() -> String {
+    let probe = "\n[[probe]]\nname = \"corner\"\nbody = \"upper\"\npoint = [2, 2]\n";
+    format!(
+        "{}{probe}",
+        TWO_BLOCKS.replace("hmax = 0.2\n", "hmax = 0.25\n")
+    )
 }
 
-fn invalid(text: &str) -> (String, &'static str, String) {
-    match Scene::from_toml(text) {
-        Err(SceneError::Invalid {
-            section,
-            key,
-            reason,
-        }) => (section, key, reason),
-        other => panic!("expected an Invalid error, got {other:?}"),
-    }
+fn with(replace: &str, by: &str) -> String {
+    common::replaced(&base(), replace, by)
 }
 
 /// Meshes and assembles a valid scene the way `solve` does (up to the QP).
@@ -71,7 +34,7 @@ fn assembles(scene: &Scene) -> Result<(), String> {
 
 #[test]
 fn base_scene_is_valid_and_assembles() {
-    let s = Scene::from_toml(BASE).unwrap();
+    let s = Scene::from_toml(&base()).unwrap();
     assembles(&s).unwrap();
 }
 
@@ -161,7 +124,7 @@ fn body_held_by_nothing_is_refused() {
         "{s} {k} {r}"
     );
     // The same body in a contact pair is held (the model regularises it through the contact).
-    let held = BASE.replace("[[dirichlet]]\nbody = \"lower\"\nregion = [3, 3, 0, 1]", "");
+    let held = base().replace("[[dirichlet]]\nbody = \"lower\"\nregion = [3, 3, 0, 1]", "");
     Scene::from_toml(&held).unwrap();
 }
 
@@ -274,11 +237,12 @@ fn overflowing_body_force_is_refused() {
     let gravity = |rho: &str| {
         format!(
             "{}\n[model]\ngravity = [0, -9.81]\n",
-            BASE.replace(
-                "poisson = 0.3\n",
-                &format!("poisson = 0.3\ndensity = {rho}\n")
-            )
-            .replace("poisson = 0.34\n", "poisson = 0.34\ndensity = 1.0\n")
+            base()
+                .replace(
+                    "poisson = 0.3\n",
+                    &format!("poisson = 0.3\ndensity = {rho}\n")
+                )
+                .replace("poisson = 0.34\n", "poisson = 0.34\ndensity = 1.0\n")
         )
     };
     Scene::from_toml(&gravity("7800")).unwrap();

@@ -2,54 +2,12 @@
 
 use signorini_core::scene::{Scene, SceneError};
 
-const BASE: &str = r#"
-title = "two blocks"
-[[body]]
-name = "upper"
-polygon = [[0, 1], [2, 1], [2, 2], [0, 2]]
-hmax = 0.2
-young = 0.0021
-poisson = 0.3
+mod common;
 
-[[body]]
-name = "lower"
-polygon = [[1, 0], [3, 0], [3, 1], [1, 1]]
-hmax = 0.2
-young = 0.0012
-poisson = 0.34
-
-[[dirichlet]]
-body = "upper"
-region = [0, 0, 1, 2]
-
-[[dirichlet]]
-body = "lower"
-region = [3, 3, 0, 1]
-
-[[neumann]]
-body = "upper"
-region = [1, 2, 2, 2]
-traction = [0, -1e-4]
-
-[[contact]]
-bodies = ["upper", "lower"]
-region = [1, 2, 0.99, 1.01]
-"#;
-
-fn invalid(text: &str) -> (String, &'static str, String) {
-    match Scene::from_toml(text) {
-        Err(SceneError::Invalid {
-            section,
-            key,
-            reason,
-        }) => (section, key, reason),
-        other => panic!("expected an Invalid error, got {other:?}"),
-    }
-}
+use common::{invalid, TWO_BLOCKS as BASE};
 
 fn with(replace: &str, by: &str) -> String {
-    assert!(BASE.contains(replace), "{replace}");
-    BASE.replacen(replace, by, 1)
+    common::replaced(BASE, replace, by)
 }
 
 #[test]
