@@ -287,3 +287,30 @@ fn polygons_whose_area_overflows_are_refused() {
         "{s} {k} {r}"
     );
 }
+
+#[test]
+fn conflicting_supports_are_refused_before_meshing() {
+    // A second support on the lower body's corner (3, 0) with a different x value: before, the
+    // FEM stage refused it after meshing (ConflictingDirichlet).
+    let text = format!(
+        "{BASE}\n[[dirichlet]]\nbody = \"lower\"\nregion = [2, 3, 0, 0]\nvalue = [0.1, 0]\n"
+    );
+    let (s, k, r) = invalid(&text);
+    assert!(
+        s.starts_with("dirichlet #3")
+            && k == "value"
+            && r.contains("dirichlet #2")
+            && r.contains("(3, 0)"),
+        "{s} {k} {r}"
+    );
+    // The model agrees (independent: it compares the values at the mesh nodes).
+    let mut scene = Scene::from_toml(&text.replace("value = [0.1, 0]", "value = [0, 0]")).unwrap();
+    scene.dirichlet[2].value = [0.1, 0.0];
+    let err = assembles(&scene).unwrap_err();
+    assert!(err.contains("prescribe different x"), "{err}");
+    // Equal values, disjoint boxes, or different components are fine.
+    Scene::from_toml(&text.replace("value = [0.1, 0]", "value = [0, 0]")).unwrap();
+    Scene::from_toml(&text.replace("region = [2, 3, 0, 0]", "region = [1, 2, 0, 0]")).unwrap();
+    let roller = text.replace("value = [0.1, 0]", "value = [0.1, 0]\ncomponents = [\"y\"]");
+    Scene::from_toml(&roller).unwrap();
+}
