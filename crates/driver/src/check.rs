@@ -38,10 +38,7 @@ pub fn check(scene: &Scene, limits: &MeshLimits) -> Result<CheckReport, RunError
             )
         })
         .collect();
-    let estimated_elements = bodies
-        .iter()
-        .map(|b| b.2)
-        .fold(0usize, usize::saturating_add);
+    let estimated_elements = bodies.iter().map(|b| b.2).fold(0usize, usize::saturating_add);
     let prepared = run::prepare(scene, limits)?;
     let model = &prepared.model;
     Ok(CheckReport {
