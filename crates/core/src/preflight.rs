@@ -4,7 +4,7 @@
 //! The per-body guard of [`crate::mesh::mesh_body`] cannot see that three bodies just under the limit
 //! each add up to three times it (such a scene used to abort with an out-of-memory SIGABRT after
 //! 55 s); [`preflight`] refuses the total, and says how much memory the solve would take.
-//! `signorini check` and `signorini solve` both call it, so they agree.
+//! `signorini check` and `signorini solve` are both meant to call it, so that they agree.
 //!
 //! ```
 //! use signorini_core::mesh::MeshLimits;

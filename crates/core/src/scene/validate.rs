@@ -625,6 +625,65 @@ fn validate_probe(
     })
 }
 
+/// Refuses two supports of one body that prescribe different values to the same component on
+/// boundary points both their boxes hold (the model refuses it after meshing otherwise: the
+/// crossings of every box become mesh nodes, so a shared boundary piece always holds a node).
+/// Values count as different as in the model: |a − b| > 1e-12 max(|a|, |b|).
+fn check_dirichlet_conflicts(dirichlet: &[Dirichlet], bodies: &[Body]) -> Result<(), SceneError> {
+    for (l, second) in dirichlet.iter().enumerate() {
+        for (k, first) in dirichlet[..l].iter().enumerate() {
+            if first.body != second.body {
+                continue;
+            }
+            let Some(c) = (0..2).find(|&c| {
+                first.components[c]
+                    && second.components[c]
+                    && (first.value[c] - second.value[c]).abs()
+                        > 1e-12 * first.value[c].abs().max(second.value[c].abs())
+            }) else {
+                continue;
+            };
+            let (a, b) = (first.region, second.region);
+            let both = [
+                a[0].max(b[0]),
+                a[1].min(b[1]),
+                a[2].max(b[2]),
+                a[3].min(b[3]),
+            ];
+            let polygon = &bodies[second.body].polygon;
+            let n = polygon.len();
+            // Only boundary inside both boxes proper is sure to hold a node of both (their
+            // crossings); boxes that overlap only within the tolerance are left to the model,
+            // so that validation never refuses what the model would accept.
+            let place = (0..n).find_map(|i| {
+                geometry::clip_segment_to_box(polygon[i], polygon[(i + 1) % n], &both, 0.0)
+            });
+            if let Some((p, _)) = place {
+                return Err(SceneError::invalid(
+                    format!(
+                        "dirichlet #{} (body {:?})",
+                        l + 1,
+                        bodies[second.body].name
+                    ),
+                    "value",
+                    format!(
+                        "prescribes {} = {} where dirichlet #{} prescribes {} (both regions hold the \
+                         boundary at ({}, {})); give both the same value or make the regions \
+                         disjoint",
+                        ["x", "y"][c],
+                        second.value[c],
+                        k + 1,
+                        first.value[c],
+                        p[0],
+                        p[1]
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Relative eigenvalue below which a rigid-body mode counts as free here.  Smaller than the
 /// model's 1e-10 (`fem::free_rigid_modes`), so that validation refuses only bodies the model
 /// would refuse too; between the two thresholds the model decides.
@@ -710,6 +769,7 @@ pub(super) fn validate(file: SceneFile) -> Result<Scene, SceneError> {
         .enumerate()
         .map(|(i, d)| validate_dirichlet(i, d, &bodies, tol))
         .collect::<Result<Vec<_>, _>>()?;
+    check_dirichlet_conflicts(&dirichlet, &bodies)?;
     let neumann = file
         .neumann
         .into_iter()
