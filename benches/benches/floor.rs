@@ -1,5 +1,5 @@
 //! `factor/…`: the floor every contact solve is measured against — sparse Cholesky (faer, via
-//! `signorini_core::linalg`) of the reduced stiffness A = `model.qp()?.stiffness` of
+//! `signorini_core::linalg`) of the reduced stiffness A = `prepare(..)?.qp.stiffness` of
 //! Experiment 3 (both bodies) at each benched `hmax`:
 //!
 //! * `factor/floor/…` — analyse + factor + one `solve_in_place` (one unconstrained elastic solve

@@ -1,5 +1,5 @@
 //! `solve/<backend>/…`: one contact solve of Experiment 3 (both bodies) at each benched `hmax`
-//! through `signorini_core::solve::solve_problem` (scaling, backend, unscaling, core KKT check)
+//! through `signorini_core::solve::solve_model` (scaling, backend, unscaling, core KKT check)
 //! with `tol = 1e-8`, for clarabel, osqp, dual-pgs, dual-uzawa and dual-ssn (the dual crate's
 //! active-set method).  The reduced QP is built once per size, outside the timing.
 //!
@@ -13,7 +13,7 @@ use std::time::Duration;
 
 use criterion::{criterion_main, Criterion, SamplingMode};
 use signorini_benches::{solve_options, Bench, Case, HMAX};
-use signorini_core::solve::solve_problem;
+use signorini_core::solve::solve_model;
 
 /// (backend, hmax) pairs left out: a single solve takes more than ~20 s.
 const SKIPPED: &[(&str, f64)] = &[("dual-uzawa", 0.01)];
@@ -38,7 +38,7 @@ fn solve(c: &mut Criterion) {
         for case in cases.iter().filter(|case| !skipped(bench, case.hmax)) {
             group.bench_function(case.id(), |b| {
                 b.iter(|| {
-                    solve_problem(&case.model, &case.qp, backend.as_mut(), &options)
+                    solve_model(&case.model, &case.qp, backend.as_mut(), &options)
                         .expect("the contact solve runs")
                 });
             });

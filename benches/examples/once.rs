@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use signorini_benches::{solve_options, Bench, Case, HMAX};
 use signorini_core::linalg::CholeskyPattern;
-use signorini_core::solve::solve_problem;
+use signorini_core::solve::solve_model;
 
 fn main() {
     let args: Vec<f64> = std::env::args()
@@ -34,7 +34,7 @@ fn main() {
         for bench in Bench::ALL {
             let mut backend = bench.backend();
             let t = Instant::now();
-            let sol = solve_problem(&case.model, &case.qp, backend.as_mut(), &solve_options())
+            let sol = solve_model(&case.model, &case.qp, backend.as_mut(), &solve_options())
                 .expect("solve runs");
             let dt = t.elapsed();
             println!(

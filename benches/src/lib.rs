@@ -53,12 +53,11 @@ impl Case {
         let scene = scene(hmax);
         let prepared =
             signorini::run::prepare(&scene, &MeshLimits::default()).expect("exp3-both meshes");
-        let qp = prepared.model.qp().expect("exp3-both reduces to a QP");
         Self {
             hmax,
             scene,
             model: prepared.model,
-            qp,
+            qp: prepared.qp,
         }
     }
 

@@ -1,5 +1,6 @@
 //! From a scene to the assembled model: meshes, stiffness, loads, supports and contact rows, and
-//! the reduced quadratic program on the free DOFs.
+//! the reduced quadratic program on the free DOFs, returned side by side ([`Assembly`]): the
+//! report needs the model, the solve needs (and owns) the QP.
 //!
 //! Only what the scene names is built: no contact pair → no rows and no QP; no gravity → no body
 //! force.  Prescribed displacements are eliminated with symmetric lifting, so the reduced
@@ -95,9 +96,6 @@ pub enum ModelError {
     /// The reduced QP failed its checks.
     #[error(transparent)]
     Qp(#[from] QpError),
-    /// The reduced QP was already moved out of the model.
-    #[error("the model's QP was already taken by a solve")]
-    QpTaken,
 }
 
 /// Why a contact pair produced no constraint row.
@@ -418,12 +416,22 @@ pub struct Model {
     /// What assembly approximated or left out (inert rows removed, unmatched nodes, fallbacks,
     /// initial overlaps, pairs without rows), in pair order.
     pub warnings: Vec<ModelWarning>,
-    /// The reduced QP (see [`Model::qp`]); `None` once taken by [`Model::take_qp`].
-    reduced: Option<QpProblem>,
+}
+
+/// What assembly produces: the model (meshes, numbering, supports, contact rows — what the report
+/// and the output files need) and the reduced QP (what a solve needs), as two values so that each
+/// consumer takes its own and the solve can own the only copy of A.
+#[derive(Debug, Clone)]
+pub struct Assembly {
+    /// Everything but the QP.
+    pub model: Model,
+    /// The reduced QP: A = K_FF, f = f_F − K_FD u_D, B = B_F, g = g − B_D u_D, with the known
+    /// null space of A attached.
+    pub qp: QpProblem,
 }
 
 /// Assembles the model on given meshes.
-pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Model, ModelError> {
+pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError> {
     let dofs = Dofs::new(&meshes.iter().map(|m| m.nodes.len()).collect::<Vec<_>>());
     let materials: Vec<Material> = scene
         .bodies
@@ -541,7 +549,7 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Model, ModelError> {
     let supports = columns(&stiffness, &fixed_dofs);
     drop(stiffness);
 
-    Ok(Model {
+    let model = Model {
         meshes,
         materials,
         dofs,
@@ -557,8 +565,8 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Model, ModelError> {
         kernel,
         effects,
         warnings,
-        reduced: Some(reduced),
-    })
+    };
+    Ok(Assembly { model, qp: reduced })
 }
 
 /// The entries (DOF, coefficient) of a contact row of B, in the order B stores them: for each
@@ -760,17 +768,6 @@ impl Model {
     /// Index of each DOF among the free ones (`usize::MAX` for a fixed DOF).
     pub fn free_index(&self) -> Vec<usize> {
         free_index(&self.free, self.dofs.len())
-    }
-
-    /// A copy of the reduced QP: A = K_FF, f = f_F − K_FD u_D, B = B_F, g = g − B_D u_D, with
-    /// the known null space of A attached.  Solvers use [`Model::take_qp`] to avoid the copy.
-    pub fn qp(&self) -> Result<QpProblem, ModelError> {
-        self.reduced.clone().ok_or(ModelError::QpTaken)
-    }
-
-    /// Moves the reduced QP out of the model (one copy of A in memory); later calls fail.
-    pub fn take_qp(&mut self) -> Result<QpProblem, ModelError> {
-        self.reduced.take().ok_or(ModelError::QpTaken)
     }
 
     /// Support reactions K_D·u at the fixed DOFs (in `fixed_dofs` order), internal force only.

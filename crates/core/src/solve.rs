@@ -79,18 +79,9 @@ impl ScaledQp {
     }
 }
 
-/// Solves the model: a direct solve without contact rows, else `backend` on the scaled QP.
+/// Solves the model's QP `qp` (a direct solve without contact rows, else `backend`), on a
+/// scaled copy; for repeated solves scale once with [`ScaledQp::new`] and call [`solve_scaled`].
 pub fn solve_model(
-    model: &Model,
-    backend: &mut dyn QpBackend,
-    options: &SolveOptions,
-) -> Result<Solution, SolveError> {
-    let qp = ScaledQp::new(model.qp()?);
-    solve_scaled(model, &qp, backend, options)
-}
-
-/// As [`solve_model`], on an already reduced QP of the model (convenience: scales a copy).
-pub fn solve_problem(
     model: &Model,
     qp: &QpProblem,
     backend: &mut dyn QpBackend,

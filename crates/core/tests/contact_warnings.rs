@@ -11,7 +11,7 @@ use signorini_core::scene::Scene;
 fn assemble(toml: &str) -> Result<Model, ModelError> {
     let scene = Scene::from_toml(toml).unwrap();
     let meshes = model::mesh_scene(&scene, &MeshLimits::default()).unwrap();
-    model::assemble(&scene, meshes)
+    model::assemble(&scene, meshes).map(|a| a.model)
 }
 
 /// A block on a clamped base, 0.5 above it (more than one hmax 0.2), with `block_support` and no

@@ -192,9 +192,9 @@ fn column_error(hmax: f64, element: &str) -> (f64, usize) {
     );
     let scene = Scene::from_toml(&text).expect("scene");
     let meshes = model::mesh_scene(&scene, &MeshLimits::default()).expect("mesh");
-    let m = model::assemble(&scene, meshes).expect("model");
+    let model::Assembly { model: m, qp } = model::assemble(&scene, meshes).expect("model");
     assert!(m.contacts.is_empty() && m.rows() == 0);
-    let sol = solve_model(&m, &mut NoQp, &SolveOptions::default()).expect("solve");
+    let sol = solve_model(&m, &qp, &mut NoQp, &SolveOptions::default()).expect("solve");
     assert_eq!(sol.status, QpStatus::Solved);
     assert_eq!(sol.backend, "cholesky");
     let u = m.body_displacements(0, &sol.displacement);

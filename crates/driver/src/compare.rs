@@ -82,11 +82,11 @@ pub fn compare(
     limits: &MeshLimits,
     mut progress: impl FnMut(&str),
 ) -> Result<CompareReport, RunError> {
-    let mut prepared = run::prepare(scene, limits)?;
+    let prepared = run::prepare(scene, limits)?;
     if prepared.model.rows() == 0 {
         return Err(RunError::NoContact(format!("scene \"{}\"", scene.title)));
     }
-    let qp = solve::ScaledQp::new(prepared.model.take_qp()?);
+    let qp = solve::ScaledQp::new(prepared.qp);
     let model = &prepared.model;
     // Warm-up first (page faults of the first large allocation), then the median of three.
     solve::floor_time(&qp.problem).map_err(solve::SolveError::from)?;

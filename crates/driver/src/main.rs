@@ -435,8 +435,8 @@ fn parse_backends(names: &[String]) -> Result<Vec<BackendKind>> {
 fn export(common: &Common, out: &std::path::Path) -> Result<Exit> {
     let scene = run::load_scene(common.scene.as_deref())?;
     let prepared = run::prepare(&scene, &limits(common))?;
-    let qp = prepared.model.qp()?;
-    let written = signorini::export::export(out, &scene, &prepared.model, &qp)
+    let qp = &prepared.qp;
+    let written = signorini::export::export(out, &scene, &prepared.model, qp)
         .with_context(|| format!("exporting to {}", out.display()))?;
     let mut con = Console::new();
     con.line(format_args!(

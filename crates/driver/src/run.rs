@@ -7,7 +7,7 @@ use std::time::Instant;
 use signorini_core::mesh::MeshLimits;
 use signorini_core::model::{self, Model, ModelError};
 use signorini_core::preflight::{preflight, PreflightError};
-use signorini_core::qp::{QpBackend, QpStatus, SolveOptions};
+use signorini_core::qp::{QpBackend, QpProblem, QpStatus, SolveOptions};
 use signorini_core::report::{self, BodyFields, RunReport, Timings};
 use signorini_core::scene::{Scene, SceneError};
 use signorini_core::solve::{self, Solution, SolveError};
@@ -52,8 +52,10 @@ pub fn load_scene(path: Option<&Path>) -> Result<Scene, SceneError> {
 /// A meshed and assembled scene with the time each step took.
 #[derive(Debug, Clone)]
 pub struct Prepared {
-    /// The model.
+    /// The model (what the report and the output files need).
     pub model: Model,
+    /// The reduced QP (what a solve needs).
+    pub qp: QpProblem,
     /// Seconds spent meshing.
     pub mesh_s: f64,
     /// Seconds spent assembling.
@@ -68,9 +70,10 @@ pub fn prepare(scene: &Scene, limits: &MeshLimits) -> Result<Prepared, RunError>
     let meshes = model::mesh_scene(scene, limits)?;
     let mesh_s = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
-    let model = model::assemble(scene, meshes)?;
+    let model::Assembly { model, qp } = model::assemble(scene, meshes)?;
     Ok(Prepared {
         model,
+        qp,
         mesh_s,
         assemble_s: t1.elapsed().as_secs_f64(),
     })
@@ -97,8 +100,8 @@ pub fn solve_scene(
     limits: &MeshLimits,
 ) -> Result<Outcome, RunError> {
     let start = Instant::now();
-    let mut prepared = prepare(scene, limits)?;
-    let qp = solve::ScaledQp::new(prepared.model.take_qp()?);
+    let prepared = prepare(scene, limits)?;
+    let qp = solve::ScaledQp::new(prepared.qp);
     let solution = solve::solve_scaled(&prepared.model, &qp, backend, options)?;
     drop(qp);
     let fields = report::body_fields(&prepared.model, &solution);

@@ -680,13 +680,13 @@ pub fn sweep(
             assemble_times.push(p.assemble_s);
             prepared = Some(p);
         }
-        let Some(mut prepared) = prepared else {
+        let Some(prepared) = prepared else {
             continue;
         };
         if prepared.model.rows() == 0 {
             return Err(RunError::NoContact(format!("the mesh at hmax {h}")).into());
         }
-        let qp = solve::ScaledQp::new(prepared.model.take_qp().map_err(RunError::from)?);
+        let qp = solve::ScaledQp::new(prepared.qp);
         let model = &prepared.model;
         // One untimed factorisation first: the first touch of a large factor's memory costs page
         // faults that later solves (the backends') do not pay; timing it cold inflated the floor

@@ -13,7 +13,7 @@ use signorini::run;
 use signorini_core::mesh::MeshLimits;
 use signorini_core::qp::{mat_vec, norm_inf, QpBackend, QpStatus, SolveOptions};
 use signorini_core::report::is_active;
-use signorini_core::solve::{solve_problem, Solution};
+use signorini_core::solve::{solve_model, Solution};
 
 /// KKT tolerance (measured: every backend meets it on every seed fixture).
 const TOL: f64 = 1e-10;
@@ -52,7 +52,7 @@ fn check_fixture(path: &Path) -> Vec<String> {
     let scene = run::load_scene(Some(path)).unwrap();
     let prepared = run::prepare(&scene, &MeshLimits::default()).unwrap();
     let model = &prepared.model;
-    let qp = model.qp().unwrap();
+    let qp = &prepared.qp;
     assert!(qp.rows() > 0, "{name}: no contact row");
     let options = SolveOptions {
         tol: TOL,
@@ -61,7 +61,7 @@ fn check_fixture(path: &Path) -> Vec<String> {
     let mut problems = Vec::new();
     let solutions: Vec<Solution> = backends()
         .into_iter()
-        .map(|mut b| solve_problem(model, &qp, b.as_mut(), &options).unwrap())
+        .map(|mut b| solve_model(model, qp, b.as_mut(), &options).unwrap())
         .collect();
     for s in &solutions {
         if s.status != QpStatus::Solved {

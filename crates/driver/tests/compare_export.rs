@@ -46,7 +46,7 @@ fn exported_problem_reads_back_equal() {
 
     let scene = run::load_scene(Some(&scene_path)).unwrap();
     let prepared = run::prepare(&scene, &MeshLimits::default()).unwrap();
-    let qp = prepared.model.qp().unwrap();
+    let qp = &prepared.qp;
 
     for (name, m) in [("A.mtx", &qp.stiffness), ("B.mtx", &qp.constraints)] {
         let read: sprs::TriMat<f64> = sprs::io::read_matrix_market(out.join(name)).unwrap();

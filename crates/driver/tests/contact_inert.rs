@@ -21,6 +21,10 @@ fn fixture_text(name: &str) -> String {
 }
 
 fn assemble(scene: &Scene) -> Result<Model, ModelError> {
+    assemble_qp(scene).map(|a| a.model)
+}
+
+fn assemble_qp(scene: &Scene) -> Result<model::Assembly, ModelError> {
     let meshes = model::mesh_scene(scene, &MeshLimits::default()).unwrap();
     model::assemble(scene, meshes)
 }
@@ -48,7 +52,7 @@ fn all_fixed_rows(model: &Model) -> usize {
 fn all_fixed_rows_are_removed_and_dual_pgs_solves() {
     let text = fixture_text("inert-rows");
     let scene = Scene::from_toml(&text).unwrap();
-    let model = assemble(&scene).unwrap();
+    let model::Assembly { model, qp } = assemble_qp(&scene).unwrap();
     // The same scene with the upper's slope free (same meshes: the upper's clamp box crosses
     // its polygon only at vertices) has every row live: the rows the inert scene removed.
     let free_upper = text.replacen(
@@ -83,7 +87,7 @@ fn all_fixed_rows_are_removed_and_dual_pgs_solves() {
         tol: 1e-10,
         ..SolveOptions::default()
     };
-    let s = solve_model(&model, &mut pgs, &options).unwrap();
+    let s = solve_model(&model, &qp, &mut pgs, &options).unwrap();
     assert_eq!(
         s.status,
         QpStatus::Solved,
@@ -107,7 +111,7 @@ fn partly_fixed_interface_keeps_live_rows() {
     let text =
         fixture_text("inert-rows").replace("region = [1, 2.8, 1, 2]", "region = [1, 1.9, 1, 1.5]");
     let scene = Scene::from_toml(&text).unwrap();
-    let model = assemble(&scene).unwrap();
+    let model::Assembly { model, qp } = assemble_qp(&scene).unwrap();
     let removed = model
         .warnings
         .iter()
@@ -121,7 +125,7 @@ fn partly_fixed_interface_keeps_live_rows() {
     assert!(removed.1[0] <= 1.9 + 1e-9 && removed.1[1] <= 1.5 + 1e-9);
     assert_eq!(all_fixed_rows(&model), 0);
     let mut pgs = DualBackend::pgs(Default::default());
-    let s = solve_model(&model, &mut pgs, &SolveOptions::default()).unwrap();
+    let s = solve_model(&model, &qp, &mut pgs, &SolveOptions::default()).unwrap();
     assert_eq!(
         s.status,
         QpStatus::Solved,

@@ -23,6 +23,10 @@ fn fixture(name: &str) -> Scene {
 }
 
 fn assemble(scene: &Scene) -> Result<Model, ModelError> {
+    assemble_qp(scene).map(|a| a.model)
+}
+
+fn assemble_qp(scene: &Scene) -> Result<model::Assembly, ModelError> {
     let meshes = model::mesh_scene(scene, &MeshLimits::default()).unwrap();
     model::assemble(scene, meshes)
 }
@@ -79,7 +83,7 @@ fn constrained_modulus(young: f64, nu: f64) -> f64 {
 #[test]
 fn overlap_is_pushed_out_to_the_exact_answer() {
     let scene = fixture("initial-overlap");
-    let model = assemble(&scene).unwrap();
+    let model::Assembly { model, qp } = assemble_qp(&scene).unwrap();
     let lower = 1;
     assert_eq!(
         model.rows(),
@@ -121,7 +125,7 @@ fn overlap_is_pushed_out_to_the_exact_answer() {
         DualBackend::active_set(Default::default()),
         DualBackend::pgs(Default::default()),
     ] {
-        let s = solve_model(&model, &mut backend, &options).unwrap();
+        let s = solve_model(&model, &qp, &mut backend, &options).unwrap();
         assert_eq!(
             s.status,
             QpStatus::Solved,

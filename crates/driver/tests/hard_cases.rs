@@ -87,13 +87,13 @@ impl Case {
 fn solve_all(dir: &str, name: &str) -> Case {
     let scene = run::load_scene(Some(&fixture(dir, name))).unwrap();
     let prepared = run::prepare(&scene, &MeshLimits::default()).unwrap();
-    let qp = prepared.model.qp().unwrap();
+    let qp = prepared.qp.clone();
     let runs = backends()
         .into_iter()
         .map(|(expected_name, mut backend)| {
             assert_eq!(backend.name(), expected_name);
             let solution = catch_unwind(AssertUnwindSafe(|| {
-                solve::solve_problem(&prepared.model, &qp, backend.as_mut(), &options())
+                solve::solve_model(&prepared.model, &qp, backend.as_mut(), &options())
             }))
             .unwrap_or_else(|_| panic!("{name}: backend {expected_name} panicked"))
             .unwrap_or_else(|e| panic!("{name}: backend {expected_name} could not run: {e}"));
@@ -217,7 +217,8 @@ fn without_contact(case: &Case) -> Solution {
         "same mesh"
     );
     let mut backend = make_backend(BackendKind::Clarabel).unwrap();
-    let s = solve::solve_model(&prepared.model, backend.as_mut(), &options()).unwrap();
+    let s =
+        solve::solve_model(&prepared.model, &prepared.qp, backend.as_mut(), &options()).unwrap();
     assert_eq!(s.backend, solve::DIRECT);
     assert_eq!(s.status, QpStatus::Solved);
     s

@@ -177,11 +177,11 @@ fn prediction(
 
 fn residual_check(scene: &Scene, o: &Outcome) -> ResidualCheck {
     let prepared = run::prepare(scene, &MeshLimits::default()).expect("prepare");
-    let qp = prepared.model.qp().expect("qp");
+    let qp = &prepared.qp;
     prediction(
         scene,
         &prepared.model,
-        &qp,
+        qp,
         &o.solution.displacement,
         &o.solution.multipliers,
     )
@@ -206,19 +206,18 @@ fn force_balance_fails_for_a_wrong_displacement_or_multiplier() {
     let scene = Scene::from_path(&fixture("exp2b")).expect("scene");
     let prepared = run::prepare(&scene, &MeshLimits::default()).expect("prepare");
     let model = &prepared.model;
-    let qp = model.qp().expect("qp");
+    let qp = &prepared.qp;
     let mut backend = ClarabelBackend::default();
     let options = SolveOptions {
         tol: 1e-10,
         ..SolveOptions::default()
     };
-    let s =
-        signorini_core::solve::solve_problem(model, &qp, &mut backend, &options).expect("solve");
+    let s = signorini_core::solve::solve_model(model, qp, &mut backend, &options).expect("solve");
     assert_eq!(s.status, QpStatus::Solved);
     let (u, lambda) = (&s.displacement, &s.multipliers);
     let good = report::force_balance(&scene, model, u, lambda).relative;
     assert!(good <= 1e-8, "solved answer: {good:e}");
-    assert_identity("exp2b", &prediction(&scene, model, &qp, u, lambda));
+    assert_identity("exp2b", &prediction(&scene, model, qp, u, lambda));
 
     // Every free DOF of the lower body (clamped on its right edge) moved down by 1 % of max |u|:
     // the support rows see K_DF·δu, a reaction change of the order of 1 % of the load.
@@ -234,7 +233,7 @@ fn force_balance_fails_for_a_wrong_displacement_or_multiplier() {
     assert!(bad > 1e-4, "perturbed u: {bad:e}");
     assert_identity(
         "exp2b, perturbed u",
-        &prediction(&scene, model, &qp, &wrong_u, lambda),
+        &prediction(&scene, model, qp, &wrong_u, lambda),
     );
 
     // Multipliers 10 % too large: the contact resultant is off by 10 % of the normal force.
@@ -243,7 +242,7 @@ fn force_balance_fails_for_a_wrong_displacement_or_multiplier() {
     assert!(bad > 1e-3, "perturbed λ: {bad:e}");
     assert_identity(
         "exp2b, perturbed λ",
-        &prediction(&scene, model, &qp, u, &wrong_l),
+        &prediction(&scene, model, qp, u, &wrong_l),
     );
 
     // The analytic load: exp2b's traction over its loaded edge, by hand (SCENE values).

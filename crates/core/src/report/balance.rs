@@ -186,7 +186,7 @@ mod tests {
     fn model_of(text: &str) -> (Scene, Model) {
         let scene = Scene::from_toml(text).unwrap();
         let meshes = model::mesh_scene(&scene, &MeshLimits::default()).unwrap();
-        let model = model::assemble(&scene, meshes).unwrap();
+        let model = model::assemble(&scene, meshes).unwrap().model;
         (scene, model)
     }
 
