@@ -117,24 +117,13 @@ pub fn solve_scaled(
                 // that breaks down is this solve's numerical failure (a stiffness contrast beyond
                 // the floating-point range, say), a status with its reason, not a refusal.
                 Err(e) => {
-                    return Ok(Solution {
-                        backend: DIRECT.to_string(),
-                        displacement: vec![f64::NAN; model.dofs.len()],
-                        multipliers: Vec::new(),
-                        status: QpStatus::NumericalError,
-                        backend_status: QpStatus::NumericalError,
-                        iterations: 0,
-                        residuals: KktResiduals {
-                            max_penetration: 0.0,
-                            relative_penetration: 0.0,
-                            stationarity: f64::INFINITY,
-                            complementarity: 0.0,
-                            min_multiplier: 0.0,
-                        },
-                        objective: f64::NAN,
-                        solve_time: start.elapsed(),
-                        message: Some(format!("the sparse Cholesky factorisation failed: {e}")),
-                    });
+                    return Ok(Solution::no_answer(
+                        DIRECT,
+                        model,
+                        0,
+                        start.elapsed(),
+                        format!("the sparse Cholesky factorisation failed: {e}"),
+                    ));
                 }
             }
         }
@@ -161,27 +150,16 @@ pub fn solve_scaled(
     if !(units.displacement.is_finite() && force_unit.is_finite() && force_unit > 0.0) {
         // ‖f‖/k̄ beyond the floating-point range (E = 1e-200 under a traction of 1e200): the
         // displacements cannot be represented in the scene's units, whatever the backend does.
-        return Ok(Solution {
-            backend: backend.name().to_string(),
-            displacement: vec![f64::NAN; model.dofs.len()],
-            multipliers: vec![f64::NAN; problem.rows()],
-            status: QpStatus::NumericalError,
-            backend_status: QpStatus::NumericalError,
-            iterations: 0,
-            residuals: KktResiduals {
-                max_penetration: f64::NAN,
-                relative_penetration: f64::INFINITY,
-                stationarity: f64::INFINITY,
-                complementarity: f64::INFINITY,
-                min_multiplier: f64::NEG_INFINITY,
-            },
-            objective: f64::NAN,
-            solve_time: std::time::Duration::ZERO,
-            message: Some(format!(
+        return Ok(Solution::no_answer(
+            backend.name(),
+            model,
+            problem.rows(),
+            Duration::ZERO,
+            format!(
                 "the displacement scale ‖f‖∞ / k̄ (k̄ = {:e}) overflows: the answer cannot be represented in the scene's units; rescale them (the backend was not run)",
                 units.stiffness
-            )),
-        });
+            ),
+        ));
     }
     if problem.load.iter().all(|f| *f == 0.0) && problem.gap.iter().all(|g| *g >= 0.0) {
         // Nothing loads the bodies and nothing overlaps: x = 0, λ = 0 is the exact answer
@@ -196,7 +174,7 @@ pub fn solve_scaled(
             iterations: 0,
             residuals: KktResiduals::default(),
             objective: 0.0,
-            solve_time: std::time::Duration::ZERO,
+            solve_time: Duration::ZERO,
             message: Some("unloaded and no initial overlap: the answer is exactly zero; the backend was not run".into()),
         }
         .checked_finite());
@@ -230,6 +208,30 @@ pub fn solve_scaled(
 }
 
 impl Solution {
+    /// A `numerical-error` with no answer (NaN displacements and multipliers, unmeasurable
+    /// residuals) and the reason in `message`: for solves that fail before or instead of a
+    /// backend's run.
+    fn no_answer(
+        backend: &str,
+        model: &Model,
+        rows: usize,
+        solve_time: Duration,
+        message: String,
+    ) -> Self {
+        Self {
+            backend: backend.to_string(),
+            displacement: vec![f64::NAN; model.dofs.len()],
+            multipliers: vec![f64::NAN; rows],
+            status: QpStatus::NumericalError,
+            backend_status: QpStatus::NumericalError,
+            iterations: 0,
+            residuals: KktResiduals::UNMEASURABLE,
+            objective: f64::NAN,
+            solve_time,
+            message: Some(message),
+        }
+    }
+
     /// Demotes a `solved` answer to `numerical-error` when any number of it is not finite: the
     /// scaled problem may be solved exactly and still overflow when brought back to the user's
     /// units (E = 1e-200 under a traction of 1e200 gives displacements of 1e400).

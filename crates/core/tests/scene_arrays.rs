@@ -1,6 +1,8 @@
 //! Every array of a scene file has an exact length; a wrong one is refused naming the section and
 //! the key (before this was enforced, serde/toml truncated over-long fixed arrays silently).
 
+mod common;
+
 use signorini_core::scene::{Scene, SceneError};
 
 const BASE: &str = r#"
@@ -54,26 +56,17 @@ point = [2, 2]
 "#;
 
 fn with(replace: &str, by: &str) -> String {
-    assert!(BASE.contains(replace), "{replace}");
-    BASE.replacen(replace, by, 1)
+    common::replaced(BASE, replace, by)
 }
 
 /// The scene must be refused with an `Invalid` error whose section contains `section`, whose key
 /// is `key` and whose reason contains `reason`.
 fn refused(text: &str, section: &str, key: &str, reason: &str) {
-    match Scene::from_toml(text) {
-        Err(SceneError::Invalid {
-            section: s,
-            key: k,
-            reason: r,
-        }) => {
-            assert!(
-                s.contains(section) && k == key && r.contains(reason),
-                "expected {section} / {key} / {reason}, got {s} / {k} / {r}"
-            );
-        }
-        other => panic!("expected {section} / {key} / {reason} to be refused, got {other:?}"),
-    }
+    let (s, k, r) = common::invalid(text);
+    assert!(
+        s.contains(section) && k == key && r.contains(reason),
+        "expected {section} / {key} / {reason}, got {s} / {k} / {r}"
+    );
 }
 
 #[test]

@@ -30,6 +30,16 @@ pub struct KktResiduals {
 }
 
 impl KktResiduals {
+    /// The residuals of an answer that cannot be measured (wrong lengths, non-finite entries,
+    /// or no answer at all): every measure infinite, so no tolerance is met.
+    pub const UNMEASURABLE: Self = Self {
+        max_penetration: f64::INFINITY,
+        relative_penetration: f64::INFINITY,
+        stationarity: f64::INFINITY,
+        complementarity: f64::INFINITY,
+        min_multiplier: f64::NEG_INFINITY,
+    };
+
     /// The worst of the four dimensionless measures; infinite when any of them is NaN
     /// (`f64::max` would silently drop a NaN).
     pub fn worst(&self) -> f64 {
@@ -185,13 +195,7 @@ pub fn kkt_residuals_with(
         || multipliers.len() != problem.rows()
         || x.iter().chain(multipliers).any(|v| !v.is_finite())
     {
-        return KktResiduals {
-            max_penetration: f64::INFINITY,
-            relative_penetration: f64::INFINITY,
-            stationarity: f64::INFINITY,
-            complementarity: f64::INFINITY,
-            min_multiplier: f64::NEG_INFINITY,
-        };
+        return KktResiduals::UNMEASURABLE;
     }
     let ax = mat_vec(&problem.stiffness, x);
     let bx = mat_vec(&problem.constraints, x);
