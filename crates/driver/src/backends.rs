@@ -18,6 +18,8 @@ pub enum BackendKind {
     DualUzawa,
     /// Primal–dual active set (semismooth Newton) on the condensed dual.
     DualSsn,
+    /// Primal–dual active set on the sparse primal KKT system.
+    Pdas,
 }
 
 impl BackendKind {
@@ -38,6 +40,7 @@ impl BackendKind {
             BackendKind::DualPgs => "dual-pgs",
             BackendKind::DualUzawa => "dual-uzawa",
             BackendKind::DualSsn => "dual-ssn",
+            BackendKind::Pdas => "pdas",
         }
     }
 
@@ -60,7 +63,9 @@ impl fmt::Display for BackendKind {
 #[derive(Debug, thiserror::Error)]
 pub enum BackendError {
     /// Unknown name.
-    #[error("unknown backend \"{0}\" (known: clarabel, osqp, dual-pgs, dual-uzawa, dual-ssn)")]
+    #[error(
+        "unknown backend \"{0}\" (known: clarabel, osqp, dual-pgs, dual-uzawa, dual-ssn, pdas)"
+    )]
     Unknown(String),
     /// Known but not in this build.
     #[error("backend \"{0}\" is not compiled in; rebuild with `--features {0}`")]
@@ -95,5 +100,6 @@ pub fn make_backend(kind: BackendKind) -> Result<Box<dyn QpBackend>, BackendErro
         BackendKind::DualSsn => Ok(Box::new(signorini_dual::DualBackend::active_set(
             Default::default(),
         ))),
+        BackendKind::Pdas => Ok(Box::new(signorini_pdas::PdasBackend::default())),
     }
 }

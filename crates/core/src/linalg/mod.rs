@@ -11,6 +11,10 @@ use faer::{MatMut, Side};
 
 use crate::qp::CscMatrix;
 
+mod ordering;
+
+pub use ordering::{fill_reducing_order, FillOrdering, OrderingMethod};
+
 /// Why a factorisation failed.
 #[derive(Debug, thiserror::Error)]
 pub enum LinalgError {
