@@ -6,7 +6,9 @@ use signorini_core::qp::{QpBackend, QpError, QpProblem, QpSolution, SolveOptions
 
 /// The primal–dual active-set backend (name `"pdas"`).
 #[derive(Debug, Clone, Default)]
-pub struct PdasBackend;
+pub struct PdasBackend {
+    _settings: (),
+}
 
 impl QpBackend for PdasBackend {
     fn name(&self) -> &'static str {
