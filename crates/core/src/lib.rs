@@ -22,6 +22,7 @@ pub mod examples;
 pub mod fem;
 pub mod geometry;
 pub mod linalg;
+pub mod memory;
 pub mod mesh;
 pub mod model;
 pub mod preflight;

@@ -51,6 +51,16 @@ pub fn classify(error: &anyhow::Error) -> Exit {
             || cause.is::<Resource>()
             || cause.is::<PreflightError>()
             || matches!(
+                cause.downcast_ref::<signorini_core::qp::QpError>(),
+                Some(signorini_core::qp::QpError::TooLarge { .. })
+            )
+            || matches!(
+                cause.downcast_ref::<signorini_core::solve::SolveError>(),
+                Some(signorini_core::solve::SolveError::Qp(
+                    signorini_core::qp::QpError::TooLarge { .. }
+                ))
+            )
+            || matches!(
                 cause.downcast_ref::<MeshError>(),
                 Some(MeshError::TooManyElements { .. })
             )

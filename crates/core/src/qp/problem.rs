@@ -28,6 +28,19 @@ pub enum QpError {
         /// What is missing.
         reason: String,
     },
+    /// The work would need more memory than the machine has free (checked before allocating it,
+    /// see [`crate::memory`]).
+    #[error("backend `{backend}` refused: {what} would need {needed:.2} GiB but {available:.2} GiB is available")]
+    TooLarge {
+        /// Backend name.
+        backend: &'static str,
+        /// What would be allocated (e.g. "the sparse factor of A (nnz(L) = 1.2e8)").
+        what: String,
+        /// Estimated need, GiB.
+        needed: f64,
+        /// Memory available to the process, GiB.
+        available: f64,
+    },
     /// The backend failed in a way it could not express as a status.
     #[error("backend `{backend}` failed: {reason}")]
     Backend {
