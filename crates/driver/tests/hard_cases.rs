@@ -2,6 +2,11 @@
 //! dual-uzawa and the dual-ssn reference): which backends solve it and which return a clear
 //! non-solved status (measured, stated per fixture), never a panic or a NaN, and the physics each
 //! fixture's header promises checked on every solved answer.
+//!
+//! The fixtures are named one by one (each has its own physics), not found by listing the
+//! directory; [`every_hard_fixture_has_a_test`] makes sure none is left out.  The long-interface
+//! strips (`strip-*.toml`) are tested in `long_interface.rs`, `initial-overlap` in
+//! `contact_overlap.rs` and `inert-rows` in `contact_inert.rs`.
 
 // Helpers are test code too: a failed unwrap is a failed test.
 #![allow(clippy::unwrap_used)]
@@ -685,4 +690,33 @@ fn inclined() {
         let [ux, uy] = body(r, "upper").contact_force;
         assert!((ux + fx).abs() <= 1e-9 * fx.abs() && (uy + fy).abs() <= 1e-9 * fy.abs());
     }
+}
+
+/// Every file of `fixtures/hard` is named, as a quoted string, by some test file of this crate
+/// (each fixture has its own test; a new fixture without one fails here).
+#[test]
+fn every_hard_fixture_has_a_test() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let sources: Vec<String> = std::fs::read_dir(root.join("tests"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "rs"))
+        .map(|p| std::fs::read_to_string(p).unwrap())
+        .collect();
+    let mut fixtures: Vec<String> = std::fs::read_dir(root.join("../../fixtures/hard"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .collect();
+    fixtures.sort();
+    assert!(fixtures.len() >= 18, "{fixtures:?}");
+    let untested: Vec<&String> = fixtures
+        .iter()
+        .filter(|name| !sources.iter().any(|s| s.contains(&format!("\"{name}\""))))
+        .collect();
+    assert!(
+        untested.is_empty(),
+        "hard fixtures without a test: {untested:?}"
+    );
 }
