@@ -103,7 +103,7 @@ peak_mb() {
 }
 
 # A column of the one data row of a compare.csv, by header name ("" when absent).
-column() {
+csv_field() {
   awk -F, -v name="$2" 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == name) c = i; next }
     NR == 2 && c { print $c }' "$1" 2>/dev/null || true
 }
@@ -144,7 +144,7 @@ run_point() {
       --backends "$b" --tol "$tol" --time-limit "$limit" --out "$dir" \
       > /dev/null 2> "$dir/stderr.txt" || rc=$?
     if [ -s "$dir/compare.csv" ] && [ "$rc" -le 2 ]; then
-      status=$(column "$dir/compare.csv" status)
+      status=$(csv_field "$dir/compare.csv" status)
     elif [ "$rc" -eq 124 ] || [ "$rc" -eq 137 ]; then
       status=killed
     elif [ "$rc" -eq 3 ]; then
@@ -153,10 +153,10 @@ run_point() {
       status=error
     fi
     local it solve floor ratio rss
-    it=$(column "$dir/compare.csv" iterations)
-    solve=$(column "$dir/compare.csv" solve_s)
-    floor=$(column "$dir/compare.csv" floor_s)
-    ratio=$(column "$dir/compare.csv" ratio_to_floor)
+    it=$(csv_field "$dir/compare.csv" iterations)
+    solve=$(csv_field "$dir/compare.csv" solve_s)
+    floor=$(csv_field "$dir/compare.csv" floor_s)
+    ratio=$(csv_field "$dir/compare.csv" ratio_to_floor)
     rss=$(peak_mb "$dir/time.txt")
     echo "$s,$m,$dofs,$length,$ns,$nf,$b,$status,$it,$solve,$floor,$ratio,$rss,$rc,$scene" >> "$rows"
     echo "  $b: $status (exit $rc)" >&2
