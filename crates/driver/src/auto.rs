@@ -8,20 +8,24 @@
 //! ([`checked_status`] on [`kkt_residuals`], exactly as [`signorini_core::solve`] judges every
 //! backend).  The rule:
 //!
-//! 1. **dual-ssn** (active set on the condensed dual) first when the dual is small: m ≤
-//!    [`SSN_MAX_ROWS`] and the DOFs B touches ≤ [`SSN_MAX_TOUCHED`].  Its H is formed from the
-//!    factor of A ordered with the touched DOFs last, so the cost beyond the floor grows with the
-//!    touched DOFs and m; a handful of Newton steps on an m × m system then solve it exactly.
-//!    On the seed's short interfaces it is 1–2× the floor, where clarabel is 10–100×.
-//! 2. **pdas** (active set on the sparse primal KKT system) when this build has it (it is in
-//!    [`BackendKind::ALL`]): no dense m × m matrix, so long fully active interfaces cost no more
-//!    than a few sparse factorisations.
-//! 3. **clarabel** (interior point) last: slower but solves everything the fixtures and the hard
-//!    cases hold, floating bodies included.
+//! * **Short interface** (m ≤ [`LONG_INTERFACE`] · √n, and m ≤ [`SSN_MAX_ROWS`], touched DOFs ≤
+//!   [`SSN_MAX_TOUCHED`]): [`SHORT_CHAIN`] = dual-ssn → pdas → clarabel.  dual-ssn (active set
+//!   on the condensed dual, H formed from the factor of A with the touched DOFs last) takes
+//!   1.1–1.5× the floor on the seed's geometry from 448 to 206 278 DOFs, where clarabel takes
+//!   9–30×.
+//! * **Long interface** (m/√n above [`LONG_INTERFACE`]: a contact zone long against the body,
+//!   e.g. a thin strip pressed along its length), or a dual too large to form densely:
+//!   [`LONG_CHAIN`] = pdas → osqp (at most [`OSQP_MAX_ITER`] iterations) → clarabel.  There the
+//!   dual is ill-conditioned and dual-ssn ends `inaccurate` after 7–90× the floor; osqp solves the
+//!   strips in 50–100 iterations, 6–11× the floor, 1.1–1.75× faster than clarabel; clarabel
+//!   (7–14×) catches whatever osqp does not solve within its cap.
+//!
+//! pdas (active set on the sparse primal KKT system) joins both chains as soon as it is listed in
+//! [`BackendKind::ALL`]; a backend this build lacks (osqp without its feature) is left out.
 //!
 //! The thresholds come from measurements on the seed fixtures, the hard cases and the strips
 //! (`cargo test --release -p signorini --test auto -- --ignored measure --nocapture`; the
-//! numbers are in the report of issue 9 and in `docs/scene.md`).
+//! numbers are in `docs/scene.md`).
 //!
 //! # Fall-back
 //! An attempt that ends with any status but `solved`, or with an error, hands over to the next
@@ -55,6 +59,26 @@ pub const SSN_MAX_ROWS: usize = 1_000;
 /// the factor it forms H from has this size).
 pub const SSN_MAX_TOUCHED: usize = 4_000;
 
+/// An interface is *long* when m > this × √n.  In 2D a body's boundary grows like √n, so m/√n
+/// measures the contact length against the body's size: 0.28–0.41 on the seed's geometry at
+/// every mesh size (448 to 206 278 DOFs), at most 0.68 on the fixtures (chain-four), 2.0 to 8.8
+/// on thin strips pressed along their length (lengths 1 to 20, 0.02 thick).  On those the dual
+/// Hessian is so ill-conditioned that dual-ssn ends `inaccurate` after paying 7–90× the floor.
+pub const LONG_INTERFACE: f64 = 1.2;
+
+/// OSQP's iteration cap inside the chain: it needs 50–100 iterations on the strips, and a run
+/// that does not converge (50 000 iterations on the stiffness-contrast fixture) must not eat the
+/// time of the robust backend after it.
+pub const OSQP_MAX_ITER: u32 = 1_000;
+
+/// The chain for short interfaces (small dense duals).
+pub const SHORT_CHAIN: [BackendKind; 3] =
+    [BackendKind::DualSsn, BackendKind::Pdas, BackendKind::Clarabel];
+
+/// The chain for long interfaces, or duals too large to form densely.
+pub const LONG_CHAIN: [BackendKind; 3] =
+    [BackendKind::Pdas, BackendKind::Osqp, BackendKind::Clarabel];
+
 /// The backend's name.
 pub const NAME: &str = "auto";
 
@@ -81,6 +105,11 @@ impl Features {
             kernel: problem.kernel.len(),
         }
     }
+
+    /// m / √n (see [`LONG_INTERFACE`]).
+    pub fn length_ratio(&self) -> f64 {
+        self.rows as f64 / (self.dofs.max(1) as f64).sqrt()
+    }
 }
 
 /// The chain for a problem and the reason for its order.
@@ -100,10 +129,31 @@ fn ready(kind: BackendKind) -> bool {
 
 /// The rule (see the module docs).
 pub fn plan(f: &Features) -> Plan {
-    let mut chain = Vec::new();
-    let small_dual = f.rows <= SSN_MAX_ROWS && f.touched <= SSN_MAX_TOUCHED;
-    let mut reason = format!(
-        "n = {}, m = {}, {} DOFs touched by contact{}: ",
+    let ratio = f.length_ratio();
+    let long = ratio > LONG_INTERFACE;
+    let large = f.rows > SSN_MAX_ROWS || f.touched > SSN_MAX_TOUCHED;
+    let (chain, why) = if long {
+        (
+            &LONG_CHAIN,
+            format!("a long interface (m/√n = {ratio:.2} > {LONG_INTERFACE}): an ill-conditioned dual"),
+        )
+    } else if large {
+        (
+            &LONG_CHAIN,
+            format!(
+                "a large dual (m > {SSN_MAX_ROWS} or touched DOFs > {SSN_MAX_TOUCHED}): no dense H"
+            ),
+        )
+    } else {
+        (
+            &SHORT_CHAIN,
+            format!("a short interface (m/√n = {ratio:.2} ≤ {LONG_INTERFACE}): a small, well-conditioned dual"),
+        )
+    };
+    let chain: Vec<BackendKind> = chain.iter().copied().filter(|k| ready(*k)).collect();
+    let names: Vec<&str> = chain.iter().map(|k| k.name()).collect();
+    let reason = format!(
+        "n = {}, m = {}, {} DOFs touched{}: {why}; chain {}",
         f.dofs,
         f.rows,
         f.touched,
@@ -111,30 +161,24 @@ pub fn plan(f: &Features) -> Plan {
             format!(", {} rigid mode(s) held by contact", f.kernel)
         } else {
             String::new()
-        }
+        },
+        names.join(" → ")
     );
-    if small_dual && ready(BackendKind::DualSsn) {
-        chain.push(BackendKind::DualSsn);
-        reason.push_str(&format!(
-            "a small dual (m ≤ {SSN_MAX_ROWS}, touched ≤ {SSN_MAX_TOUCHED}) goes to dual-ssn first"
-        ));
-    } else {
-        reason.push_str(&format!(
-            "a large dual (m > {SSN_MAX_ROWS} or touched > {SSN_MAX_TOUCHED}) skips dual-ssn"
-        ));
-    }
-    for kind in [BackendKind::Pdas, BackendKind::Clarabel] {
-        if ready(kind) {
-            chain.push(kind);
-        }
-    }
-    let rest: Vec<&str> = chain
-        .iter()
-        .skip(usize::from(small_dual && ready(BackendKind::DualSsn)))
-        .map(|k| k.name())
-        .collect();
-    reason.push_str(&format!("; then {}", rest.join(", then ")));
     Plan { chain, reason }
+}
+
+/// A backend of the chain by name, with the chain's own limits ([`OSQP_MAX_ITER`]).
+fn chain_backend(kind: BackendKind) -> Result<Box<dyn QpBackend>, crate::backends::BackendError> {
+    #[cfg(feature = "osqp")]
+    if kind == BackendKind::Osqp {
+        return Ok(Box::new(signorini_osqp::OsqpBackend::new(
+            signorini_osqp::OsqpSettings {
+                max_iter: OSQP_MAX_ITER,
+                ..signorini_osqp::OsqpSettings::default()
+            },
+        )));
+    }
+    make_backend(kind)
 }
 
 /// One backend's run inside the chain.
@@ -363,7 +407,7 @@ fn run_chain(
         let mut built;
         let backend: &mut dyn QpBackend = match member {
             Member::Given(b) => b.as_mut(),
-            Member::Kind(kind) => match make_backend(*kind) {
+            Member::Kind(kind) => match chain_backend(*kind) {
                 Ok(b) => {
                     built = b;
                     built.as_mut()
