@@ -1,6 +1,9 @@
 //! clarabel on the condensed dual ([`CondensedDual`]) gives the known optima of the core's
 //! examples, and the same x and λ as clarabel on the primal.
 
+// Test code: a failed unwrap is a failed test.
+#![allow(clippy::unwrap_used)]
+
 use signorini_clarabel::{ClarabelBackend, NAME};
 use signorini_core::examples::{self, max_diff, Known};
 use signorini_core::qp::{
@@ -69,7 +72,11 @@ fn many_rows_agree_with_the_primal() {
     let p = solved(&mut ClarabelBackend::default(), &problem);
     let scale = p.x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     // Both meet 1e-9 on a chain with cond(A) ~ 4·200²: 1e-6 relative is what that allows.
-    assert!(max_diff(&d.x, &p.x) <= 1e-6 * scale, "{}", max_diff(&d.x, &p.x));
+    assert!(
+        max_diff(&d.x, &p.x) <= 1e-6 * scale,
+        "{}",
+        max_diff(&d.x, &p.x)
+    );
     let lscale = p.multipliers.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     assert!(max_diff(&d.multipliers, &p.multipliers) <= 1e-6 * lscale);
 }

@@ -72,8 +72,11 @@ pub const LONG_INTERFACE: f64 = 1.2;
 pub const OSQP_MAX_ITER: u32 = 1_000;
 
 /// The chain for short interfaces (small dense duals).
-pub const SHORT_CHAIN: [BackendKind; 3] =
-    [BackendKind::DualSsn, BackendKind::Pdas, BackendKind::Clarabel];
+pub const SHORT_CHAIN: [BackendKind; 3] = [
+    BackendKind::DualSsn,
+    BackendKind::Pdas,
+    BackendKind::Clarabel,
+];
 
 /// The chain for long interfaces, or duals too large to form densely.
 pub const LONG_CHAIN: [BackendKind; 3] =
@@ -135,7 +138,9 @@ pub fn plan(f: &Features) -> Plan {
     let (chain, why) = if long {
         (
             &LONG_CHAIN,
-            format!("a long interface (m/√n = {ratio:.2} > {LONG_INTERFACE}): an ill-conditioned dual"),
+            format!(
+                "a long interface (m/√n = {ratio:.2} > {LONG_INTERFACE}): an ill-conditioned dual"
+            ),
         )
     } else if large {
         (

@@ -61,7 +61,8 @@ fn time_limit(seconds: Option<f64>) -> Option<Duration> {
 
 /// `primal` or `dual`.
 fn parse_form(text: &str) -> Result<Form, String> {
-    text.parse().map_err(|e: signorini::backends::BackendError| e.to_string())
+    text.parse()
+        .map_err(|e: signorini::backends::BackendError| e.to_string())
 }
 
 /// A tolerance in (0, 1).

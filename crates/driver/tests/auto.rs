@@ -44,7 +44,10 @@ fn solve_with(path: &Path, backend: &mut dyn QpBackend, options: &SolveOptions) 
 }
 
 fn max_diff(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
 }
 
 /// Relative agreement of two solves: max |Δu| / max |u| and max |Δλ| / F, F the larger of
@@ -215,7 +218,10 @@ fn form_dual_on_a_floating_scene_is_a_clear_error() {
     assert!(!err.contains("panicked"), "{err}");
     assert!(!dir.path().join("res").exists(), "nothing may be written");
     // A form the backend does not have is a usage error too.
-    let o = signorini(&["solve", "--backend", "dual-pgs", "--form", "primal"], dir.path());
+    let o = signorini(
+        &["solve", "--backend", "dual-pgs", "--form", "primal"],
+        dir.path(),
+    );
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("no primal form"), "{}", stderr(&o));
 }
@@ -223,7 +229,10 @@ fn form_dual_on_a_floating_scene_is_a_clear_error() {
 #[test]
 fn a_tiny_time_limit_ends_the_chain_with_time_limit_and_exit_2() {
     let dir = tempfile::tempdir().unwrap();
-    let o = signorini(&["solve", "--time-limit", "1e-9", "--out", "res"], dir.path());
+    let o = signorini(
+        &["solve", "--time-limit", "1e-9", "--out", "res"],
+        dir.path(),
+    );
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     let err = stderr(&o);
     assert!(!err.contains("panicked"), "{err}");
@@ -304,7 +313,10 @@ fn the_chain_shares_one_time_limit() {
     let limits = given.lock().unwrap().clone();
     // The first gets the whole limit less the microseconds auto spent choosing.
     let first = limits[0].unwrap();
-    assert!(first <= limit && first >= limit - Duration::from_millis(50), "{first:?}");
+    assert!(
+        first <= limit && first >= limit - Duration::from_millis(50),
+        "{first:?}"
+    );
     let second = limits[1].unwrap();
     assert!(
         second <= limit - Duration::from_millis(150),
@@ -406,10 +418,7 @@ fn timed(
 fn measure() {
     let scenes: Vec<PathBuf> = match std::env::var("SIGNORINI_MEASURE") {
         Ok(list) => list.split(':').map(PathBuf::from).collect(),
-        Err(_) => vec![
-            fixture("seed", "exp2b"),
-            fixture("seed", "exp3-both-h0.08"),
-        ],
+        Err(_) => vec![fixture("seed", "exp2b"), fixture("seed", "exp3-both-h0.08")],
     };
     let names: Vec<String> = match std::env::var("SIGNORINI_BACKENDS") {
         Ok(list) => list.split(',').map(str::to_string).collect(),

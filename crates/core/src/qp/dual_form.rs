@@ -154,7 +154,9 @@ pub fn condense(
         });
     }
     let (n, m) = (problem.dofs(), problem.rows());
-    let block = (BLOCK_BYTES / (8 * n.max(1))).clamp(1, MAX_BLOCK).min(m.max(1));
+    let block = (BLOCK_BYTES / (8 * n.max(1)))
+        .clamp(1, MAX_BLOCK)
+        .min(m.max(1));
     let entries = (m as f64) * (m as f64);
     crate::memory::check_fits(
         backend,
@@ -210,12 +212,11 @@ pub fn condense(
     }
     let indptr: Vec<usize> = (0..=m).map(|j| j * m).collect();
     let indices: Vec<usize> = (0..m * m).map(|k| k % m.max(1)).collect();
-    let hessian = CsMat::try_new_csc((m, m), indptr, indices, data).map_err(|e| {
-        QpError::Backend {
+    let hessian =
+        CsMat::try_new_csc((m, m), indptr, indices, data).map_err(|e| QpError::Backend {
             backend,
             reason: format!("building H as CSC: {}", e.3),
-        }
-    })?;
+        })?;
     let mut a_inv_f = problem.load.clone();
     factor.solve_in_place(&mut a_inv_f);
     let d: Vec<f64> = mat_vec(b, &a_inv_f)
@@ -341,8 +342,10 @@ impl<B: QpBackend> QpBackend for CondensedDual<B> {
                     m = problem.rows(),
                 )
             };
-            if matches!(status, QpStatus::PrimalInfeasible | QpStatus::NumericalError)
-                || inner.x.iter().any(|v| !v.is_finite())
+            if matches!(
+                status,
+                QpStatus::PrimalInfeasible | QpStatus::NumericalError
+            ) || inner.x.iter().any(|v| !v.is_finite())
             {
                 let status = if status == QpStatus::PrimalInfeasible {
                     status
