@@ -328,6 +328,56 @@ fn the_chain_shares_one_time_limit() {
     assert!(took <= limit + Duration::from_millis(50), "{took:?}");
 }
 
+/// A backend that refuses every problem for lack of memory.
+struct Refuses(&'static str);
+
+impl QpBackend for Refuses {
+    fn name(&self) -> &'static str {
+        self.0
+    }
+    fn solve(
+        &mut self,
+        _: &signorini_core::qp::QpProblem,
+        _: &SolveOptions,
+    ) -> Result<signorini_core::qp::QpSolution, signorini_core::qp::QpError> {
+        Err(signorini_core::qp::QpError::TooLarge {
+            backend: self.0,
+            what: "a test allocation".into(),
+            needed: 1e6,
+            available: 1.0,
+        })
+    }
+}
+
+#[test]
+fn too_large_ends_the_chain_only_when_the_rest_would_need_as_much() {
+    let scene = run::load_scene(Some(&fixture("seed", "exp2b"))).unwrap();
+    let options = SolveOptions::default();
+    // A dense dual refused for its m × m matrix: the sparse primal clarabel still runs.
+    let mut auto = AutoBackend::with_backends(
+        vec![
+            Box::new(Refuses("dual-test")),
+            Box::new(ClarabelBackend::default()),
+        ],
+        "test chain",
+    );
+    let outcome = run::solve_scene(&scene, &mut auto, &options, &MeshLimits::default()).unwrap();
+    assert_eq!(outcome.solution.status, QpStatus::Solved);
+    assert_eq!(auto.record().unwrap().attempts.len(), 2);
+    // A sparse primal method refused for its factor: every later backend factors A too, so the
+    // chain ends with the refusal (exit 3 from the command line), clarabel never runs.
+    let mut auto = AutoBackend::with_backends(
+        vec![
+            Box::new(Refuses("primal-test")),
+            Box::new(ClarabelBackend::default()),
+        ],
+        "test chain",
+    );
+    let error = run::solve_scene(&scene, &mut auto, &options, &MeshLimits::default()).unwrap_err();
+    assert!(error.to_string().contains("a test allocation"), "{error}");
+    assert_eq!(auto.record().unwrap().attempts.len(), 1);
+}
+
 #[test]
 fn the_rule_orders_the_chain_from_the_features() {
     // The seed's geometry at ~200k DOFs (measured: n = 206 278, m = 135, 540 touched).
