@@ -150,6 +150,34 @@ pub struct RunReport {
     pub backend_status: String,
     /// What the program noticed and worked around (empty when nothing).
     pub warnings: Vec<WarningReport>,
+    /// `--backend auto` only: every backend the chain ran, in order (absent otherwise).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub attempts: Vec<AttemptReport>,
+    /// `--backend auto` only: the backend whose answer is written.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub chosen: Option<String>,
+    /// `--backend auto` only: why the chain had its order, and how it ended.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+}
+
+/// One backend's run inside the `auto` chain (`result.json`'s `attempts`).
+#[derive(Debug, Clone, Serialize)]
+pub struct AttemptReport {
+    /// Backend name.
+    pub backend: String,
+    /// Core-checked status, or `"error"` when the backend could not run.
+    pub status: String,
+    /// The backend's own verdict (absent after an error).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub backend_status: Option<String>,
+    /// Its iterations.
+    pub iterations: usize,
+    /// Its wall-clock time, seconds.
+    pub solve_s: f64,
+    /// Its note, or the error.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub message: Option<String>,
 }
 
 /// One warning of `result.json`: its one-line message and the figures of its kind (`kind`,
@@ -428,5 +456,8 @@ pub fn run_report(
                 warning: w.clone(),
             })
             .collect(),
+        attempts: Vec::new(),
+        chosen: None,
+        reason: None,
     }
 }

@@ -3,7 +3,7 @@
 use std::fmt;
 use std::str::FromStr;
 
-use signorini_core::qp::QpBackend;
+use signorini_core::qp::{CondensedDual, QpBackend};
 
 /// A backend the command line can name.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -20,6 +20,52 @@ pub enum BackendKind {
     DualSsn,
     /// Primal–dual active set on the sparse primal KKT system.
     Pdas,
+    /// clarabel on the condensed dual (`"clarabel/dual"`, see
+    /// [`CondensedDual`](signorini_core::qp::CondensedDual)).
+    ClarabelDual,
+    /// OSQP on the condensed dual (`"osqp/dual"`).
+    OsqpDual,
+    /// The fastest backend likely to succeed, with fall-backs (see [`crate::auto`]).
+    Auto,
+}
+
+/// The formulation a backend runs on: the primal QP in x, or the condensed dual in λ.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Form {
+    /// `min ½xᵀAx − fᵀx  s.t.  Bx ≤ g` (sparse, n unknowns).
+    Primal,
+    /// `min ½λᵀHλ − dᵀλ  s.t.  λ ≥ 0`, H = B A⁻¹ Bᵀ dense (m unknowns).
+    Dual,
+}
+
+impl Form {
+    /// Every name the command line accepts besides [`BackendKind::ALL`]: the chain and the
+    /// condensed-dual forms (not in `ALL`, which lists each algorithm once, in its own form).
+    pub const EXTRA: [BackendKind; 3] = [
+        BackendKind::Auto,
+        BackendKind::ClarabelDual,
+        BackendKind::OsqpDual,
+    ];
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Form::Primal => "primal",
+            Form::Dual => "dual",
+        }
+    }
+}
+
+impl FromStr for Form {
+    type Err = BackendError;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim() {
+            "primal" => Ok(Form::Primal),
+            "dual" => Ok(Form::Dual),
+            other => Err(BackendError::UnknownForm(other.to_string())),
+        }
+    }
 }
 
 impl BackendKind {
@@ -32,6 +78,14 @@ impl BackendKind {
         BackendKind::DualSsn,
     ];
 
+    /// Every name the command line accepts besides [`BackendKind::ALL`]: the chain and the
+    /// condensed-dual forms (not in `ALL`, which lists each algorithm once, in its own form).
+    pub const EXTRA: [BackendKind; 3] = [
+        BackendKind::Auto,
+        BackendKind::ClarabelDual,
+        BackendKind::OsqpDual,
+    ];
+
     /// The command-line name.
     pub fn name(self) -> &'static str {
         match self {
@@ -41,14 +95,61 @@ impl BackendKind {
             BackendKind::DualUzawa => "dual-uzawa",
             BackendKind::DualSsn => "dual-ssn",
             BackendKind::Pdas => "pdas",
+            BackendKind::ClarabelDual => "clarabel/dual",
+            BackendKind::OsqpDual => "osqp/dual",
+            BackendKind::Auto => "auto",
         }
     }
 
     /// Whether this build contains the backend.
     pub fn available(self) -> bool {
         match self {
-            BackendKind::Osqp => cfg!(feature = "osqp"),
+            BackendKind::Osqp | BackendKind::OsqpDual => cfg!(feature = "osqp"),
             _ => true,
+        }
+    }
+
+    /// The formulation the backend works on (`auto` counts as primal: it picks its own).
+    pub fn form(self) -> Form {
+        match self {
+            BackendKind::ClarabelDual
+            | BackendKind::OsqpDual
+            | BackendKind::DualPgs
+            | BackendKind::DualUzawa
+            | BackendKind::DualSsn => Form::Dual,
+            _ => Form::Primal,
+        }
+    }
+
+    /// Whether `--form` can choose this backend's formulation: clarabel and osqp run on either.
+    pub fn has_forms(self) -> bool {
+        matches!(
+            self,
+            BackendKind::Clarabel
+                | BackendKind::Osqp
+                | BackendKind::ClarabelDual
+                | BackendKind::OsqpDual
+        )
+    }
+
+    /// The same algorithm on `form`: clarabel and osqp take either; every other backend only
+    /// its own (`dual-*` work on the dual, `pdas` and `auto` on the primal), and asking for the
+    /// other is [`BackendError::NoForm`].
+    pub fn with_form(self, form: Form) -> Result<BackendKind, BackendError> {
+        match (self, form) {
+            (BackendKind::Clarabel | BackendKind::ClarabelDual, Form::Primal) => {
+                Ok(BackendKind::Clarabel)
+            }
+            (BackendKind::Clarabel | BackendKind::ClarabelDual, Form::Dual) => {
+                Ok(BackendKind::ClarabelDual)
+            }
+            (BackendKind::Osqp | BackendKind::OsqpDual, Form::Primal) => Ok(BackendKind::Osqp),
+            (BackendKind::Osqp | BackendKind::OsqpDual, Form::Dual) => Ok(BackendKind::OsqpDual),
+            (kind, form) if kind.form() == form => Ok(kind),
+            (kind, form) => Err(BackendError::NoForm {
+                backend: kind.name(),
+                form: form.name(),
+            }),
         }
     }
 }
@@ -64,9 +165,20 @@ impl fmt::Display for BackendKind {
 pub enum BackendError {
     /// Unknown name.
     #[error(
-        "unknown backend \"{0}\" (known: clarabel, osqp, dual-pgs, dual-uzawa, dual-ssn, pdas)"
+        "unknown backend \"{0}\" (known: auto, clarabel, osqp, dual-pgs, dual-uzawa, dual-ssn, clarabel/dual, osqp/dual)"
     )]
     Unknown(String),
+    /// Unknown formulation.
+    #[error("unknown form \"{0}\" (known: primal, dual)")]
+    UnknownForm(String),
+    /// The backend does not run on the requested formulation.
+    #[error("backend \"{backend}\" has no {form} form (only clarabel and osqp run on both; dual-* work on the dual, pdas and auto on the primal)")]
+    NoForm {
+        /// Backend name.
+        backend: &'static str,
+        /// The form asked for.
+        form: &'static str,
+    },
     /// Known but not in this build.
     #[error("backend \"{0}\" is not compiled in; rebuild with `--features {0}`")]
     NotCompiled(&'static str),
@@ -75,11 +187,26 @@ pub enum BackendError {
 impl FromStr for BackendKind {
     type Err = BackendError;
 
+    /// A name of [`BackendKind::ALL`] or [`BackendKind::EXTRA`], optionally with its form as
+    /// `name/primal` or `name/dual` (`clarabel/primal` is `clarabel`).
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        BackendKind::ALL
-            .into_iter()
-            .find(|k| k.name() == s.trim())
-            .ok_or_else(|| BackendError::Unknown(s.to_string()))
+        let s = s.trim();
+        let known = |name: &str| {
+            BackendKind::ALL
+                .into_iter()
+                .chain(BackendKind::EXTRA)
+                .find(|k| k.name() == name)
+        };
+        if let Some(kind) = known(s) {
+            return Ok(kind);
+        }
+        match s.rsplit_once('/') {
+            Some((name, form)) => {
+                let kind = known(name).ok_or_else(|| BackendError::Unknown(s.to_string()))?;
+                kind.with_form(form.parse()?)
+            }
+            None => Err(BackendError::Unknown(s.to_string())),
+        }
     }
 }
 
@@ -101,5 +228,17 @@ pub fn make_backend(kind: BackendKind) -> Result<Box<dyn QpBackend>, BackendErro
             Default::default(),
         ))),
         BackendKind::Pdas => Ok(Box::new(signorini_pdas::PdasBackend::default())),
+        BackendKind::ClarabelDual => Ok(Box::new(CondensedDual::new(
+            signorini_clarabel::ClarabelBackend::default(),
+            "clarabel/dual",
+        ))),
+        #[cfg(feature = "osqp")]
+        BackendKind::OsqpDual => Ok(Box::new(CondensedDual::new(
+            signorini_osqp::OsqpBackend::default(),
+            "osqp/dual",
+        ))),
+        #[cfg(not(feature = "osqp"))]
+        BackendKind::OsqpDual => Err(BackendError::NotCompiled("osqp")),
+        BackendKind::Auto => Ok(Box::new(crate::auto::AutoBackend::default())),
     }
 }

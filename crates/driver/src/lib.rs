@@ -3,6 +3,7 @@
 //! The library half holds the steps of a run (each one function with one job) so that tests can
 //! call them; `main.rs` only parses the command line.
 
+pub mod auto;
 pub mod backends;
 pub mod check;
 pub mod compare;

@@ -10,7 +10,8 @@ use std::time::Duration;
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
-use signorini::backends::{make_backend, BackendKind};
+use signorini::auto::AutoBackend;
+use signorini::backends::{make_backend, BackendKind, Form};
 use signorini::exit::{classify, Exit};
 use signorini::run;
 use signorini_core::mesh::MeshLimits;
@@ -58,6 +59,12 @@ fn time_limit(seconds: Option<f64>) -> Option<Duration> {
         .and_then(|t| Duration::try_from_secs_f64(t).ok())
 }
 
+/// `primal` or `dual`.
+fn parse_form(text: &str) -> Result<Form, String> {
+    text.parse()
+        .map_err(|e: signorini::backends::BackendError| e.to_string())
+}
+
 /// A tolerance in (0, 1).
 fn parse_tol(text: &str) -> Result<f64, String> {
     let t: f64 = text
@@ -77,13 +84,25 @@ enum Command {
     Solve {
         #[command(flatten)]
         common: Common,
-        /// QP backend: clarabel, osqp, dual-pgs, dual-uzawa or dual-ssn.
-        #[arg(long, default_value = "clarabel")]
+        /// QP backend: auto (the fastest likely to succeed, falling back to a robust one; see
+        /// docs/scene.md), clarabel, osqp, dual-pgs, dual-uzawa, dual-ssn, or clarabel/dual,
+        /// osqp/dual (the condensed dual form).
+        #[arg(long, default_value = "auto")]
         backend: String,
+        /// Formulation for clarabel and osqp: primal (sparse, in the displacements) or dual
+        /// (condensed, dense in the contact forces; not for bodies held by contact alone).
+        /// `--backend clarabel --form dual` is `--backend clarabel/dual`.
+        #[arg(long, value_parser = parse_form)]
+        form: Option<Form>,
+        /// With `--backend auto`: the backends to try, in order, instead of auto's rule
+        /// (e.g. dual-ssn,clarabel).
+        #[arg(long, value_delimiter = ',')]
+        chain: Vec<String>,
         /// Relative KKT tolerance the answer must meet to count as solved.
         #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
         tol: f64,
-        /// Seconds the backend may take; it then stops with status time-limit.
+        /// Seconds the backend may take (with auto: the whole chain); it then stops with status
+        /// time-limit.
         #[arg(long, value_parser = parse_time_limit)]
         time_limit: Option<f64>,
         /// Output directory (created if missing).
@@ -94,9 +113,14 @@ enum Command {
     Compare {
         #[command(flatten)]
         common: Common,
-        /// Comma-separated backends [default: clarabel,osqp,dual-pgs,dual-uzawa, those compiled in].
+        /// Comma-separated backends [default: clarabel,osqp,dual-pgs,dual-uzawa, those compiled in];
+        /// also auto, clarabel/dual, osqp/dual.
         #[arg(long, value_delimiter = ',')]
         backends: Vec<String>,
+        /// Comma-separated forms (primal, dual) each of clarabel and osqp runs in; the other
+        /// backends run once, in their own form [default: as named in --backends].
+        #[arg(long, value_delimiter = ',', value_parser = parse_form)]
+        forms: Vec<Form>,
         /// Relative KKT tolerance every backend is asked to meet.
         #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
         tol: f64,
@@ -186,22 +210,65 @@ fn warn(text: impl std::fmt::Display) {
     let _ = writeln!(std::io::stderr(), "{text}");
 }
 
-fn solve(
-    common: &Common,
-    backend: &str,
+/// What `solve` was asked to run.
+struct SolveArgs<'a> {
+    backend: &'a str,
+    form: Option<Form>,
+    chain: &'a [String],
     tol: f64,
     time_limit_s: Option<f64>,
-    out: &std::path::Path,
-) -> Result<Exit> {
-    let kind: BackendKind = backend.parse()?;
-    let mut backend = make_backend(kind)?;
+}
+
+fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) -> Result<Exit> {
+    let mut kind: BackendKind = args.backend.parse()?;
+    if let Some(form) = args.form {
+        kind = kind.with_form(form)?;
+    }
+    anyhow::ensure!(
+        kind.available(),
+        "backend \"{kind}\" is not compiled in; rebuild with `--features osqp`"
+    );
+    anyhow::ensure!(
+        args.chain.is_empty() || kind == BackendKind::Auto,
+        "--chain is for --backend auto, not {kind}"
+    );
     let scene = run::load_scene(common.scene.as_deref())?;
     let options = SolveOptions {
-        tol,
-        time_limit: time_limit(time_limit_s),
+        tol: args.tol,
+        time_limit: time_limit(args.time_limit_s),
         ..SolveOptions::default()
     };
-    let outcome = run::solve_scene(&scene, backend.as_mut(), &options, &limits(common))?;
+    let outcome = if kind == BackendKind::Auto {
+        let mut auto = if args.chain.is_empty() {
+            AutoBackend::default()
+        } else {
+            let kinds = parse_backends(args.chain, &[])?;
+            anyhow::ensure!(
+                !kinds.contains(&BackendKind::Auto),
+                "--chain cannot hold auto itself"
+            );
+            AutoBackend::with_kinds(kinds, "the chain given by --chain")
+        };
+        let result = run::solve_scene(&scene, &mut auto, &options, &limits(common));
+        if let Some(record) = auto.record() {
+            for attempt in &record.attempts {
+                warn(attempt.line());
+            }
+            warn(format_args!(
+                "auto: chose {}: {}",
+                record.chosen.as_deref().unwrap_or("none"),
+                record.reason
+            ));
+        }
+        let mut outcome = result?;
+        if let Some(record) = auto.record() {
+            record.annotate(&mut outcome.report);
+        }
+        outcome
+    } else {
+        let mut backend = make_backend(kind)?;
+        run::solve_scene(&scene, backend.as_mut(), &options, &limits(common))?
+    };
     let written = run::write_outputs(out, &scene, &outcome)
         .with_context(|| format!("writing results to {}", out.display()))?;
     let r = &outcome.report;
@@ -264,11 +331,12 @@ fn solve(
 fn compare(
     common: &Common,
     names: &[String],
+    forms: &[Form],
     tol: f64,
     time_limit_s: Option<f64>,
     out: &std::path::Path,
 ) -> Result<Exit> {
-    let kinds = parse_backends(names)?;
+    let kinds = parse_backends(names, forms)?;
     let scene = run::load_scene(common.scene.as_deref())?;
     let options = SolveOptions {
         tol,
@@ -321,7 +389,7 @@ fn sweep(
     overwrite: bool,
     out: &std::path::Path,
 ) -> Result<Exit> {
-    let backends = parse_backends(names)?;
+    let backends = parse_backends(names, &[])?;
     let scene = run::load_scene(common.scene.as_deref())?;
     let plan = signorini::sweep::SweepPlan {
         hmax: hmax.to_vec(),
@@ -414,14 +482,29 @@ const DEFAULT_BACKENDS: [BackendKind; 4] = [
     BackendKind::DualUzawa,
 ];
 
-fn parse_backends(names: &[String]) -> Result<Vec<BackendKind>> {
-    if names.is_empty() {
-        return Ok(DEFAULT_BACKENDS
+/// The backends named (or the defaults), each of clarabel and osqp once per form of `forms`
+/// when it is not empty (the other backends once, in their own form).
+fn parse_backends(names: &[String], forms: &[Form]) -> Result<Vec<BackendKind>> {
+    let named: Vec<BackendKind> = if names.is_empty() {
+        DEFAULT_BACKENDS
             .into_iter()
             .filter(|k| k.available())
-            .collect());
+            .collect()
+    } else {
+        names.iter().map(|n| n.parse()).collect::<Result<_, _>>()?
+    };
+    let mut kinds: Vec<BackendKind> = Vec::with_capacity(named.len() * 2);
+    for kind in named {
+        if forms.is_empty() || !kind.has_forms() {
+            kinds.push(kind);
+        } else {
+            for &form in forms {
+                kinds.push(kind.with_form(form)?);
+            }
+        }
     }
-    let kinds: Vec<BackendKind> = names.iter().map(|n| n.parse()).collect::<Result<_, _>>()?;
+    let mut seen = std::collections::HashSet::new();
+    kinds.retain(|k| seen.insert(*k));
     anyhow::ensure!(!kinds.is_empty(), "--backends names no backend");
     for k in &kinds {
         anyhow::ensure!(
@@ -502,17 +585,30 @@ fn main() -> ExitCode {
         Command::Solve {
             common,
             backend,
+            form,
+            chain,
             tol,
             time_limit,
             out,
-        } => solve(common, backend, *tol, *time_limit, out),
+        } => solve(
+            common,
+            &SolveArgs {
+                backend,
+                form: *form,
+                chain,
+                tol: *tol,
+                time_limit_s: *time_limit,
+            },
+            out,
+        ),
         Command::Compare {
             common,
             backends,
+            forms,
             tol,
             time_limit,
             out,
-        } => compare(common, backends, *tol, *time_limit, out),
+        } => compare(common, backends, forms, *tol, *time_limit, out),
         Command::Export { common, out } => export(common, out),
         Command::Sweep {
             common,

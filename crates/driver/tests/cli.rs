@@ -55,7 +55,7 @@ fn solve_without_a_scene_runs_experiment_2b_and_writes_three_files() {
         assert!(json.get(key).is_some(), "result.json lacks {key}");
     }
     assert_eq!(json["status"], "solved");
-    assert_eq!(json["backend"], "clarabel");
+    assert_eq!(json["backend"], "auto");
     assert_eq!(
         json["effects"],
         serde_json::json!(["dirichlet", "neumann", "contact"])

@@ -18,6 +18,7 @@
 //! status the program reports: `solved` only when these residuals meet the requested tolerance.
 
 mod backend;
+mod dual_form;
 mod ops;
 mod problem;
 mod residuals;
@@ -28,6 +29,10 @@ mod status;
 mod tests;
 
 pub use backend::{QpBackend, QpSolution, SolveOptions};
+pub use dual_form::{
+    condensable, condense, primal_of, touched_dofs, CondenseStop, Condensed, CondensedDual,
+    BYTES_PER_DUAL_ENTRY,
+};
 pub use ops::{csc_parts, dot, mat_t_vec, mat_vec, norm_inf};
 pub use problem::{CscMatrix, QpError, QpProblem};
 pub use residuals::{kkt_residuals, kkt_residuals_with, KktResiduals, ResidualScales};

@@ -1,0 +1,530 @@
+//! `--backend auto`: the fastest backend likely to succeed on this problem, falling back to a
+//! robust one when it does not.
+//!
+//! # The chain
+//! [`plan`] picks an ordered list of backends from features of the QP that cost nothing to
+//! measure ([`Features`]: n, m, the DOFs B touches, whether A has a kernel); [`AutoBackend`]
+//! runs them in turn until one answers `solved` after the core's own check
+//! ([`checked_status`] on [`kkt_residuals`], exactly as [`signorini_core::solve`] judges every
+//! backend).  The rule:
+//!
+//! * **Short interface** (m ≤ [`LONG_INTERFACE`] · √n, and m ≤ [`SSN_MAX_ROWS`], touched DOFs ≤
+//!   [`SSN_MAX_TOUCHED`]): [`SHORT_CHAIN`] = dual-ssn → pdas → clarabel.  dual-ssn (active set
+//!   on the condensed dual, H formed from the factor of A with the touched DOFs last) takes
+//!   1.1–1.5× the floor on the seed's geometry from 448 to 206 278 DOFs, where clarabel takes
+//!   9–30×.
+//! * **Long interface** (m/√n above [`LONG_INTERFACE`]: a contact zone long against the body,
+//!   e.g. a thin strip pressed along its length), or a dual too large to form densely:
+//!   [`LONG_CHAIN`] = pdas → osqp (at most [`OSQP_MAX_ITER`] iterations) → clarabel.  There the
+//!   dual is ill-conditioned and dual-ssn ends `inaccurate` after 7–90× the floor; osqp solves the
+//!   strips in 50–100 iterations, 6–11× the floor, 1.1–1.75× faster than clarabel; clarabel
+//!   (7–14×) catches whatever osqp does not solve within its cap.
+//!
+//! pdas (active set on the sparse primal KKT system) joins both chains as soon as it is listed in
+//! [`BackendKind::ALL`]; a backend this build lacks (osqp without its feature) is left out.
+//!
+//! The thresholds come from measurements on the seed fixtures, the hard cases and the strips
+//! (`cargo test --release -p signorini --test auto -- --ignored measure --nocapture`; the
+//! numbers are in `docs/scene.md`).
+//!
+//! # Fall-back
+//! An attempt that ends with any status but `solved`, or with an error, hands over to the next
+//! one; the whole chain shares the time limit (each attempt gets what remains, and an attempt
+//! that ran out of time ends the chain with `time-limit`).  [`QpError::TooLarge`] is special:
+//! a dense dual method (dual-*, */dual) refused for its m × m matrix says nothing about the
+//! sparse primal methods, so the chain goes on; a sparse primal method refused for its factor
+//! ends the chain with that error, because every later backend factors A (or a KKT matrix that
+//! contains it) too and would need at least as much.
+//!
+//! The answer written is the first `solved` one; when none is, the last attempt that produced
+//! an answer (the most robust method's), with its own status.  [`AutoBackend::record`] keeps
+//! what ran and why for `result.json` (`attempts`, `chosen`, `reason`).
+
+use std::time::{Duration, Instant};
+
+use serde::Serialize;
+use signorini_core::qp::{
+    checked_status, kkt_residuals, touched_dofs, QpBackend, QpError, QpProblem, QpSolution,
+    QpStatus, SolveOptions,
+};
+use signorini_core::report::{AttemptReport, RunReport};
+
+use crate::backends::{make_backend, BackendKind};
+
+/// dual-ssn goes first only up to this many contact rows (its H is dense, m² doubles, and each
+/// Newton step factors the active block of it).
+pub const SSN_MAX_ROWS: usize = 1_000;
+
+/// dual-ssn goes first only when B touches at most this many DOFs (the dense trailing block of
+/// the factor it forms H from has this size).
+pub const SSN_MAX_TOUCHED: usize = 4_000;
+
+/// An interface is *long* when m > this × √n.  In 2D a body's boundary grows like √n, so m/√n
+/// measures the contact length against the body's size: 0.28–0.41 on the seed's geometry at
+/// every mesh size (448 to 206 278 DOFs), at most 0.68 on the fixtures (chain-four), 2.0 to 8.8
+/// on thin strips pressed along their length (lengths 1 to 20, 0.02 thick).  On those the dual
+/// Hessian is so ill-conditioned that dual-ssn ends `inaccurate` after paying 7–90× the floor.
+pub const LONG_INTERFACE: f64 = 1.2;
+
+/// OSQP's iteration cap inside the chain: it needs 50–100 iterations on the strips, and a run
+/// that does not converge (50 000 iterations on the stiffness-contrast fixture) must not eat the
+/// time of the robust backend after it.
+pub const OSQP_MAX_ITER: u32 = 1_000;
+
+/// The chain for short interfaces (small dense duals).
+pub const SHORT_CHAIN: [BackendKind; 3] = [
+    BackendKind::DualSsn,
+    BackendKind::Pdas,
+    BackendKind::Clarabel,
+];
+
+/// The chain for long interfaces, or duals too large to form densely.
+pub const LONG_CHAIN: [BackendKind; 3] =
+    [BackendKind::Pdas, BackendKind::Osqp, BackendKind::Clarabel];
+
+/// The backend's name.
+pub const NAME: &str = "auto";
+
+/// What the rule looks at: all read off the QP without factoring anything.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Features {
+    /// Unknowns n.
+    pub dofs: usize,
+    /// Contact rows m.
+    pub rows: usize,
+    /// Distinct DOFs with a nonzero in some row of B.
+    pub touched: usize,
+    /// Rigid-body modes held by contact alone (A singular).
+    pub kernel: usize,
+}
+
+impl Features {
+    /// The features of `problem`.
+    pub fn of(problem: &QpProblem) -> Self {
+        Self {
+            dofs: problem.dofs(),
+            rows: problem.rows(),
+            touched: touched_dofs(&problem.constraints),
+            kernel: problem.kernel.len(),
+        }
+    }
+
+    /// m / √n (see [`LONG_INTERFACE`]).
+    pub fn length_ratio(&self) -> f64 {
+        self.rows as f64 / (self.dofs.max(1) as f64).sqrt()
+    }
+}
+
+/// The chain for a problem and the reason for its order.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Plan {
+    /// Backends to try, in order.
+    pub chain: Vec<BackendKind>,
+    /// Why, in one sentence.
+    pub reason: String,
+}
+
+/// Whether the build runs `kind` inside the chain: compiled in and listed in
+/// [`BackendKind::ALL`] (so pdas joins the chain the moment it is added there).
+fn ready(kind: BackendKind) -> bool {
+    kind.available() && BackendKind::ALL.contains(&kind)
+}
+
+/// The rule (see the module docs).
+pub fn plan(f: &Features) -> Plan {
+    let ratio = f.length_ratio();
+    let long = ratio > LONG_INTERFACE;
+    let large = f.rows > SSN_MAX_ROWS || f.touched > SSN_MAX_TOUCHED;
+    let (chain, why) = if long {
+        (
+            &LONG_CHAIN,
+            format!(
+                "a long interface (m/√n = {ratio:.2} > {LONG_INTERFACE}): an ill-conditioned dual"
+            ),
+        )
+    } else if large {
+        (
+            &LONG_CHAIN,
+            format!(
+                "a large dual (m > {SSN_MAX_ROWS} or touched DOFs > {SSN_MAX_TOUCHED}): no dense H"
+            ),
+        )
+    } else {
+        (
+            &SHORT_CHAIN,
+            format!("a short interface (m/√n = {ratio:.2} ≤ {LONG_INTERFACE}): a small, well-conditioned dual"),
+        )
+    };
+    let chain: Vec<BackendKind> = chain.iter().copied().filter(|k| ready(*k)).collect();
+    let names: Vec<&str> = chain.iter().map(|k| k.name()).collect();
+    let reason = format!(
+        "n = {}, m = {}, {} DOFs touched{}: {why}; chain {}",
+        f.dofs,
+        f.rows,
+        f.touched,
+        if f.kernel > 0 {
+            format!(", {} rigid mode(s) held by contact", f.kernel)
+        } else {
+            String::new()
+        },
+        names.join(" → ")
+    );
+    Plan { chain, reason }
+}
+
+/// A backend of the chain by name, with the chain's own limits ([`OSQP_MAX_ITER`]).
+fn chain_backend(kind: BackendKind) -> Result<Box<dyn QpBackend>, crate::backends::BackendError> {
+    #[cfg(feature = "osqp")]
+    if kind == BackendKind::Osqp {
+        return Ok(Box::new(signorini_osqp::OsqpBackend::new(
+            signorini_osqp::OsqpSettings {
+                max_iter: OSQP_MAX_ITER,
+                ..signorini_osqp::OsqpSettings::default()
+            },
+        )));
+    }
+    make_backend(kind)
+}
+
+/// One backend's run inside the chain.
+#[derive(Debug, Clone)]
+pub struct Attempt {
+    /// Backend name.
+    pub backend: String,
+    /// Core-checked status (`None` when the backend returned an error).
+    pub status: Option<QpStatus>,
+    /// The backend's own verdict.
+    pub backend_status: Option<QpStatus>,
+    /// Its iterations.
+    pub iterations: usize,
+    /// Wall-clock time of the attempt.
+    pub solve_time: Duration,
+    /// The backend's note, or the error.
+    pub message: Option<String>,
+}
+
+impl Attempt {
+    /// The attempt as a `result.json` entry.
+    pub fn report(&self) -> AttemptReport {
+        AttemptReport {
+            backend: self.backend.clone(),
+            status: self
+                .status
+                .map_or_else(|| "error".to_string(), |s| s.as_str().to_string()),
+            backend_status: self.backend_status.map(|s| s.as_str().to_string()),
+            iterations: self.iterations,
+            solve_s: self.solve_time.as_secs_f64(),
+            message: self.message.clone(),
+        }
+    }
+
+    /// One line for standard error.
+    pub fn line(&self) -> String {
+        format!(
+            "auto: {:<14} {:<17} {:>6} it. {:>10.4} s{}",
+            self.backend,
+            self.status.map_or("error", |s| s.as_str()),
+            self.iterations,
+            self.solve_time.as_secs_f64(),
+            self.message
+                .as_deref()
+                .map(|m| format!("  {m}"))
+                .unwrap_or_default()
+        )
+    }
+}
+
+/// What the last chain did.
+#[derive(Debug, Clone, Default)]
+pub struct ChainRecord {
+    /// Every attempt, in order.
+    pub attempts: Vec<Attempt>,
+    /// The backend whose answer was returned, if any.
+    pub chosen: Option<String>,
+    /// Why the chain had this order, and how it ended.
+    pub reason: String,
+}
+
+impl ChainRecord {
+    /// Adds the chain's fields (`attempts`, `chosen`, `reason`) to a `result.json` report.
+    pub fn annotate(&self, report: &mut RunReport) {
+        report.attempts = self.attempts.iter().map(Attempt::report).collect();
+        report.chosen = self.chosen.clone();
+        report.reason = Some(self.reason.clone());
+    }
+}
+
+/// A backend of the chain: built by name from the rule, or given (tests, `--chain`).
+enum Member {
+    Kind(BackendKind),
+    Given(Box<dyn QpBackend>),
+}
+
+/// The `auto` backend (see the module docs).
+pub struct AutoBackend {
+    given: Option<(Vec<Member>, String)>,
+    fixed: bool,
+    record: Option<ChainRecord>,
+}
+
+impl Default for AutoBackend {
+    /// The chain of [`plan`], chosen per problem.
+    fn default() -> Self {
+        Self {
+            given: None,
+            fixed: false,
+            record: None,
+        }
+    }
+}
+
+impl std::fmt::Debug for AutoBackend {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("AutoBackend")
+            .field("record", &self.record)
+            .finish_non_exhaustive()
+    }
+}
+
+impl AutoBackend {
+    /// A fixed chain of named backends instead of the rule (`--chain`); `reason` is reported.
+    pub fn with_kinds(kinds: Vec<BackendKind>, reason: impl Into<String>) -> Self {
+        Self {
+            given: Some((kinds.into_iter().map(Member::Kind).collect(), reason.into())),
+            fixed: true,
+            record: None,
+        }
+    }
+
+    /// A fixed chain of backends built by the caller (e.g. with settings of their own).
+    pub fn with_backends(backends: Vec<Box<dyn QpBackend>>, reason: impl Into<String>) -> Self {
+        Self {
+            given: Some((
+                backends.into_iter().map(Member::Given).collect(),
+                reason.into(),
+            )),
+            fixed: true,
+            record: None,
+        }
+    }
+
+    /// What the last solve ran, `None` before the first.
+    pub fn record(&self) -> Option<&ChainRecord> {
+        self.record.as_ref()
+    }
+}
+
+/// Whether a backend works on a dense m × m dual (so that its `TooLarge` says nothing about the
+/// sparse primal methods).
+fn dense_dual(name: &str) -> bool {
+    name.starts_with("dual-") || name.ends_with("/dual")
+}
+
+impl QpBackend for AutoBackend {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn solve(
+        &mut self,
+        problem: &QpProblem,
+        options: &SolveOptions,
+    ) -> Result<QpSolution, QpError> {
+        let start = Instant::now();
+        problem.validate()?;
+        let given = self.given.take();
+        let (mut members, reason) = match given {
+            Some(given) => given,
+            None => {
+                let p = plan(&Features::of(problem));
+                (p.chain.into_iter().map(Member::Kind).collect(), p.reason)
+            }
+        };
+        let mut record = ChainRecord {
+            attempts: Vec::new(),
+            chosen: None,
+            reason: reason.clone(),
+        };
+        let outcome = run_chain(&mut members, problem, options, start, &mut record);
+        // A given chain stays for the next solve (compare and sweep reuse a backend); the rule's
+        // is chosen again per problem.
+        if self.fixed {
+            self.given = Some((members, reason));
+        }
+        let result = outcome.map(|mut solution| {
+            solution.solve_time = start.elapsed();
+            solution.message = Some(summary(&record, solution.message.take()));
+            solution
+        });
+        self.record = Some(record);
+        result
+    }
+}
+
+/// `dual-ssn inaccurate → clarabel solved; <chosen's note>`.
+fn summary(record: &ChainRecord, note: Option<String>) -> String {
+    let steps: Vec<String> = record
+        .attempts
+        .iter()
+        .map(|a| format!("{} {}", a.backend, a.status.map_or("error", |s| s.as_str())))
+        .collect();
+    let mut text = format!("auto: {}", steps.join(" → "));
+    if let Some(n) = note {
+        text.push_str("; ");
+        text.push_str(&n);
+    }
+    text
+}
+
+fn run_chain(
+    members: &mut [Member],
+    problem: &QpProblem,
+    options: &SolveOptions,
+    start: Instant,
+    record: &mut ChainRecord,
+) -> Result<QpSolution, QpError> {
+    let deadline = options.time_limit.map(|t| start + t);
+    // The best answer so far (the last attempt that produced one) and the last error.
+    let mut answer: Option<(QpSolution, String)> = None;
+    let mut last_error: Option<QpError> = None;
+    let count = members.len();
+    for (index, member) in members.iter_mut().enumerate() {
+        let remaining = match deadline {
+            Some(d) => match d.checked_duration_since(Instant::now()) {
+                Some(r) if r > Duration::ZERO => Some(r),
+                _ => {
+                    record.reason.push_str(&format!(
+                        "; the time limit passed before attempt {} of {count}",
+                        index + 1
+                    ));
+                    if let Some((_, name)) = &answer {
+                        record.chosen = Some(name.clone());
+                    }
+                    return Ok(timed_out(problem, answer, start));
+                }
+            },
+            None => None,
+        };
+        let attempt_options = SolveOptions {
+            time_limit: remaining,
+            ..options.clone()
+        };
+        let mut built;
+        let backend: &mut dyn QpBackend = match member {
+            Member::Given(b) => b.as_mut(),
+            Member::Kind(kind) => match chain_backend(*kind) {
+                Ok(b) => {
+                    built = b;
+                    built.as_mut()
+                }
+                Err(e) => {
+                    record.attempts.push(Attempt {
+                        backend: kind.name().to_string(),
+                        status: None,
+                        backend_status: None,
+                        iterations: 0,
+                        solve_time: Duration::ZERO,
+                        message: Some(e.to_string()),
+                    });
+                    continue;
+                }
+            },
+        };
+        let name = backend.name().to_string();
+        let t0 = Instant::now();
+        let result = backend.solve(problem, &attempt_options);
+        let took = t0.elapsed();
+        match result {
+            Ok(solution) => {
+                let residuals = kkt_residuals(problem, &solution.x, &solution.multipliers);
+                let status = checked_status(solution.status, &residuals, options.tol);
+                record.attempts.push(Attempt {
+                    backend: name.clone(),
+                    status: Some(status),
+                    backend_status: Some(solution.status),
+                    iterations: solution.iterations,
+                    solve_time: took,
+                    message: solution.message.clone(),
+                });
+                if status == QpStatus::Solved {
+                    record.chosen = Some(name.clone());
+                    if index > 0 {
+                        record
+                            .reason
+                            .push_str(&format!("; {name} solved after fall-back"));
+                    }
+                    return Ok(solution);
+                }
+                let out_of_time = status == QpStatus::TimeLimit;
+                answer = Some((solution, name));
+                if out_of_time {
+                    record
+                        .reason
+                        .push_str("; the time limit passed during the last attempt");
+                    break;
+                }
+            }
+            Err(error) => {
+                record.attempts.push(Attempt {
+                    backend: name.clone(),
+                    status: None,
+                    backend_status: None,
+                    iterations: 0,
+                    solve_time: took,
+                    message: Some(error.to_string()),
+                });
+                let ends = matches!(error, QpError::TooLarge { .. }) && !dense_dual(&name);
+                last_error = Some(error);
+                if ends {
+                    record.reason.push_str(&format!(
+                        "; {name} was refused for lack of memory and every later backend factors A too: chain ended"
+                    ));
+                    break;
+                }
+            }
+        }
+    }
+    match answer {
+        Some((solution, name)) => {
+            record.reason.push_str(&format!(
+                "; no backend solved it: the answer written is {name}'s"
+            ));
+            record.chosen = Some(name);
+            Ok(solution)
+        }
+        None => {
+            record.reason.push_str("; no backend produced an answer");
+            Err(last_error.unwrap_or_else(|| QpError::Unavailable {
+                backend: NAME,
+                reason: "the chain holds no backend this build can run".into(),
+            }))
+        }
+    }
+}
+
+/// The chain ran out of time between attempts: the last answer (if any) with status
+/// `time-limit`, else an empty one.
+fn timed_out(
+    problem: &QpProblem,
+    answer: Option<(QpSolution, String)>,
+    start: Instant,
+) -> QpSolution {
+    match answer {
+        Some((mut solution, name)) => {
+            solution.status = QpStatus::TimeLimit;
+            solution.message = Some(format!(
+                "the time limit passed; the answer is {name}'s ({})",
+                solution.message.as_deref().unwrap_or("no message")
+            ));
+            solution
+        }
+        None => QpSolution {
+            x: vec![0.0; problem.dofs()],
+            multipliers: vec![0.0; problem.rows()],
+            status: QpStatus::TimeLimit,
+            iterations: 0,
+            solve_time: start.elapsed(),
+            message: Some("the time limit passed before any backend ran".into()),
+        },
+    }
+}
