@@ -128,6 +128,13 @@ impl<'a> Monitor<'a> {
         None
     }
 
+    /// True once the time limit has passed (for loops inside one iteration: the formation of
+    /// H, the refinement of a Newton step).
+    pub fn out_of_time(&self) -> bool {
+        self.time_limit
+            .is_some_and(|limit| self.start.elapsed() >= limit)
+    }
+
     /// Full check of (x, λ) at iteration `iter`.
     pub fn check(
         &mut self,
