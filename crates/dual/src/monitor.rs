@@ -68,6 +68,11 @@ impl<'a> Monitor<'a> {
         }
     }
 
+    /// The iteration limit in force.
+    pub fn max_iter(&self) -> usize {
+        self.max_iter
+    }
+
     /// The requested tolerance.
     pub fn tol(&self) -> f64 {
         self.tol
