@@ -40,13 +40,19 @@ impl<'p> DualData<'p> {
     /// Checks the kernel, chooses fixing DOFs, factors A (or A_ff) and solves A⁺ f.  With
     /// `contact_last`, the DOFs that B touches are ordered last in the factor (see
     /// [`crate::factor`]).
-    pub fn new(problem: &'p QpProblem, contact_last: bool) -> Result<Self, DualError> {
+    /// `backend` names the caller in a memory refusal.
+    pub fn new(
+        problem: &'p QpProblem,
+        contact_last: bool,
+        backend: &'static str,
+    ) -> Result<Self, DualError> {
         let modes = RigidModes::of(problem)?;
         let inverse = StiffnessInverse::new(
             &problem.stiffness,
             &modes.fixed,
             modes.count(),
             contact_last.then_some(&problem.constraints),
+            backend,
         )?;
         let base = inverse.solve(&problem.load);
         let multiplier = vec![0.0; modes.count()];

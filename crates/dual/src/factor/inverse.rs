@@ -11,6 +11,7 @@
 //!
 //! which is all the FETI-style dual needs.  This keeps the factor as sparse as A's own.
 
+use signorini_core::memory;
 use signorini_core::qp::CscMatrix;
 
 use super::trailing::TrailingCholesky;
@@ -51,11 +52,15 @@ impl StiffnessInverse {
         fixed: &[usize],
         kernel_count: usize,
         trailing_for: Option<&CscMatrix>,
+        backend: &'static str,
     ) -> Result<Self, DualError> {
         let n = a.rows();
-        let singular = |source| DualError::Singular {
-            source,
-            kernel: kernel_count,
+        let singular = |e| match e {
+            DualError::Linalg(source) => DualError::Singular {
+                source,
+                kernel: kernel_count,
+            },
+            e => e,
         };
         let mut reduced = Vec::new();
         let mut sub = None;
@@ -90,7 +95,21 @@ impl StiffnessInverse {
             trailing.clear();
             touched_reduced.clear();
         }
-        let factor = TrailingCholesky::factor(matrix, &touched_reduced).map_err(singular)?;
+        let trailing_count = touched_reduced.len();
+        let admit = |entries: usize| -> Result<(), DualError> {
+            let bytes = 8.0 * (entries as f64 + (trailing_count as f64).powi(2));
+            memory::check_fits(
+                backend,
+                || {
+                    format!(
+                        "the sparse factor of A ({entries} stored entries of L) and its dense trailing block on {trailing_count} contact DOFs"
+                    )
+                },
+                bytes,
+            )?;
+            Ok(())
+        };
+        let factor = TrailingCholesky::factor(matrix, &touched_reduced, admit).map_err(singular)?;
         let ratio = factor.min_pivot_ratio();
         if ratio < SINGULAR_PIVOT_RATIO {
             return Err(DualError::NearlySingular {
@@ -105,6 +124,16 @@ impl StiffnessInverse {
             trailing,
             n,
         })
+    }
+
+    /// "ordering amd, nnz(L) 1.2e6": the ordering and the stored entries of the factor, for the
+    /// solution message.
+    pub fn describe(&self) -> String {
+        format!(
+            "ordering {}, nnz(L) {:.3e}",
+            self.factor.ordering(),
+            self.factor.factor_entries() as f64
+        )
     }
 
     /// The factor.

@@ -7,8 +7,9 @@
 //! ```
 //!
 //! Then H = B_c S⁻¹ B_cᵀ = Yᵀ Y with Y = L_cc⁻¹ B_cᵀ: no sparse solve at all, only dense work of
-//! order |c|² m.  The interior is ordered by AMD (the AMD order of A with the contact DOFs moved
-//! to the end).  The same factor serves every later solve with A.
+//! order |c|² m.  The interior is ordered by the project's one fill-reducing ordering,
+//! [`signorini_core::linalg::fill_reducing_order`] (the floor's ordering path), with the contact
+//! DOFs moved to the end.  The same factor serves every later solve with A.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
@@ -20,6 +21,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
 use signorini_core::linalg::{faer_view, LinalgError};
+use signorini_core::linalg::{fill_reducing_order, OrderingMethod};
 use signorini_core::qp::CscMatrix;
 
 /// A Cholesky factor of A with the `touched` DOFs last, and its dense trailing block.
@@ -32,30 +34,29 @@ pub struct TrailingCholesky {
     trailing: Mat<f64>,
     /// minⱼ Lⱼⱼ² / Aⱼⱼ: near zero when A is (numerically) singular.
     min_pivot_ratio: f64,
+    /// The fill-reducing ordering of the interior.
+    ordering: OrderingMethod,
 }
 
 impl TrailingCholesky {
     /// Factors the symmetric positive definite `a` (lower triangle read) with the DOFs in
-    /// `touched` (distinct, in range) ordered last, in the given order.
-    pub fn factor(a: &CscMatrix, touched: &[usize]) -> Result<Self, LinalgError> {
+    /// `touched` (distinct, in range) ordered last, in the given order.  `admit` sees the number
+    /// of stored entries of L (known after the symbolic analysis, before any numeric memory is
+    /// taken) and may refuse.
+    pub fn factor<E: From<LinalgError>>(
+        a: &CscMatrix,
+        touched: &[usize],
+        admit: impl FnOnce(usize) -> Result<(), E>,
+    ) -> Result<Self, E> {
         let n = a.rows();
         let view = faer_view(a)?;
         let faer_error = |e: faer::sparse::FaerError| LinalgError::Faer(format!("{e:?}"));
-        let amd = factorize_symbolic_cholesky(
-            view.symbolic(),
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            CholeskySymbolicParams::default(),
-        )
-        .map_err(faer_error)?;
+        let order = fill_reducing_order(a)?;
         let mut is_touched = vec![false; n];
         for &j in touched {
             is_touched[j] = true;
         }
-        let mut forward: Vec<usize> = match amd.perm() {
-            Some(perm) => perm.arrays().0.to_vec(),
-            None => (0..n).collect(),
-        };
+        let mut forward = order.forward;
         forward.retain(|&j| !is_touched[j]);
         forward.extend_from_slice(touched);
         let mut inverse = vec![0; n];
@@ -73,6 +74,7 @@ impl TrailingCholesky {
             },
         )
         .map_err(faer_error)?;
+        admit(symbolic.len_val())?;
         let mut values = vec![0.0; symbolic.len_val()];
         let mut buffer = MemBuffer::try_new(
             symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
@@ -94,9 +96,7 @@ impl TrailingCholesky {
                 }
             })?;
         let SymbolicCholeskyRaw::Supernodal(supernodal) = symbolic.raw() else {
-            return Err(LinalgError::Faer(
-                "expected a supernodal factorisation".into(),
-            ));
+            return Err(LinalgError::Faer("expected a supernodal factorisation".into()).into());
         };
         let llt = SupernodalLltRef::new(supernodal, &values);
         let trailing = trailing_block(llt, n, touched.len());
@@ -107,7 +107,18 @@ impl TrailingCholesky {
             n,
             trailing,
             min_pivot_ratio,
+            ordering: order.method,
         })
+    }
+
+    /// The fill-reducing ordering used for the interior.
+    pub fn ordering(&self) -> OrderingMethod {
+        self.ordering
+    }
+
+    /// Stored entries of L (supernodal: the dense supernode blocks, explicit zeros included).
+    pub fn factor_entries(&self) -> usize {
+        self.values.len()
     }
 
     /// minⱼ Lⱼⱼ² / Aⱼⱼ over the pivots (1 for an empty matrix).  A singular A that the

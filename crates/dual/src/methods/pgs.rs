@@ -13,7 +13,7 @@
 
 use std::time::{Duration, Instant};
 
-use signorini_core::qp::{dot, kkt_residuals, mat_t_vec, QpStatus};
+use signorini_core::qp::{dot, kkt_residuals, mat_t_vec, QpError, QpStatus};
 
 use crate::dual::{DualData, Outcome};
 use crate::error::DualError;
@@ -49,7 +49,23 @@ pub fn solve(
     settings: &DualSettings,
     monitor: &mut Monitor<'_>,
 ) -> Result<Outcome, DualError> {
-    let hessian = dual_hessian(data, settings)?;
+    let hessian = match dual_hessian(data, settings, 0.0, &|| monitor.out_of_time()) {
+        Err(DualError::Refused(QpError::TooLarge {
+            what,
+            needed,
+            available,
+            ..
+        })) => {
+            return Err(DualError::Refused(QpError::Unavailable {
+                backend: "dual-pgs",
+                reason: format!(
+                    "projected Gauss–Seidel needs the columns of H: {what} would need {needed:.2} GiB but {available:.2} GiB is available (m = {}); use dual-ssn (matrix-free Newton steps), pdas or dual-uzawa",
+                    data.rows()
+                ),
+            }))
+        }
+        other => other?,
+    };
     Ok(run(data, settings, monitor, hessian))
 }
 
@@ -357,7 +373,7 @@ mod tests {
 
     fn run_with(h: Vec<f64>, max_iter: usize) -> crate::dual::Outcome {
         let p = identity_problem();
-        let mut data = DualData::new(&p, false).unwrap();
+        let mut data = DualData::new(&p, false, "dual-pgs").unwrap();
         let settings = DualSettings::default();
         let options = SolveOptions {
             max_iter: Some(max_iter),

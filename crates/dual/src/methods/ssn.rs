@@ -29,10 +29,10 @@ use std::collections::HashSet;
 
 use signorini_core::qp::{norm_inf, QpStatus};
 
-use super::newton::DenseBlock;
+use super::newton::{lumped_compliance, DenseBlock, MatrixFreeBlock};
 use crate::dual::{two_sum, DualData, Outcome};
 use crate::error::DualError;
-use crate::hessian::{dual_hessian, DenseSym};
+use crate::hessian::{dense_bytes, dual_hessian};
 use crate::monitor::{finish_at_limit, Monitor, Next};
 use crate::settings::DualSettings;
 
@@ -59,11 +59,30 @@ pub fn solve(
     if let Some(message) = data.modes.farkas_direction() {
         return Ok(stopped(data, QpStatus::DualInfeasible, message));
     }
-    let hessian = dual_hessian(data, settings)?;
+    // Besides H: the dense Newton matrix, its shifted copy and their factor.
+    let fits = signorini_core::memory::check_fits(
+        "dual-ssn",
+        String::new,
+        dense_bytes(data, settings, 3.0),
+    )
+    .is_ok();
+    let hessian = if fits && m <= settings.matrix_free_rows {
+        Some(dual_hessian(data, settings, 3.0, &|| {
+            monitor.out_of_time()
+        })?)
+    } else {
+        None
+    };
     let load = data.dual_load();
-    let diagonal: Vec<f64> = (0..m)
-        .map(|i| hessian.diag(i).max(f64::MIN_POSITIVE))
-        .collect();
+    let diagonal: Vec<f64> = match &hessian {
+        Some(h) => (0..m).map(|i| h.diag(i).max(f64::MIN_POSITIVE)).collect(),
+        None => lumped_compliance(data),
+    };
+    let mode = if hessian.is_some() {
+        "dense Newton steps"
+    } else {
+        "matrix-free Newton steps (projected CG through the sparse factor)"
+    };
     let mut active: Vec<bool> = if data.floating() {
         vec![true; m]
     } else {
@@ -85,7 +104,19 @@ pub fn solve(
             ));
         }
         seen.insert(active.clone());
-        let Some(step) = refined_step(data, &hessian, &load, &active, monitor) else {
+        let out_of_time = || monitor.out_of_time();
+        let step = match &hessian {
+            Some(h) => {
+                let block = DenseBlock::factor(h, &data.modes, &active);
+                refined_step(data, &block.rows, &|r, e| block.solve(r, e), &load, monitor)
+            }
+            None => {
+                MatrixFreeBlock::new(data, &active, &diagonal, &out_of_time).and_then(|block| {
+                    refined_step(data, &block.rows, &|r, e| block.solve(r, e), &load, monitor)
+                })
+            }
+        };
+        let Some(step) = step else {
             let mut out = stopped(
                 data,
                 QpStatus::NumericalError,
@@ -128,7 +159,7 @@ pub fn solve(
                 status,
                 iterations: iter,
                 message: format!(
-                    "{message}; {iter} active-set steps, {refinements} refinement solves"
+                    "{message}; {iter} active-set steps ({mode}), {refinements} refinement solves"
                 ),
             });
         }
@@ -213,30 +244,32 @@ fn evaluate(
     }
 }
 
-/// Solves the Newton system of `active` with the dense factor and refines it against the
-/// primal residual; `None` when the dense system is singular.
+/// The solve of one active set's Newton system: (r_F, r_e) ↦ (λ_F, μ), `None` when singular.
+type NewtonSolve<'a> = dyn Fn(&[f64], &[f64]) -> Option<(Vec<f64>, Vec<f64>)> + 'a;
+
+/// Solves the Newton system on the active `rows` with `solve` (dense factor or matrix-free CG)
+/// and refines it against the primal residual; `None` when the system is singular.
 fn refined_step(
     data: &DualData<'_>,
-    hessian: &DenseSym,
+    rows: &[usize],
+    solve: &NewtonSolve<'_>,
     load: &[f64],
-    active: &[bool],
     monitor: &Monitor<'_>,
 ) -> Option<Step> {
-    let block = DenseBlock::factor(hessian, &data.modes, active);
-    let rows = block.rows.clone();
+    let rows = rows.to_vec();
     let rhs: Vec<f64> = rows.iter().map(|&i| load[i]).collect();
-    let (lambda_f, mut mu) = block.solve(&rhs, &data.modes.load)?;
-    let mut lambda = vec![0.0; active.len()];
+    let (lambda_f, mut mu) = solve(&rhs, &data.modes.load)?;
+    let mut lambda = vec![0.0; data.rows()];
     for (&i, l) in rows.iter().zip(&lambda_f) {
         lambda[i] = *l;
     }
     // λ is carried as the unevaluated sum λ + λ_lo, so that corrections far below ε‖λ‖ (the
     // dual of a thin body amplifies the rounding of λ by its condition number) still move x.
-    let mut low = vec![0.0; active.len()];
+    let mut low = vec![0.0; data.rows()];
     let mut current = evaluate(data, &rows, &lambda, &low, &mu);
     let mut refinements = 0;
     while refinements < MAX_REFINEMENT && current.norm > 0.0 && !monitor.out_of_time() {
-        let Some((dl, dmu)) = block.solve(&current.rows, &current.kernel) else {
+        let Some((dl, dmu)) = solve(&current.rows, &current.kernel) else {
             break;
         };
         let mut trial = lambda.clone();
