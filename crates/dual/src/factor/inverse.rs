@@ -90,7 +90,13 @@ impl StiffnessInverse {
                 }
             }
         }
-        let contact_last = trailing_for.is_some() && trailing.len() <= MAX_TRAILING;
+        // The dense trailing block (|c|² entries) is an optimisation: when it does not fit, the
+        // contact DOFs are simply not ordered last.
+        let block_fits = || {
+            let bytes = 8.0 * (trailing.len() as f64).powi(2);
+            memory::check_fits(backend, String::new, bytes).is_ok()
+        };
+        let contact_last = trailing_for.is_some() && trailing.len() <= MAX_TRAILING && block_fits();
         if !contact_last {
             trailing.clear();
             touched_reduced.clear();
@@ -102,7 +108,7 @@ impl StiffnessInverse {
                 backend,
                 || {
                     format!(
-                        "the sparse factor of A ({entries} stored entries of L) and its dense trailing block on {trailing_count} contact DOFs"
+                        "the sparse factor of A ({entries} stored entries of L, with a dense trailing block on {trailing_count} contact DOFs)"
                     )
                 },
                 bytes,
