@@ -132,8 +132,13 @@
 //! | 1e5 | 500 | 500 | 1515 ms | 1418 ms | 132 ms |
 //! | 1e5 | 500 | 1002 | 1497 ms | 2858 ms | 136 ms |
 //!
-//! Ordering the touched DOFs last costs nothing measurable in the factorisation and makes H a
-//! by-product of it (dense O(|c|² m) work), 10× faster than multi-RHS solves at m = 500; the
+//! Ordering the touched DOFs last costs nothing measurable in the factorisation of these
+//! short interfaces and makes H a by-product of it (dense O(|c|² m) work), 10× faster than
+//! multi-RHS solves at m = 500.  On a long interface it does not pay: the touched DOFs become
+//! one dense separator of |c| ≈ 4m unknowns (the 3 × 0.02 strips of fixtures/hard, m = 301:
+//! nnz(L) 2.1e6 instead of 1.6e5, dual-ssn 2.8× slower), so the factor orders them last only
+//! when |c|³/3 + |c|² m < 4 m nnz(L) (the dense block's factorisation and H against m
+//! solves with the plain factor; `factor::trailing::trailing_pays`); the
 //! explicit interior Schur complement (b) only wins when few DOFs are touched and is otherwise
 //! slower than (a) (|c| ≈ 2m right-hand sides for node-to-segment-like rows).
 //!

@@ -115,7 +115,14 @@ impl StiffnessInverse {
             )?;
             Ok(())
         };
-        let factor = TrailingCholesky::factor(matrix, &touched_reduced, admit).map_err(singular)?;
+        let rows = trailing_for.map_or(0, CscMatrix::rows);
+        let factor =
+            TrailingCholesky::factor(matrix, &touched_reduced, rows, admit).map_err(singular)?;
+        // The factor may decline to order the contact DOFs last (it would not pay).
+        let contact_last = contact_last && factor.has_trailing();
+        if !contact_last {
+            trailing.clear();
+        }
         let ratio = factor.min_pivot_ratio();
         if ratio < SINGULAR_PIVOT_RATIO {
             return Err(DualError::NearlySingular {

@@ -36,6 +36,21 @@ pub struct TrailingCholesky {
     min_pivot_ratio: f64,
     /// The fill-reducing ordering of the interior.
     ordering: OrderingMethod,
+    /// Whether the touched DOFs are last (else the trailing block is empty).
+    has_trailing: bool,
+}
+
+/// Whether ordering the |c| touched DOFs last pays for `rows` contact rows: it adds a dense
+/// trailing block whose factorisation costs ~|c|³/3 flops and then gives H for |c|² m more,
+/// against m multi-right-hand-side solves with the plain factor (~4 nnz(L) flops each).  A long
+/// interface (|c| in the thousands: a thin strip on a foundation) makes the dense separator
+/// dominate the factor — measured on the 3 × 0.02 strips of fixtures/hard (m = 301, |c| ≈ 1 200):
+/// nnz(L) 13× larger and dual-ssn 2.8× slower with the contact DOFs last; a short one (the seed,
+/// or m = 500 rows across a 1e5 Laplacian) gains 10× (crate docs).
+pub fn trailing_pays(touched: usize, rows: usize, plain_entries: usize) -> bool {
+    let c = touched as f64;
+    let m = rows as f64;
+    c * c * c / 3.0 + c * c * m < 4.0 * m * plain_entries as f64
 }
 
 impl TrailingCholesky {
@@ -43,37 +58,51 @@ impl TrailingCholesky {
     /// `touched` (distinct, in range) ordered last, in the given order.  `admit` sees the number
     /// of stored entries of L (known after the symbolic analysis, before any numeric memory is
     /// taken) and may refuse.
+    ///
+    /// The touched DOFs are ordered last only when that pays ([`trailing_pays`]); otherwise the
+    /// factor has an empty trailing block ([`TrailingCholesky::has_trailing`] is false).
     pub fn factor<E: From<LinalgError>>(
         a: &CscMatrix,
         touched: &[usize],
+        rows: usize,
         admit: impl FnOnce(usize) -> Result<(), E>,
     ) -> Result<Self, E> {
         let n = a.rows();
         let view = faer_view(a)?;
         let faer_error = |e: faer::sparse::FaerError| LinalgError::Faer(format!("{e:?}"));
         let order = fill_reducing_order(a)?;
-        let mut is_touched = vec![false; n];
-        for &j in touched {
-            is_touched[j] = true;
-        }
-        let mut forward = order.forward;
-        forward.retain(|&j| !is_touched[j]);
-        forward.extend_from_slice(touched);
-        let mut inverse = vec![0; n];
-        for (new, &old) in forward.iter().enumerate() {
-            inverse[old] = new;
-        }
-        let perm = PermRef::new_checked(&forward, &inverse, n);
-        let symbolic = factorize_symbolic_cholesky(
-            view.symbolic(),
-            Side::Lower,
-            SymmetricOrdering::Custom(perm),
-            CholeskySymbolicParams {
-                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-                ..Default::default()
-            },
-        )
-        .map_err(faer_error)?;
+        let analyse = |forward: &[usize]| {
+            let mut inverse = vec![0; n];
+            for (new, &old) in forward.iter().enumerate() {
+                inverse[old] = new;
+            }
+            let perm = PermRef::new_checked(forward, &inverse, n);
+            factorize_symbolic_cholesky(
+                view.symbolic(),
+                Side::Lower,
+                SymmetricOrdering::Custom(perm),
+                CholeskySymbolicParams {
+                    supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                    ..Default::default()
+                },
+            )
+            .map_err(faer_error)
+        };
+        let plain = analyse(&order.forward)?;
+        let keep_last = !touched.is_empty() && trailing_pays(touched.len(), rows, plain.len_val());
+        let (forward, symbolic, touched) = if keep_last {
+            let mut is_touched = vec![false; n];
+            for &j in touched {
+                is_touched[j] = true;
+            }
+            let mut forward = order.forward;
+            forward.retain(|&j| !is_touched[j]);
+            forward.extend_from_slice(touched);
+            let symbolic = analyse(&forward)?;
+            (forward, symbolic, touched)
+        } else {
+            (order.forward, plain, &[][..])
+        };
         admit(symbolic.len_val())?;
         let mut values = vec![0.0; symbolic.len_val()];
         let mut buffer = MemBuffer::try_new(
@@ -100,6 +129,7 @@ impl TrailingCholesky {
         };
         let llt = SupernodalLltRef::new(supernodal, &values);
         let trailing = trailing_block(llt, n, touched.len());
+        let has_trailing = !touched.is_empty();
         let min_pivot_ratio = pivot_ratio(llt, a, &forward);
         Ok(Self {
             symbolic,
@@ -108,7 +138,13 @@ impl TrailingCholesky {
             trailing,
             min_pivot_ratio,
             ordering: order.method,
+            has_trailing,
         })
+    }
+
+    /// Whether the touched DOFs were ordered last (see [`trailing_pays`]).
+    pub fn has_trailing(&self) -> bool {
+        self.has_trailing
     }
 
     /// The fill-reducing ordering used for the interior.

@@ -92,6 +92,10 @@ pub fn solve(
     let mut lambda = vec![0.0; m];
     let mut iter = 0;
     let mut refinements = 0;
+    // Cheap steps (plain sparse solves in the refinement) while the set moves; once it settles,
+    // the same set is solved again with the mixed-precision solves and decided anew.
+    let mut accurate = false;
+    let mut redo = false;
     loop {
         if let Some((status, message)) = monitor.limit(iter) {
             return Ok(finish_at_limit(
@@ -108,11 +112,25 @@ pub fn solve(
         let step = match &hessian {
             Some(h) => {
                 let block = DenseBlock::factor(h, &data.modes, &active);
-                refined_step(data, &block.rows, &|r, e| block.solve(r, e), &load, monitor)
+                refined_step(
+                    data,
+                    &block.rows,
+                    &|r, e| block.solve(r, e),
+                    &load,
+                    monitor,
+                    accurate,
+                )
             }
             None => {
                 MatrixFreeBlock::new(data, &active, &diagonal, &out_of_time).and_then(|block| {
-                    refined_step(data, &block.rows, &|r, e| block.solve(r, e), &load, monitor)
+                    refined_step(
+                        data,
+                        &block.rows,
+                        &|r, e| block.solve(r, e),
+                        &load,
+                        monitor,
+                        accurate,
+                    )
                 })
             }
         };
@@ -131,10 +149,18 @@ pub fn solve(
         refinements += step.refinements;
         lambda = step.lambda;
         data.multiplier = step.mu;
-        iter += 1;
+        if !redo {
+            iter += 1;
+        }
+        redo = false;
         let next_active: Vec<bool> = (0..m)
             .map(|i| lambda[i] - step.gradient[i] / diagonal[i] > 0.0)
             .collect();
+        if next_active == active && !accurate {
+            accurate = true;
+            redo = true;
+            continue;
+        }
         if next_active == active {
             let clipped = lambda.iter().any(|l| *l < 0.0);
             let lambda_clipped: Vec<f64> = lambda.iter().map(|l| l.max(0.0)).collect();
@@ -219,8 +245,9 @@ fn evaluate(
     lambda: &[f64],
     low: &[f64],
     mu: &[f64],
+    corrections: usize,
 ) -> Evaluated {
-    let free = data.free_part_accurate(lambda, Some(low), ACCURATE_SOLVE_CORRECTIONS);
+    let free = data.free_part_accurate(lambda, Some(low), corrections);
     let x = data.primal_at_from(free, mu);
     let gradient = data.dual_gradient(&x);
     let residual_rows: Vec<f64> = rows.iter().map(|&i| -gradient[i]).collect();
@@ -255,7 +282,13 @@ fn refined_step(
     solve: &NewtonSolve<'_>,
     load: &[f64],
     monitor: &Monitor<'_>,
+    accurate: bool,
 ) -> Option<Step> {
+    let corrections = if accurate {
+        ACCURATE_SOLVE_CORRECTIONS
+    } else {
+        0
+    };
     let rows = rows.to_vec();
     let rhs: Vec<f64> = rows.iter().map(|&i| load[i]).collect();
     let (lambda_f, mut mu) = solve(&rhs, &data.modes.load)?;
@@ -266,7 +299,7 @@ fn refined_step(
     // λ is carried as the unevaluated sum λ + λ_lo, so that corrections far below ε‖λ‖ (the
     // dual of a thin body amplifies the rounding of λ by its condition number) still move x.
     let mut low = vec![0.0; data.rows()];
-    let mut current = evaluate(data, &rows, &lambda, &low, &mu);
+    let mut current = evaluate(data, &rows, &lambda, &low, &mu, corrections);
     let mut refinements = 0;
     while refinements < MAX_REFINEMENT && current.norm > 0.0 && !monitor.out_of_time() {
         let Some((dl, dmu)) = solve(&current.rows, &current.kernel) else {
@@ -280,7 +313,7 @@ fn refined_step(
             trial_low[i] = err;
         }
         let trial_mu: Vec<f64> = mu.iter().zip(&dmu).map(|(a, b)| a + b).collect();
-        let next = evaluate(data, &rows, &trial, &trial_low, &trial_mu);
+        let next = evaluate(data, &rows, &trial, &trial_low, &trial_mu, corrections);
         if next.norm.is_nan() || next.norm >= current.norm {
             break;
         }
