@@ -74,23 +74,28 @@ impl DualBackend {
         &self.settings
     }
 
-    fn run(&self, problem: &QpProblem, options: &SolveOptions, start: Instant) -> Outcome {
+    fn run(
+        &self,
+        problem: &QpProblem,
+        options: &SolveOptions,
+        start: Instant,
+    ) -> Result<Outcome, QpError> {
         let contact_last = self.settings.method != DualMethod::Uzawa
             && self.settings.condensation == Condensation::TrailingBlock
             && problem.rows() > 0;
-        let mut data = match DualData::new(problem, contact_last) {
+        let mut data = match DualData::new(problem, contact_last, self.name()) {
             Ok(data) => data,
-            Err(e) => return failure(problem, QpStatus::NumericalError, e.to_string()),
+            Err(e) => return verdict(problem, e),
         };
         if let Some(j) = data.modes.unrestrained_mode(norm_inf(&problem.load)) {
-            return failure(
+            return Ok(failure(
                 problem,
                 QpStatus::DualInfeasible,
                 format!("kernel vector {j} (a rigid motion) is not held by any contact row but the load drives it: the objective is unbounded below"),
-            );
+            ));
         }
         if problem.rows() == 0 {
-            return plain_solve(&data, options.tol);
+            return Ok(plain_solve(&data, options.tol));
         }
         let mut monitor = Monitor::new(problem, options, &self.settings, start);
         let result = match self.settings.method {
@@ -98,17 +103,20 @@ impl DualBackend {
             DualMethod::Uzawa => uzawa::solve(&mut data, &self.settings, &mut monitor),
             DualMethod::ActiveSet => ssn::solve(&mut data, &self.settings, &mut monitor),
         };
-        result.unwrap_or_else(|e| failure(problem, QpStatus::NumericalError, e.to_string()))
+        let factor = data.inverse.describe();
+        match result {
+            Ok(mut outcome) => {
+                outcome.message = format!("{}; {factor}", outcome.message);
+                Ok(outcome)
+            }
+            Err(e) => verdict(problem, e),
+        }
     }
 }
 
 impl QpBackend for DualBackend {
     fn name(&self) -> &'static str {
-        match self.settings.method {
-            DualMethod::ProjectedGaussSeidel => "dual-pgs",
-            DualMethod::Uzawa => "dual-uzawa",
-            DualMethod::ActiveSet => "dual-ssn",
-        }
+        self.settings.method.backend_name()
     }
 
     fn solve(
@@ -125,7 +133,7 @@ impl QpBackend for DualBackend {
                 reason: e.to_string(),
             })?;
         check_dimensions(problem)?;
-        let outcome = finite(self.run(problem, options, start));
+        let outcome = finite(self.run(problem, options, start)?);
         if options.verbose {
             eprintln!(
                 "{backend}: {} after {} iterations ({})",
@@ -184,6 +192,20 @@ fn finite(outcome: Outcome) -> Outcome {
         status: QpStatus::NumericalError,
         iterations: outcome.iterations,
         message: format!("non-finite iterate: {}", outcome.message),
+    }
+}
+
+/// What a method's error becomes: a refusal is handed to the caller as `Err`, a time limit
+/// passed inside a step is `time-limit`, anything else `numerical-error` with the message.
+fn verdict(problem: &QpProblem, error: DualError) -> Result<Outcome, QpError> {
+    match error {
+        DualError::Refused(e) => Err(e),
+        DualError::OutOfTime(what) => Ok(failure(
+            problem,
+            QpStatus::TimeLimit,
+            format!("time limit reached {what}"),
+        )),
+        e => Ok(failure(problem, QpStatus::NumericalError, e.to_string())),
     }
 }
 

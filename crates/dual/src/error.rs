@@ -50,6 +50,13 @@ pub enum DualError {
     /// A matrix could not be assembled (inconsistent sparse structure).
     #[error("internal matrix assembly failed: {0}")]
     Structure(String),
+    /// A refusal the backend hands to its caller as `Err` (memory: `QpError::TooLarge`; a
+    /// method that cannot run at this size: `QpError::Unavailable`).
+    #[error(transparent)]
+    Refused(#[from] signorini_core::qp::QpError),
+    /// The time limit passed inside a long step (forming H, a multi-right-hand-side loop).
+    #[error("time limit reached {0}")]
+    OutOfTime(String),
     /// A dense factorisation broke down.
     #[error("dense factorisation failed: {0}")]
     Dense(String),

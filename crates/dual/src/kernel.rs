@@ -159,3 +159,137 @@ impl RigidModes {
         None
     }
 }
+
+/// Relative residual ‖Gλ* − e‖ / ‖e‖ of the best λ* ≥ 0 above which the equality G λ = e
+/// counts as infeasible.  Loads that the contacts can balance give round-off (~1e-15).
+const EQUALITY_INFEASIBLE: f64 = 1e-8;
+
+impl RigidModes {
+    /// Whether some λ ≥ 0 balances the load on the rigid modes (G λ = e).  If none does, the
+    /// residual v = e − G λ* of the non-negative least-squares solution λ* is a Farkas
+    /// direction: Gᵀv ≤ 0 (B R v ≤ 0: the rigid motion R v opens every contact) and
+    /// eᵀv = ‖v‖² > 0 (the load does work on it), so the primal objective is unbounded below.
+    /// Returns the message in that case.
+    pub fn farkas_direction(&self) -> Option<String> {
+        let k = self.count();
+        if k == 0 {
+            return None;
+        }
+        let e_norm = dot(&self.load, &self.load).sqrt();
+        if e_norm == 0.0 {
+            return None;
+        }
+        let lambda = self.nonnegative_least_squares();
+        let residual: Vec<f64> = self.equality_residual(&lambda).iter().map(|r| -r).collect();
+        let v_norm = dot(&residual, &residual).sqrt();
+        (v_norm > EQUALITY_INFEASIBLE * e_norm).then(|| {
+            format!(
+                "dual infeasible: no contact forces λ ≥ 0 balance the load on the rigid modes (best ‖Rᵀ(f − Bᵀλ)‖ = {v_norm:.3e} of ‖Rᵀf‖ = {e_norm:.3e}): a rigid motion R v with B R v ≤ 0 and fᵀ R v > 0 moves a floating body away from every contact; the objective is unbounded below"
+            )
+        })
+    }
+
+    /// argmin ‖G λ − e‖ over λ ≥ 0 (Lawson–Hanson active set; G has k ≤ a few rows, so the
+    /// passive set stays small).
+    fn nonnegative_least_squares(&self) -> Vec<f64> {
+        let m = self.coupling.first().map_or(0, Vec::len);
+        let k = self.count();
+        let column = |j: usize| -> Vec<f64> { self.coupling.iter().map(|row| row[j]).collect() };
+        let g_max = self
+            .coupling
+            .iter()
+            .map(|row| norm_inf(row))
+            .fold(0.0, f64::max);
+        let tol = 1e-13 * g_max * norm_inf(&self.load).max(f64::MIN_POSITIVE);
+        let mut lambda = vec![0.0; m];
+        let mut passive: Vec<usize> = Vec::new();
+        for _ in 0..(3 * k + 10) {
+            let residual: Vec<f64> = self.equality_residual(&lambda).iter().map(|r| -r).collect();
+            // w = Gᵀ (e − G λ).
+            let mut w = vec![0.0; m];
+            add_coupling_t(self, &residual, &mut w);
+            let best = (0..m).filter(|j| !passive.contains(j)).fold(
+                None,
+                |acc: Option<(usize, f64)>, j| match acc {
+                    Some((_, v)) if v >= w[j] => acc,
+                    _ => Some((j, w[j])),
+                },
+            );
+            let Some((j, wj)) = best else { break };
+            if wj <= tol {
+                break;
+            }
+            passive.push(j);
+            // Inner loop: least squares on the passive set, stepping back to stay ≥ 0.
+            loop {
+                let cols: Vec<Vec<f64>> = passive.iter().map(|&j| column(j)).collect();
+                let Some(z) = least_squares(&cols, &self.load) else {
+                    passive.pop();
+                    break;
+                };
+                if z.iter().all(|v| *v > 0.0) {
+                    for (&j, v) in passive.iter().zip(&z) {
+                        lambda[j] = *v;
+                    }
+                    break;
+                }
+                let alpha = passive
+                    .iter()
+                    .zip(&z)
+                    .filter(|(_, v)| **v <= 0.0)
+                    .map(|(&j, v)| lambda[j] / (lambda[j] - v))
+                    .fold(1.0_f64, f64::min);
+                for (&j, v) in passive.iter().zip(&z) {
+                    lambda[j] += alpha * (v - lambda[j]);
+                }
+                passive.retain(|&j| lambda[j] > 0.0);
+                for (j, l) in lambda.iter_mut().enumerate() {
+                    if !passive.contains(&j) {
+                        *l = 0.0;
+                    }
+                }
+                if passive.is_empty() {
+                    break;
+                }
+            }
+        }
+        lambda
+    }
+}
+
+/// argmin ‖Σ_j z_j c_j − e‖ by the normal equations (at most a few columns of length k);
+/// `None` when they are singular.
+fn least_squares(columns: &[Vec<f64>], e: &[f64]) -> Option<Vec<f64>> {
+    let p = columns.len();
+    let mut normal = vec![vec![0.0; p + 1]; p];
+    for a in 0..p {
+        for b in 0..p {
+            normal[a][b] = dot(&columns[a], &columns[b]);
+        }
+        normal[a][p] = dot(&columns[a], e);
+    }
+    // Gaussian elimination with partial pivoting on the p × (p + 1) augmented matrix.
+    let scale = (0..p).map(|a| normal[a][a]).fold(0.0, f64::max);
+    for c in 0..p {
+        let pivot = (c..p).max_by(|&x, &y| normal[x][c].abs().total_cmp(&normal[y][c].abs()))?;
+        if normal[pivot][c].abs() <= 1e-12 * scale {
+            return None;
+        }
+        normal.swap(c, pivot);
+        let (upper, lower) = normal.split_at_mut(c + 1);
+        let pivot_row = &upper[c];
+        for row in lower.iter_mut() {
+            let factor = row[c] / pivot_row[c];
+            row.iter_mut()
+                .zip(pivot_row)
+                .skip(c)
+                .for_each(|(v, pv)| *v -= factor * pv);
+        }
+    }
+    let mut z = vec![0.0; p];
+    for c in (0..p).rev() {
+        let tail: f64 = ((c + 1)..p).map(|q| normal[c][q] * z[q]).sum();
+        z[c] = (normal[c][p] - tail) / normal[c][c];
+    }
+    Some(z)
+}

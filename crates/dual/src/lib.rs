@@ -23,15 +23,82 @@
 //!   `x = A⁻¹(f − Bᵀλ)`, `λ ← max(0, λ + ρ (Bx − g))`, ρ = 1/L̂ with L̂ ≥ λ_max(H) from power
 //!   iteration; by default accelerated (FISTA with gradient restart).
 //! * **`dual-ssn`** — primal–dual active set (semismooth Newton): solve the equality-constrained
-//!   dual on the current active set, update the set from `λᵢ − (Hλ − d)ᵢ / Hᵢᵢ > 0`; exact once
-//!   the set settles.
+//!   dual on the current active set, update the set from `λᵢ − νᵢ / Hᵢᵢ > 0` with the exact dual
+//!   gradient ν = g − B x; exact once the set settles.  Every Newton step is refined against the
+//!   primal residual computed with the sparse A and B (see below), and the Newton system is
+//!   solved with the dense H or matrix-free (see "No dense cliff").
 //!
 //! # Layout
 //! [`factor`](self) — the one sparse factorisation of A (contact DOFs last) as the generalised
-//! inverse A⁺; `hessian/` — the dense H, one file per way of forming it; `methods/` — one file
-//! per dual method; `monitor` — stopping tests and limits shared by the methods; `dual` — the
-//! data every method works on (d, x(λ)); `backend` — the [`QpBackend`](signorini_core::qp::QpBackend)
-//! that picks a method.  Dependencies run one way: methods → hessian → factor.
+//! inverse A⁺, ordered by the project's one fill-reducing ordering
+//! (`signorini_core::linalg::fill_reducing_order`, the floor's path; the solution message names
+//! the ordering and nnz(L)); `hessian/` — the dense H, one file per way of forming it, each
+//! checked against the available memory before it allocates; `methods/` — one file per dual
+//! method, plus `newton` (the dense and the matrix-free solve of one active set's Newton
+//! system); `monitor` — stopping tests and limits shared by the methods; `dual` — the data every
+//! method works on (d, x(λ), the accurate x(λ) of the refinement); `backend` — the
+//! [`QpBackend`](signorini_core::qp::QpBackend) that picks a method.  Dependencies run one way:
+//! methods → hessian → factor.
+//!
+//! # Accuracy on ill-conditioned duals (long thin bodies)
+//! The dual Hessian of a thin body is very ill-conditioned (a strip held at one point has the
+//! compliance of a cantilever), and forming H by condensation loses digits.  `dual-ssn` therefore
+//! treats its dense (or matrix-free) Newton solve only as a preconditioner: after each solve it
+//! computes x = A⁺(f − Bᵀλ) − Rμ with the sparse factor, the residuals (Bx − g)_F and Rᵀ(f − Bᵀλ),
+//! and corrects (λ_F, μ) with the same factored system until the residual stops decreasing.
+//! Two details make the last digits reachable: the sparse solve is itself refined with a
+//! residual f − Bᵀλ − A x summed in double-double arithmetic (mixed-precision refinement: the
+//! forward error of x drops from ε·cond(A) to ε), and λ is carried as an unevaluated sum
+//! λ + λ_lo during the refinement, because the dual amplifies the rounding of λ by its
+//! condition number.  On the thin strips of issue 9 (51 k DOFs, 2 001 rows, all active)
+//! this takes the KKT residuals from 1.2e-3 (dense solve alone) to ~1e-18 in 3–5 corrections.
+//!
+//! `dual-pgs` tracks the dual objective ½λᵀHλ − dᵀλ = ½λᵀ(w − d) from its maintained gradient
+//! w = Hλ − d: with ω ∈ (0, 2) and Hᵢᵢ > 0 every coordinate step lowers it, so a sweep that
+//! raises it beyond round-off (relative 1e-12), or a dense objective that disagrees with the one
+//! measured through the sparse solve at a full check (relative 1e-6), means the dense H is not
+//! the PSD matrix B A⁺ Bᵀ: PGS stops with `numerical-error` ("PGS lost monotonicity …").  When it
+//! stalls, or the rate of its best KKT residual over the second half of its sweeps (after 4 000)
+//! extrapolates past the iteration limit, it stops with `inaccurate` and says so, instead of
+//! running to the limit (the thin strips: after 4 000–7 000 sweeps, ~17 s, instead of 100 000).
+//!
+//! # No dense cliff
+//! Nothing m × m is allocated without asking `signorini_core::memory::check_fits` first (the
+//! dense H with its work arrays, the dense trailing block of the factor, and for `dual-ssn` the
+//! dense Newton matrices: ≈ 8·(m² + 3m²) bytes).  The rule:
+//!
+//! * `dual-ssn` forms the dense H when it fits and m ≤ `DualSettings::matrix_free_rows`
+//!   (default 20 000, where H alone is 3.2 GB); otherwise its Newton steps are matrix-free:
+//!   projected preconditioned CG on S_FF λ_F = r_F (G_F λ_F = r_e), S applied through the sparse
+//!   factor (one forward + one backward triangular solve per product), Jacobi-preconditioned by
+//!   the lumped compliance Σⱼ Bᵢⱼ²/Aⱼⱼ, to 1e-8 relative, then refined as above.
+//! * `dual-pgs` needs the columns of H: when they do not fit it returns
+//!   `Err(QpError::Unavailable)` naming m and the memory, and pointing to dual-ssn, pdas and
+//!   dual-uzawa.  A refusal of the factor itself is `Err(QpError::TooLarge)`.
+//! * `dual-uzawa` never forms H.
+//!
+//! Measured cross-over (release, 2-core machine shared with other builds; `cargo test -p
+//! signorini-dual --release --lib measure_newton_modes -- --ignored --nocapture`): the dense
+//! path was faster in every case measured, so the switch is set by memory, not speed:
+//!
+//! | n | m | rows | dense ssn | matrix-free ssn |
+//! |---|---|---|---|---|
+//! | 1e4 | 50 | bound | 1.0× floor | 5.3× |
+//! | 1e4 | 500 | bound | 11× | 148× |
+//! | 1e5 | 50 | 3-DOF | 2.3× | 4.0× |
+//! | 1e5 | 500 | 3-DOF | 5.2× | 24× |
+//! | 1e5 | 2000 | bound | 25× | 536× |
+//! | 1e5 | 2000 | 3-DOF | 14× | 26× |
+//!
+//! CG needs one sparse solve per product and converges slowly on ill-conditioned duals (the
+//! 4 × 0.02 strip of `tests/long_interface.rs`: 14 s matrix-free against 0.3 s dense), so below
+//! the memory limit the m solves that form H are cheaper than the CG products of all the Newton
+//! steps.  Products are not batched (CG is sequential); a block or deflated CG is the next step.
+//!
+//! Every method polls the time limit between iterations and inside its long steps (the blocks
+//! of multi-right-hand-side solves that form H, the refinement, the CG and power iterations), so
+//! it overshoots `SolveOptions::time_limit` by at most one block of solves or one dense
+//! factorisation.
 //!
 //! Every method stops on the core's KKT residuals ([`signorini_core::qp::kkt_residuals`]) of
 //! (x(λ), λ), checked every `check_every` iterations or earlier when a cheap estimate from the
@@ -65,8 +132,13 @@
 //! | 1e5 | 500 | 500 | 1515 ms | 1418 ms | 132 ms |
 //! | 1e5 | 500 | 1002 | 1497 ms | 2858 ms | 136 ms |
 //!
-//! Ordering the touched DOFs last costs nothing measurable in the factorisation and makes H a
-//! by-product of it (dense O(|c|² m) work), 10× faster than multi-RHS solves at m = 500; the
+//! Ordering the touched DOFs last costs nothing measurable in the factorisation of these
+//! short interfaces and makes H a by-product of it (dense O(|c|² m) work), 10× faster than
+//! multi-RHS solves at m = 500.  On a long interface it does not pay: the touched DOFs become
+//! one dense separator of |c| ≈ 4m unknowns (the 3 × 0.02 strips of fixtures/hard, m = 301:
+//! nnz(L) 2.1e6 instead of 1.6e5, dual-ssn 2.8× slower), so the factor orders them last only
+//! when |c|³/3 + |c|² m < 4 m nnz(L) (the dense block's factorisation and H against m
+//! solves with the plain factor; `factor::trailing::trailing_pays`); the
 //! explicit interior Schur complement (b) only wins when few DOFs are touched and is otherwise
 //! slower than (a) (|c| ≈ 2m right-hand sides for node-to-segment-like rows).
 //!

@@ -74,16 +74,16 @@ fn measure_condensations() {
             for segment_like in [false, true] {
                 let p = problem(side, m, segment_like);
                 let t0 = Instant::now();
-                let data = DualData::new(&p, false).unwrap();
+                let data = DualData::new(&p, false, "dual-ssn").unwrap();
                 let factor = t0.elapsed();
                 let t1 = Instant::now();
-                let ha = multi_rhs(&data.inverse, &p.constraints, 64);
+                let ha = multi_rhs(&data.inverse, &p.constraints, 64, &|| false).unwrap();
                 let a_time = t1.elapsed();
                 let t2 = Instant::now();
-                let hb = interior_schur(&data, 64).unwrap();
+                let hb = interior_schur(&data, 64, &|| false).unwrap();
                 let b_time = t2.elapsed();
                 let t3 = Instant::now();
-                let data_c = DualData::new(&p, true).unwrap();
+                let data_c = DualData::new(&p, true, "dual-ssn").unwrap();
                 let c_factor = t3.elapsed();
                 let t4 = Instant::now();
                 assert!(data_c.inverse.contact_last());
@@ -159,6 +159,51 @@ fn measure_methods() {
                     time / floor
                 );
             }
+        }
+    }
+}
+
+#[test]
+#[ignore = "measurement: run by hand with --release --nocapture"]
+fn measure_newton_modes() {
+    use crate::{DualBackend, DualSettings};
+    use signorini_core::linalg::SparseCholesky;
+    use signorini_core::qp::{checked_status, kkt_residuals, QpBackend, SolveOptions};
+    println!("| n | m | rows | floor | dense ssn (× floor) | matrix-free ssn (× floor) |");
+    println!("|---|---|---|---|---|---|");
+    for (side, m) in [(100, 50), (100, 500), (316, 50), (316, 500), (316, 2000)] {
+        for segment_like in [false, true] {
+            let p = problem(side, m, segment_like);
+            let t = Instant::now();
+            let chol = SparseCholesky::factor(&p.stiffness).unwrap();
+            let mut x = p.load.clone();
+            chol.solve_in_place(&mut x);
+            let floor = t.elapsed().as_secs_f64();
+            let mut cells = Vec::new();
+            for rows in [usize::MAX, 0] {
+                let mut backend = DualBackend::active_set(DualSettings {
+                    matrix_free_rows: rows,
+                    ..DualSettings::default()
+                });
+                let options = SolveOptions::default();
+                let sol = backend.solve(&p, &options).unwrap();
+                let r = kkt_residuals(&p, &sol.x, &sol.multipliers);
+                let status = checked_status(sol.status, &r, options.tol);
+                let time = sol.solve_time.as_secs_f64();
+                cells.push(format!(
+                    "{status} {:.1} ms ({:.1}×)",
+                    time * 1e3,
+                    time / floor
+                ));
+            }
+            println!(
+                "| {} | {m} | {} | {:.1} ms | {} | {} |",
+                side * side,
+                if segment_like { "3-DOF" } else { "bound" },
+                floor * 1e3,
+                cells[0],
+                cells[1]
+            );
         }
     }
 }

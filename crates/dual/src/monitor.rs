@@ -68,6 +68,11 @@ impl<'a> Monitor<'a> {
         }
     }
 
+    /// The iteration limit in force.
+    pub fn max_iter(&self) -> usize {
+        self.max_iter
+    }
+
     /// The requested tolerance.
     pub fn tol(&self) -> f64 {
         self.tol
@@ -126,6 +131,13 @@ impl<'a> Monitor<'a> {
             }
         }
         None
+    }
+
+    /// True once the time limit has passed (for loops inside one iteration: the formation of
+    /// H, the refinement of a Newton step).
+    pub fn out_of_time(&self) -> bool {
+        self.time_limit
+            .is_some_and(|limit| self.start.elapsed() >= limit)
     }
 
     /// Full check of (x, λ) at iteration `iter`.

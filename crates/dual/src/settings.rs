@@ -13,6 +13,17 @@ pub enum DualMethod {
     ActiveSet,
 }
 
+impl DualMethod {
+    /// The backend name this method runs under (`"dual-pgs"`, `"dual-uzawa"`, `"dual-ssn"`).
+    pub fn backend_name(self) -> &'static str {
+        match self {
+            DualMethod::ProjectedGaussSeidel => "dual-pgs",
+            DualMethod::Uzawa => "dual-uzawa",
+            DualMethod::ActiveSet => "dual-ssn",
+        }
+    }
+}
+
 /// How the dense dual Hessian H = B A⁻¹ Bᵀ is formed (projected Gauss–Seidel, active set).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Condensation {
@@ -58,6 +69,12 @@ pub struct DualSettings {
     pub step_factor: f64,
     /// Uzawa: power iterations (one solve each) to estimate λ_max(H).  Default `30`.
     pub power_iterations: usize,
+    /// Active set: above this many contact rows m, or when the dense H (m² entries) and the
+    /// dense Newton matrices do not fit in the available memory, the Newton steps are solved
+    /// matrix-free (projected preconditioned CG with S = B A⁺ Bᵀ applied through the sparse
+    /// factor) instead of with a dense H.  Default `20_000` (3.2 GB for H; see the crate docs
+    /// for the measured cross-over).
+    pub matrix_free_rows: usize,
     /// Floating bodies: the augmented-Lagrangian penalty on Rᵀ(f − Bᵀλ) = 0 is
     /// c = `equality_penalty` · λ_max(H) / λ_max(G Gᵀ), G = Rᵀ Bᵀ.  Default `1.0`.
     pub equality_penalty: f64,
@@ -76,6 +93,7 @@ impl Default for DualSettings {
             step_factor: 1.0,
             power_iterations: 30,
             equality_penalty: 1.0,
+            matrix_free_rows: 20_000,
         }
     }
 }

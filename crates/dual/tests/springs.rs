@@ -121,10 +121,10 @@ fn floating_body_pushed_away_is_unbounded_not_nan() {
     }
 }
 
-/// The same for dual-ssn, which is not exempt: it currently reports `numerical-error`
-/// ("singular active-set system on 0 rows …") instead of detecting the unbounded direction.
+/// The same for dual-ssn.  Regression (issue 9): it used to report `numerical-error`
+/// ("singular active-set system on 0 rows …") instead of detecting the unbounded direction; it
+/// now checks up front whether any λ ≥ 0 balances the load on the rigid modes.
 #[test]
-#[ignore = "dual-ssn misreports an unbounded problem as numerical-error: open, for the dual-solver work of issue 9"]
 fn floating_body_pushed_away_is_unbounded_for_dual_ssn() {
     for b in backends().into_iter().filter(|b| b.name() == "dual-ssn") {
         check_pushed_away(b);

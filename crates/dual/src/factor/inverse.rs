@@ -11,6 +11,7 @@
 //!
 //! which is all the FETI-style dual needs.  This keeps the factor as sparse as A's own.
 
+use signorini_core::memory;
 use signorini_core::qp::CscMatrix;
 
 use super::trailing::TrailingCholesky;
@@ -51,11 +52,15 @@ impl StiffnessInverse {
         fixed: &[usize],
         kernel_count: usize,
         trailing_for: Option<&CscMatrix>,
+        backend: &'static str,
     ) -> Result<Self, DualError> {
         let n = a.rows();
-        let singular = |source| DualError::Singular {
-            source,
-            kernel: kernel_count,
+        let singular = |e| match e {
+            DualError::Linalg(source) => DualError::Singular {
+                source,
+                kernel: kernel_count,
+            },
+            e => e,
         };
         let mut reduced = Vec::new();
         let mut sub = None;
@@ -85,12 +90,39 @@ impl StiffnessInverse {
                 }
             }
         }
-        let contact_last = trailing_for.is_some() && trailing.len() <= MAX_TRAILING;
+        // The dense trailing block (|c|² entries) is an optimisation: when it does not fit, the
+        // contact DOFs are simply not ordered last.
+        let block_fits = || {
+            let bytes = 8.0 * (trailing.len() as f64).powi(2);
+            memory::check_fits(backend, String::new, bytes).is_ok()
+        };
+        let contact_last = trailing_for.is_some() && trailing.len() <= MAX_TRAILING && block_fits();
         if !contact_last {
             trailing.clear();
             touched_reduced.clear();
         }
-        let factor = TrailingCholesky::factor(matrix, &touched_reduced).map_err(singular)?;
+        let trailing_count = touched_reduced.len();
+        let admit = |entries: usize| -> Result<(), DualError> {
+            let bytes = 8.0 * (entries as f64 + (trailing_count as f64).powi(2));
+            memory::check_fits(
+                backend,
+                || {
+                    format!(
+                        "the sparse factor of A ({entries} stored entries of L, with a dense trailing block on {trailing_count} contact DOFs)"
+                    )
+                },
+                bytes,
+            )?;
+            Ok(())
+        };
+        let rows = trailing_for.map_or(0, CscMatrix::rows);
+        let factor =
+            TrailingCholesky::factor(matrix, &touched_reduced, rows, admit).map_err(singular)?;
+        // The factor may decline to order the contact DOFs last (it would not pay).
+        let contact_last = contact_last && factor.has_trailing();
+        if !contact_last {
+            trailing.clear();
+        }
         let ratio = factor.min_pivot_ratio();
         if ratio < SINGULAR_PIVOT_RATIO {
             return Err(DualError::NearlySingular {
@@ -105,6 +137,16 @@ impl StiffnessInverse {
             trailing,
             n,
         })
+    }
+
+    /// "ordering amd, nnz(L) 1.2e6": the ordering and the stored entries of the factor, for the
+    /// solution message.
+    pub fn describe(&self) -> String {
+        format!(
+            "ordering {}, nnz(L) {:.3e}",
+            self.factor.ordering(),
+            self.factor.factor_entries() as f64
+        )
     }
 
     /// The factor.

@@ -7,8 +7,9 @@
 //! ```
 //!
 //! Then H = B_c S⁻¹ B_cᵀ = Yᵀ Y with Y = L_cc⁻¹ B_cᵀ: no sparse solve at all, only dense work of
-//! order |c|² m.  The interior is ordered by AMD (the AMD order of A with the contact DOFs moved
-//! to the end).  The same factor serves every later solve with A.
+//! order |c|² m.  The interior is ordered by the project's one fill-reducing ordering,
+//! [`signorini_core::linalg::fill_reducing_order`] (the floor's ordering path), with the contact
+//! DOFs moved to the end.  The same factor serves every later solve with A.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
@@ -20,6 +21,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
 use signorini_core::linalg::{faer_view, LinalgError};
+use signorini_core::linalg::{fill_reducing_order, OrderingMethod};
 use signorini_core::qp::CscMatrix;
 
 /// A Cholesky factor of A with the `touched` DOFs last, and its dense trailing block.
@@ -32,47 +34,76 @@ pub struct TrailingCholesky {
     trailing: Mat<f64>,
     /// minⱼ Lⱼⱼ² / Aⱼⱼ: near zero when A is (numerically) singular.
     min_pivot_ratio: f64,
+    /// The fill-reducing ordering of the interior.
+    ordering: OrderingMethod,
+    /// Whether the touched DOFs are last (else the trailing block is empty).
+    has_trailing: bool,
+}
+
+/// Whether ordering the |c| touched DOFs last pays for `rows` contact rows: it adds a dense
+/// trailing block whose factorisation costs ~|c|³/3 flops and then gives H for |c|² m more,
+/// against m multi-right-hand-side solves with the plain factor (~4 nnz(L) flops each).  A long
+/// interface (|c| in the thousands: a thin strip on a foundation) makes the dense separator
+/// dominate the factor — measured on the 3 × 0.02 strips of fixtures/hard (m = 301, |c| ≈ 1 200):
+/// nnz(L) 13× larger and dual-ssn 2.8× slower with the contact DOFs last; a short one (the seed,
+/// or m = 500 rows across a 1e5 Laplacian) gains 10× (crate docs).
+pub fn trailing_pays(touched: usize, rows: usize, plain_entries: usize) -> bool {
+    let c = touched as f64;
+    let m = rows as f64;
+    c * c * c / 3.0 + c * c * m < 4.0 * m * plain_entries as f64
 }
 
 impl TrailingCholesky {
     /// Factors the symmetric positive definite `a` (lower triangle read) with the DOFs in
-    /// `touched` (distinct, in range) ordered last, in the given order.
-    pub fn factor(a: &CscMatrix, touched: &[usize]) -> Result<Self, LinalgError> {
+    /// `touched` (distinct, in range) ordered last, in the given order.  `admit` sees the number
+    /// of stored entries of L (known after the symbolic analysis, before any numeric memory is
+    /// taken) and may refuse.
+    ///
+    /// The touched DOFs are ordered last only when that pays ([`trailing_pays`]); otherwise the
+    /// factor has an empty trailing block ([`TrailingCholesky::has_trailing`] is false).
+    pub fn factor<E: From<LinalgError>>(
+        a: &CscMatrix,
+        touched: &[usize],
+        rows: usize,
+        admit: impl FnOnce(usize) -> Result<(), E>,
+    ) -> Result<Self, E> {
         let n = a.rows();
         let view = faer_view(a)?;
         let faer_error = |e: faer::sparse::FaerError| LinalgError::Faer(format!("{e:?}"));
-        let amd = factorize_symbolic_cholesky(
-            view.symbolic(),
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            CholeskySymbolicParams::default(),
-        )
-        .map_err(faer_error)?;
-        let mut is_touched = vec![false; n];
-        for &j in touched {
-            is_touched[j] = true;
-        }
-        let mut forward: Vec<usize> = match amd.perm() {
-            Some(perm) => perm.arrays().0.to_vec(),
-            None => (0..n).collect(),
+        let order = fill_reducing_order(a)?;
+        let analyse = |forward: &[usize]| {
+            let mut inverse = vec![0; n];
+            for (new, &old) in forward.iter().enumerate() {
+                inverse[old] = new;
+            }
+            let perm = PermRef::new_checked(forward, &inverse, n);
+            factorize_symbolic_cholesky(
+                view.symbolic(),
+                Side::Lower,
+                SymmetricOrdering::Custom(perm),
+                CholeskySymbolicParams {
+                    supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                    ..Default::default()
+                },
+            )
+            .map_err(faer_error)
         };
-        forward.retain(|&j| !is_touched[j]);
-        forward.extend_from_slice(touched);
-        let mut inverse = vec![0; n];
-        for (new, &old) in forward.iter().enumerate() {
-            inverse[old] = new;
-        }
-        let perm = PermRef::new_checked(&forward, &inverse, n);
-        let symbolic = factorize_symbolic_cholesky(
-            view.symbolic(),
-            Side::Lower,
-            SymmetricOrdering::Custom(perm),
-            CholeskySymbolicParams {
-                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-                ..Default::default()
-            },
-        )
-        .map_err(faer_error)?;
+        let plain = analyse(&order.forward)?;
+        let keep_last = !touched.is_empty() && trailing_pays(touched.len(), rows, plain.len_val());
+        let (forward, symbolic, touched) = if keep_last {
+            let mut is_touched = vec![false; n];
+            for &j in touched {
+                is_touched[j] = true;
+            }
+            let mut forward = order.forward;
+            forward.retain(|&j| !is_touched[j]);
+            forward.extend_from_slice(touched);
+            let symbolic = analyse(&forward)?;
+            (forward, symbolic, touched)
+        } else {
+            (order.forward, plain, &[][..])
+        };
+        admit(symbolic.len_val())?;
         let mut values = vec![0.0; symbolic.len_val()];
         let mut buffer = MemBuffer::try_new(
             symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
@@ -94,12 +125,11 @@ impl TrailingCholesky {
                 }
             })?;
         let SymbolicCholeskyRaw::Supernodal(supernodal) = symbolic.raw() else {
-            return Err(LinalgError::Faer(
-                "expected a supernodal factorisation".into(),
-            ));
+            return Err(LinalgError::Faer("expected a supernodal factorisation".into()).into());
         };
         let llt = SupernodalLltRef::new(supernodal, &values);
         let trailing = trailing_block(llt, n, touched.len());
+        let has_trailing = !touched.is_empty();
         let min_pivot_ratio = pivot_ratio(llt, a, &forward);
         Ok(Self {
             symbolic,
@@ -107,7 +137,24 @@ impl TrailingCholesky {
             n,
             trailing,
             min_pivot_ratio,
+            ordering: order.method,
+            has_trailing,
         })
+    }
+
+    /// Whether the touched DOFs were ordered last (see [`trailing_pays`]).
+    pub fn has_trailing(&self) -> bool {
+        self.has_trailing
+    }
+
+    /// The fill-reducing ordering used for the interior.
+    pub fn ordering(&self) -> OrderingMethod {
+        self.ordering
+    }
+
+    /// Stored entries of L (supernodal: the dense supernode blocks, explicit zeros included).
+    pub fn factor_entries(&self) -> usize {
+        self.values.len()
     }
 
     /// minⱼ Lⱼⱼ² / Aⱼⱼ over the pivots (1 for an empty matrix).  A singular A that the

@@ -3,6 +3,7 @@
 use signorini_core::qp::CscMatrix;
 
 use super::dense::DenseSym;
+use crate::error::DualError;
 use crate::factor::StiffnessInverse;
 
 /// Columns of B with at least one entry that are not fixed: (full index, reduced index).
@@ -15,8 +16,14 @@ pub fn touched_columns(inverse: &StiffnessInverse, constraints: &CscMatrix) -> V
         .collect()
 }
 
-/// H = B (A⁺ Bᵀ), blocks of `block` right-hand sides at a time.
-pub fn multi_rhs(inverse: &StiffnessInverse, constraints: &CscMatrix, block: usize) -> DenseSym {
+/// H = B (A⁺ Bᵀ), blocks of `block` right-hand sides at a time; stops with
+/// [`DualError::OutOfTime`] between blocks once `out_of_time` says so.
+pub fn multi_rhs(
+    inverse: &StiffnessInverse,
+    constraints: &CscMatrix,
+    block: usize,
+    out_of_time: &dyn Fn() -> bool,
+) -> Result<DenseSym, DualError> {
     let m = constraints.rows();
     let nr = inverse.reduced_dim();
     let rows = constraints.to_csr();
@@ -27,6 +34,11 @@ pub fn multi_rhs(inverse: &StiffnessInverse, constraints: &CscMatrix, block: usi
     };
     let mut work = vec![0.0; nr * block.min(m.max(1))];
     for start in (0..m).step_by(block) {
+        if out_of_time() {
+            return Err(DualError::OutOfTime(format!(
+                "while forming the dense dual Hessian by multi-right-hand-side solves ({start} of {m} columns)"
+            )));
+        }
         let count = block.min(m - start);
         let work = &mut work[..nr * count];
         work.fill(0.0);
@@ -56,5 +68,5 @@ pub fn multi_rhs(inverse: &StiffnessInverse, constraints: &CscMatrix, block: usi
         }
     }
     h.symmetrise();
-    h
+    Ok(h)
 }

@@ -31,7 +31,12 @@ enum Part {
 }
 
 /// H = B_c S⁻¹ B_cᵀ via the interior factorisation; `block` right-hand sides at a time.
-pub fn interior_schur(data: &DualData<'_>, block: usize) -> Result<DenseSym, DualError> {
+/// Stops with [`DualError::OutOfTime`] between blocks once `out_of_time` says so.
+pub fn interior_schur(
+    data: &DualData<'_>,
+    block: usize,
+    out_of_time: &dyn Fn() -> bool,
+) -> Result<DenseSym, DualError> {
     let a = &data.problem.stiffness;
     let b = &data.problem.constraints;
     let n = a.rows();
@@ -70,6 +75,11 @@ pub fn interior_schur(data: &DualData<'_>, block: usize) -> Result<DenseSym, Dua
     let mut schur = Mat::<f64>::zeros(nc, nc);
     let mut work = vec![0.0; interior * block.min(nc.max(1))];
     for start in (0..nc).step_by(block) {
+        if out_of_time() {
+            return Err(DualError::OutOfTime(format!(
+                "while forming the Schur complement on the contact DOFs ({start} of {nc} columns)"
+            )));
+        }
         let count = block.min(nc - start);
         let work = &mut work[..interior * count];
         work.fill(0.0);

@@ -13,7 +13,7 @@
 
 use std::time::{Duration, Instant};
 
-use signorini_core::qp::QpStatus;
+use signorini_core::qp::{dot, kkt_residuals, mat_t_vec, QpError, QpStatus};
 
 use crate::dual::{DualData, Outcome};
 use crate::error::DualError;
@@ -21,13 +21,117 @@ use crate::hessian::{dual_hessian, DenseSym};
 use crate::monitor::{finish_at_limit, Monitor, Next};
 use crate::settings::DualSettings;
 
+/// Relative rise (× the objective's scale) of the dense dual objective over one sweep that
+/// counts as a loss of monotonicity rather than round-off.
+const SWEEP_RISE: f64 = 1e-12;
+
+/// Relative rise of the dual objective measured with the sparse solve between two full checks
+/// that proves the dense H inconsistent with A and B.  Looser than [`SWEEP_RISE`]: that value
+/// carries the forward error of a sparse solve.
+const CHECK_RISE: f64 = 1e-9;
+
+/// Relative difference (× the scale of the terms) between the dual objective from the dense H
+/// and the one measured with the sparse solve, at the same λ, above which the dense H is
+/// inconsistent with A and B.  The two differ by the error of forming H (~ε cond(A)); 1e-6 leaves
+/// room for condition numbers up to ~1e10.
+const CONSISTENCY: f64 = 1e-6;
+
+/// Sweeps in a row whose decrease of the dual objective stays below round-off (relative
+/// [`STALL_DECREASE`]) before PGS gives up as stalled.
+const STALL_SWEEPS: usize = 2000;
+
+/// Decrease (relative to the objective's scale) below which a sweep made no progress.
+const STALL_DECREASE: f64 = 1e-15;
+
 /// Runs projected Gauss–Seidel until the monitor stops it.
 pub fn solve(
     data: &mut DualData<'_>,
     settings: &DualSettings,
     monitor: &mut Monitor<'_>,
 ) -> Result<Outcome, DualError> {
-    let mut hessian = dual_hessian(data, settings)?;
+    let hessian = match dual_hessian(data, settings, 0.0, &|| monitor.out_of_time()) {
+        Err(DualError::Refused(QpError::TooLarge {
+            what,
+            needed,
+            available,
+            ..
+        })) => {
+            return Err(DualError::Refused(QpError::Unavailable {
+                backend: "dual-pgs",
+                reason: format!(
+                    "projected Gauss–Seidel needs the columns of H: {what} would need {needed:.2} GiB but {available:.2} GiB is available (m = {}); use dual-ssn (matrix-free Newton steps), pdas or dual-uzawa",
+                    data.rows()
+                ),
+            }))
+        }
+        other => other?,
+    };
+    Ok(run(data, settings, monitor, hessian))
+}
+
+/// ½ λᵀ H λ − dᵀ λ = ½ λᵀ (w − d) from the maintained gradient w = H λ − d, with its scale
+/// ½ |λ|ᵀ(|w| + |d|) (the size of the terms that cancel).
+fn dense_objective(lambda: &[f64], gradient: &[f64], load: &[f64]) -> (f64, f64) {
+    lambda
+        .iter()
+        .zip(gradient)
+        .zip(load)
+        .fold((0.0, 0.0), |(v, s), ((l, w), d)| {
+            (
+                v + 0.5 * l * (w - d),
+                s + 0.5 * l.abs() * (w.abs() + d.abs()),
+            )
+        })
+}
+
+/// The same objective without the dense H, from u = A⁺(f − Bᵀλ): with Bᵀλ = f − A u,
+/// λᵀHλ = (Bᵀλ)ᵀ(A⁺f − u) and dᵀλ = (Bᵀλ)ᵀA⁺f − gᵀλ, so
+/// ½ λᵀHλ − dᵀλ = −½ (Bᵀλ)ᵀ(A⁺f + u) + gᵀλ; plus the augmented-Lagrangian terms
+/// ½ c ‖Gλ‖² + (μ − c e)ᵀ G λ, which the dense objective includes through H + c GᵀG.
+fn sparse_objective(data: &DualData<'_>, lambda: &[f64], free: &[f64]) -> (f64, f64) {
+    let btl = mat_t_vec(&data.problem.constraints, lambda);
+    let (mut value, mut scale) =
+        btl.iter()
+            .zip(&data.base)
+            .zip(free)
+            .fold((0.0, 0.0), |(v, s), ((b, a), u)| {
+                (
+                    v - 0.5 * b * (a + u),
+                    s + 0.5 * b.abs() * (a.abs() + u.abs()),
+                )
+            });
+    for (g, l) in data.problem.gap.iter().zip(lambda) {
+        value += g * l;
+        scale += (g * l).abs();
+    }
+    if data.floating() {
+        let c = data.penalty;
+        for ((row, e), mu) in data
+            .modes
+            .coupling
+            .iter()
+            .zip(&data.modes.load)
+            .zip(&data.multiplier)
+        {
+            let gl = dot(row, lambda);
+            value += 0.5 * c * gl * gl + (mu - c * e) * gl;
+            scale += 0.5 * c * gl * gl + (mu.abs() + c * e.abs()) * gl.abs();
+        }
+    }
+    (value, scale)
+}
+
+/// Runs projected Gauss–Seidel on a given H (H = B A⁺ Bᵀ, before the penalty).  Stops with
+/// `numerical-error` when a sweep raises the dual objective beyond round-off, or when the
+/// objective measured with the sparse solve rises between checks (the dense H is inconsistent
+/// with A and B: formed inaccurately, or not positive semidefinite); with `inaccurate` when it
+/// stalls for [`STALL_SWEEPS`] sweeps.
+pub fn run(
+    data: &mut DualData<'_>,
+    settings: &DualSettings,
+    monitor: &mut Monitor<'_>,
+    mut hessian: DenseSym,
+) -> Outcome {
     if data.floating() {
         let norm = hessian.largest_eigenvalue(settings.power_iterations);
         data.set_penalty(norm, settings.equality_penalty);
@@ -42,16 +146,20 @@ pub fn solve(
     monitor.calibrate(&data.base);
     let mut iter = 0;
     let mut sweep_time = Duration::ZERO;
+    let mut objective = dense_objective(&lambda, &gradient, &inner_load).0;
+    let mut checked: Option<f64> = None;
+    let mut stalled = 0;
+    let mut progress = Progress::default();
+    let stop = |lambda: Vec<f64>, x: Vec<f64>, iter: usize, status, message| Outcome {
+        x,
+        multipliers: lambda,
+        status,
+        iterations: iter,
+        message,
+    };
     loop {
         if let Some((status, message)) = monitor.limit(iter) {
-            return Ok(finish_at_limit(
-                data,
-                monitor.tol(),
-                iter,
-                lambda,
-                status,
-                message,
-            ));
+            return finish_at_limit(data, monitor.tol(), iter, lambda, status, message);
         }
         let started = Instant::now();
         sweep(
@@ -63,12 +171,34 @@ pub fn solve(
         );
         sweep_time += started.elapsed();
         iter += 1;
+        let (next, scale) = dense_objective(&lambda, &gradient, &inner_load);
+        if next - objective > SWEEP_RISE * scale.max(objective.abs()) || !next.is_finite() {
+            let x = data.primal(&lambda);
+            return stop(
+                lambda,
+                x,
+                iter,
+                QpStatus::NumericalError,
+                format!(
+                    "PGS lost monotonicity: dual objective rose by {:.3e} (scale {scale:.3e}) at sweep {iter}; the dense H is not positive semidefinite (formed inaccurately?) — try dual-ssn, pdas or dual-uzawa",
+                    next - objective
+                ),
+            );
+        }
+        if objective - next <= STALL_DECREASE * scale {
+            stalled += 1;
+        } else {
+            stalled = 0;
+        }
+        objective = next;
         let estimate = monitor.estimate(&lambda, &gradient);
-        if !monitor.due(iter, estimate) {
+        if !monitor.due(iter, estimate) && stalled < STALL_SWEEPS {
             continue;
         }
         let started = Instant::now();
-        let x = data.primal(&lambda);
+        let free = data.free_part(&lambda);
+        let (sparse, sparse_scale) = sparse_objective(data, &lambda, &free);
+        let x = data.primal_from(free, &lambda);
         let check_time = started.elapsed();
         // Keep the periodic checks (one solve each) under ~10 % of the sweeping time.
         let per_sweep = sweep_time.as_secs_f64() / iter as f64;
@@ -80,27 +210,101 @@ pub fn solve(
             Next::Continue => {}
             Next::UpdateMultiplier => {
                 if let Some(message) = data.update_multiplier(&lambda) {
-                    return Ok(Outcome {
-                        x,
-                        multipliers: lambda,
-                        status: QpStatus::DualInfeasible,
-                        iterations: iter,
-                        message,
-                    });
+                    return stop(lambda, x, iter, QpStatus::DualInfeasible, message);
                 }
                 inner_load = data.inner_load(&dual_load);
+                checked = None;
+                stalled = 0;
+                gradient = residual(&hessian, &lambda, &inner_load);
+                objective = dense_objective(&lambda, &gradient, &inner_load).0;
+                continue;
             }
-            Next::Stop(status, message) => {
-                return Ok(Outcome {
+            Next::Stop(status, message) => return stop(lambda, x, iter, status, message),
+        }
+        let (dense, _) = dense_objective(&lambda, &gradient, &inner_load);
+        if (dense - sparse).abs() > CONSISTENCY * sparse_scale || !dense.is_finite() {
+            return stop(
+                lambda,
+                x,
+                iter,
+                QpStatus::NumericalError,
+                format!(
+                    "PGS lost monotonicity: at sweep {iter} the dual objective is {dense:.6e} with the dense H but {sparse:.6e} measured with the sparse solve (scale {sparse_scale:.1e}): the dense H is inconsistent with A and B (ill-conditioned dual, or H not positive semidefinite) — try dual-ssn, pdas or dual-uzawa"
+                ),
+            );
+        }
+        if let Some(previous) = checked {
+            if sparse - previous > CHECK_RISE * sparse_scale.max(previous.abs()) {
+                return stop(
+                    lambda,
                     x,
-                    multipliers: lambda,
-                    status,
-                    iterations: iter,
-                    message,
-                })
+                    iter,
+                    QpStatus::NumericalError,
+                    format!(
+                        "PGS lost monotonicity: dual objective (measured with the sparse solve) rose by {:.3e} (scale {sparse_scale:.3e}) by sweep {iter} while the dense one fell: the dense H is inconsistent with A and B (ill-conditioned dual) — try dual-ssn, pdas or dual-uzawa",
+                        sparse - previous
+                    ),
+                );
             }
         }
+        checked = Some(sparse);
+        let worst = kkt_residuals(data.problem, &x, &lambda).worst();
+        if let Some(message) = progress.record(iter, worst, monitor.tol(), monitor.max_iter()) {
+            return stop(lambda, x, iter, QpStatus::Inaccurate, message);
+        }
+        if stalled >= STALL_SWEEPS {
+            return stop(
+                lambda,
+                x,
+                iter,
+                QpStatus::Inaccurate,
+                format!(
+                    "PGS stalled: the dual objective changed by less than round-off for {STALL_SWEEPS} sweeps (at sweep {iter}) without meeting the tolerance — try dual-ssn or pdas"
+                ),
+            );
+        }
         gradient = residual(&hessian, &lambda, &inner_load);
+        objective = dense_objective(&lambda, &gradient, &inner_load).0;
+    }
+}
+
+/// Sweeps before the rate of progress is judged at all.
+const PROGRESS_MIN_SWEEPS: usize = 4000;
+
+/// The best KKT residual at each full check, to extrapolate how many sweeps the tolerance
+/// would take: from the best residual at about half the sweeps so far to the best now, the
+/// residual fell by a factor q over s sweeps, so reaching the tolerance needs
+/// s · ln(best / tol) / ln q more.  When that exceeds the iteration limit (or nothing improved in
+/// the second half), PGS says so instead of running on: a very ill-conditioned dual (a long thin
+/// body) makes its convergence linear with a rate near 1.
+#[derive(Debug, Default)]
+struct Progress {
+    /// (sweep, best residual so far) at each check.
+    history: Vec<(usize, f64)>,
+}
+
+impl Progress {
+    fn record(&mut self, iter: usize, worst: f64, tol: f64, max_iter: usize) -> Option<String> {
+        let best = self.history.last().map_or(worst, |&(_, b)| b.min(worst));
+        self.history.push((iter, best));
+        if iter < PROGRESS_MIN_SWEEPS || !best.is_finite() || best <= tol {
+            return None;
+        }
+        let &(then, earlier) = self.history.iter().find(|(i, _)| 2 * i >= iter)?;
+        if then >= iter {
+            return None;
+        }
+        let factor = earlier / best;
+        let needed = if factor > 1.0 {
+            (iter - then) as f64 * (best / tol).ln() / factor.ln()
+        } else {
+            f64::INFINITY
+        };
+        (iter as f64 + needed > max_iter as f64).then(|| {
+            format!(
+                "PGS converges too slowly: KKT residual {best:.1e} after {iter} sweeps, down only {factor:.2}× since sweep {then}; the tolerance would take ~{needed:.1e} more sweeps (limit {max_iter}) — the dual is very ill-conditioned (a long thin body?): use dual-ssn or pdas"
+            )
+        })
     }
 }
 
@@ -139,5 +343,77 @@ fn sweep(
                 .zip(hessian.col(i))
                 .for_each(|(w, h)| *w += delta * h);
         }
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use std::time::Instant;
+
+    use signorini_core::qp::{QpProblem, QpStatus, SolveOptions};
+    use sprs::TriMat;
+
+    use super::run;
+    use crate::dual::DualData;
+    use crate::hessian::DenseSym;
+    use crate::monitor::Monitor;
+    use crate::settings::DualSettings;
+
+    /// A = I (2 × 2), B = I, f = (1, 1), g = (0, 0): the true H = I, d = (1, 1), λ* = (1, 1).
+    fn identity_problem() -> QpProblem {
+        let mut a = TriMat::new((2, 2));
+        let mut b = TriMat::new((2, 2));
+        for i in 0..2 {
+            a.add_triplet(i, i, 1.0);
+            b.add_triplet(i, i, 1.0);
+        }
+        QpProblem::try_new(a.to_csc(), vec![1.0, 1.0], b.to_csc(), vec![0.0, 0.0]).unwrap()
+    }
+
+    fn run_with(h: Vec<f64>, max_iter: usize) -> crate::dual::Outcome {
+        let p = identity_problem();
+        let mut data = DualData::new(&p, false, "dual-pgs").unwrap();
+        let settings = DualSettings::default();
+        let options = SolveOptions {
+            max_iter: Some(max_iter),
+            ..SolveOptions::default()
+        };
+        let mut monitor = Monitor::new(&p, &options, &settings, Instant::now());
+        let hessian = DenseSym { values: h, size: 2 };
+        run(&mut data, &settings, &mut monitor, hessian)
+    }
+
+    /// The true H solves it (the control: the checks do not fire on a consistent H).
+    #[test]
+    fn a_consistent_hessian_solves() {
+        let out = run_with(vec![1.0, 0.0, 0.0, 1.0], 1000);
+        assert_eq!(out.status, QpStatus::Solved, "{}", out.message);
+        assert!((out.multipliers[0] - 1.0).abs() < 1e-9);
+    }
+
+    /// An H that is not positive semidefinite (as an inaccurately formed H of an ill-conditioned
+    /// dual can be): [[1, −2], [−2, 1]] has the eigenvalue −1 along (1, 1) ≥ 0, so PGS on it
+    /// runs off to infinity, its dense objective falling without bound while the true one (with
+    /// H = I) rises.  Before the monotonicity checks it ran to the iteration limit (or produced
+    /// non-finite numbers); now it stops at the first full check with the reason.
+    #[test]
+    fn an_indefinite_hessian_is_caught_not_run_to_the_limit() {
+        let out = run_with(vec![1.0, -2.0, -2.0, 1.0], 100_000);
+        assert_eq!(out.status, QpStatus::NumericalError, "{}", out.message);
+        assert!(out.message.contains("lost monotonicity"), "{}", out.message);
+        assert!(out.iterations < 100, "{} sweeps", out.iterations);
+    }
+
+    /// With ω ∈ (0, 2) and Hᵢᵢ > 0 every coordinate step lowers ½λᵀHλ − dᵀλ exactly, so a rise
+    /// within a sweep means H is not the symmetric matrix the objective assumes: here an H
+    /// formed without symmetrising, with columns (1, −1.5) and (1.5, 1).  Sweep 1 takes λ from
+    /// 0 to (1, 2.5) and the objective ½λᵀ(w − d) from 0 to +0.125 (hand-computed).
+    #[test]
+    fn a_sweep_that_raises_the_dense_objective_is_caught() {
+        let out = run_with(vec![1.0, -1.5, 1.5, 1.0], 100_000);
+        assert_eq!(out.iterations, 1);
+        assert_eq!(out.status, QpStatus::NumericalError, "{}", out.message);
+        assert!(out.message.contains("rose by"), "{}", out.message);
     }
 }

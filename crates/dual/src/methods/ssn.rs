@@ -1,25 +1,51 @@
-//! Primal–dual active set (a semismooth Newton method on min(λ, ν/σ) = 0) on the dense dual:
+//! Primal–dual active set (a semismooth Newton method on min(λ, ν/σ) = 0) on the dual:
 //!
 //! ```text
 //! F = { i : λᵢ − νᵢ / Hᵢᵢ > 0 },   λ_Z = 0,
 //! [ H_FF  G_Fᵀ ] [ λ_F ]   [ d_F ]
-//! [ G_F    0   ] [  μ  ] = [  e  ],    ν = H λ − d + Gᵀ μ,
+//! [ G_F    0   ] [  μ  ] = [  e  ],    ν = H λ − d + Gᵀ μ = g − B x,
 //! ```
 //!
-//! repeated until F no longer changes; then (λ, μ) is exact up to round-off and
-//! x = A⁺(f − Bᵀλ) − R μ.  Each step costs one dense factorisation of order |F| (+ k).
+//! repeated until F no longer changes.  Each step costs one dense factorisation of order
+//! |F| (+ k) ([`super::newton`]).
+//!
+//! # Refinement against the primal residual
+//! The dense H of a thin body is very ill-conditioned (a strip fixed at one point has the
+//! compliance of a cantilever), and forming it by condensation loses digits, so the solution of
+//! the dense system alone can miss the tolerance by orders of magnitude.  Every step is
+//! therefore refined against the exact residual computed with the sparse A and B: with
+//! x = A⁺(f − Bᵀλ) − R μ (one sparse solve),
+//!
+//! ```text
+//! r_F = (B x − g)_F = d_F − H_FF λ_F − G_Fᵀ μ,     r_e = e − G λ = Rᵀ(f − Bᵀλ),
+//! ```
+//!
+//! and (λ_F, μ) is corrected by the already factored dense system applied to (r_F, r_e), until
+//! the (scaled) residual stops decreasing.  The dense factor only has to be a good
+//! preconditioner; the accuracy comes from the sparse residual.  The next active set is decided
+//! from the refined λ and the exact dual gradient ν = g − B x.
 
 use std::collections::HashSet;
 
-use faer::linalg::solvers::Solve;
-use faer::{Mat, Side};
-use signorini_core::qp::QpStatus;
+use signorini_core::qp::{norm_inf, QpStatus};
 
-use crate::dual::{DualData, Outcome};
+use super::newton::{lumped_compliance, DenseBlock, MatrixFreeBlock};
+use crate::dual::{two_sum, DualData, Outcome};
 use crate::error::DualError;
-use crate::hessian::{dual_hessian, DenseSym};
+use crate::hessian::{dense_bytes, dual_hessian};
 use crate::monitor::{finish_at_limit, Monitor, Next};
 use crate::settings::DualSettings;
+
+/// At most this many corrections per Newton step (each costs one sparse solve).
+const MAX_REFINEMENT: usize = 30;
+
+/// Mixed-precision corrections of each sparse solve x(λ) (see
+/// [`DualData::free_part_accurate`]).
+const ACCURATE_SOLVE_CORRECTIONS: usize = 4;
+
+/// A correction is kept going only while it shrinks the scaled residual by at least this
+/// factor (slower contraction means round-off has been reached).
+const CONTRACTION: f64 = 0.5;
 
 /// Runs the active-set method until the set repeats or the monitor stops it.
 pub fn solve(
@@ -27,11 +53,36 @@ pub fn solve(
     settings: &DualSettings,
     monitor: &mut Monitor<'_>,
 ) -> Result<Outcome, DualError> {
-    let hessian = dual_hessian(data, settings)?;
-    let load = data.dual_load();
     let m = data.rows();
     let k = data.modes.count();
     data.penalty = 0.0;
+    if let Some(message) = data.modes.farkas_direction() {
+        return Ok(stopped(data, QpStatus::DualInfeasible, message));
+    }
+    // Besides H: the dense Newton matrix, its shifted copy and their factor.
+    let fits = signorini_core::memory::check_fits(
+        "dual-ssn",
+        String::new,
+        dense_bytes(data, settings, 3.0),
+    )
+    .is_ok();
+    let hessian = if fits && m <= settings.matrix_free_rows {
+        Some(dual_hessian(data, settings, 3.0, &|| {
+            monitor.out_of_time()
+        })?)
+    } else {
+        None
+    };
+    let load = data.dual_load();
+    let diagonal: Vec<f64> = match &hessian {
+        Some(h) => (0..m).map(|i| h.diag(i).max(f64::MIN_POSITIVE)).collect(),
+        None => lumped_compliance(data),
+    };
+    let mode = if hessian.is_some() {
+        "dense Newton steps"
+    } else {
+        "matrix-free Newton steps (projected CG through the sparse factor)"
+    };
     let mut active: Vec<bool> = if data.floating() {
         vec![true; m]
     } else {
@@ -40,6 +91,11 @@ pub fn solve(
     let mut seen: HashSet<Vec<bool>> = HashSet::new();
     let mut lambda = vec![0.0; m];
     let mut iter = 0;
+    let mut refinements = 0;
+    // Cheap steps (plain sparse solves in the refinement) while the set moves; once it settles,
+    // the same set is solved again with the mixed-precision solves and decided anew.
+    let mut accurate = false;
+    let mut redo = false;
     loop {
         if let Some((status, message)) = monitor.limit(iter) {
             return Ok(finish_at_limit(
@@ -52,35 +108,75 @@ pub fn solve(
             ));
         }
         seen.insert(active.clone());
-        let Some((next_lambda, mu)) = newton_step(&hessian, &load, data, &active) else {
-            return Ok(Outcome {
-                x: data.base.clone(),
-                multipliers: lambda,
-                status: QpStatus::NumericalError,
-                iterations: iter,
-                message: format!(
+        let out_of_time = || monitor.out_of_time();
+        let step = match &hessian {
+            Some(h) => {
+                let block = DenseBlock::factor(h, &data.modes, &active);
+                refined_step(
+                    data,
+                    &block.rows,
+                    &|r, e| block.solve(r, e),
+                    &load,
+                    monitor,
+                    accurate,
+                )
+            }
+            None => {
+                MatrixFreeBlock::new(data, &active, &diagonal, &out_of_time).and_then(|block| {
+                    refined_step(
+                        data,
+                        &block.rows,
+                        &|r, e| block.solve(r, e),
+                        &load,
+                        monitor,
+                        accurate,
+                    )
+                })
+            }
+        };
+        let Some(step) = step else {
+            let mut out = stopped(
+                data,
+                QpStatus::NumericalError,
+                format!(
                     "singular active-set system on {} rows (redundant contact rows, or a rigid mode the active contacts do not hold; k = {k})",
                     active.iter().filter(|a| **a).count()
                 ),
-            });
+            );
+            out.iterations = iter;
+            return Ok(out);
         };
-        lambda = next_lambda;
-        data.multiplier = mu;
-        iter += 1;
-        let mut reduced = hessian.mul(&lambda);
-        reduced.iter_mut().zip(&load).for_each(|(r, d)| *r -= d);
-        crate::kernel::add_coupling_t(&data.modes, &data.multiplier, &mut reduced);
+        refinements += step.refinements;
+        lambda = step.lambda;
+        data.multiplier = step.mu;
+        if !redo {
+            iter += 1;
+        }
+        redo = false;
         let next_active: Vec<bool> = (0..m)
-            .map(|i| lambda[i] - reduced[i] / hessian.diag(i).max(f64::MIN_POSITIVE) > 0.0)
+            .map(|i| lambda[i] - step.gradient[i] / diagonal[i] > 0.0)
             .collect();
-        let lambda_clipped: Vec<f64> = lambda.iter().map(|l| l.max(0.0)).collect();
+        if next_active == active && !accurate {
+            accurate = true;
+            redo = true;
+            continue;
+        }
         if next_active == active {
-            let x = data.primal(&lambda_clipped);
+            let clipped = lambda.iter().any(|l| *l < 0.0);
+            let lambda_clipped: Vec<f64> = lambda.iter().map(|l| l.max(0.0)).collect();
+            let x = if clipped {
+                data.primal_at(&lambda_clipped, &data.multiplier)
+            } else {
+                step.x
+            };
             let (status, message) = match monitor.check(data, iter, &lambda_clipped, &x) {
                 Next::Stop(status, message) => (status, message),
                 _ => (
                     QpStatus::Inaccurate,
-                    "active set settled but the KKT residuals miss the tolerance".to_string(),
+                    format!(
+                        "active set settled but the KKT residuals miss the tolerance (refined primal residual {:.1e} after {} corrections)",
+                        step.residual, step.refinements
+                    ),
                 ),
             };
             return Ok(Outcome {
@@ -88,10 +184,13 @@ pub fn solve(
                 multipliers: lambda_clipped,
                 status,
                 iterations: iter,
-                message,
+                message: format!(
+                    "{message}; {iter} active-set steps ({mode}), {refinements} refinement solves"
+                ),
             });
         }
         if seen.contains(&next_active) {
+            let lambda_clipped = lambda.iter().map(|l| l.max(0.0)).collect();
             return Ok(finish_at_limit(
                 data,
                 monitor.tol(),
@@ -105,87 +204,135 @@ pub fn solve(
     }
 }
 
-/// A dense factorisation of the (shifted) Newton matrix.
-enum Dense {
-    /// Symmetric positive definite block (no kernel).
-    Cholesky(faer::linalg::solvers::Llt<f64>),
-    /// Indefinite bordered system, or a failed Cholesky.
-    Lu(faer::linalg::solvers::PartialPivLu<f64>),
-}
-
-impl Dense {
-    fn solve(&self, rhs: &mut Mat<f64>) {
-        match self {
-            Dense::Cholesky(llt) => llt.solve_in_place(rhs.as_mut()),
-            Dense::Lu(lu) => lu.solve_in_place(rhs.as_mut()),
-        }
+/// A finite answer (x = A⁺f) with a verdict and no iterations.
+fn stopped(data: &DualData<'_>, status: QpStatus, message: String) -> Outcome {
+    Outcome {
+        x: data.base.clone(),
+        multipliers: vec![0.0; data.rows()],
+        status,
+        iterations: 0,
+        message,
     }
 }
 
-/// Relative Tikhonov shift of the active block (× max Hᵢᵢ); removed again by refinement.
-const SHIFT: f64 = 1e-12;
+/// One Newton step, refined.
+#[derive(Debug)]
+struct Step {
+    lambda: Vec<f64>,
+    mu: Vec<f64>,
+    /// x = A⁺(f − Bᵀλ) − R μ.
+    x: Vec<f64>,
+    /// g − B x = H λ − d + Gᵀ μ (exact up to one sparse solve's round-off).
+    gradient: Vec<f64>,
+    /// The scaled primal residual left.
+    residual: f64,
+    /// Corrections taken.
+    refinements: usize,
+}
 
-/// Refinement steps against the unshifted system.
-const REFINEMENT_STEPS: usize = 3;
+/// The primal point of (λ, μ) and its residuals on the active rows.
+struct Evaluated {
+    x: Vec<f64>,
+    gradient: Vec<f64>,
+    rows: Vec<f64>,
+    kernel: Vec<f64>,
+    norm: f64,
+}
 
-/// Solves the Newton system on the active rows; `None` if it is singular.
-///
-/// The active block is factored with a tiny shift ε I (ε = `SHIFT` · max Hᵢᵢ), so that
-/// duplicated or dependent contact rows (a singular but consistent H_FF) do not break the
-/// factorisation; a few steps of iterative refinement against the unshifted matrix then remove
-/// the shift's effect.
-fn newton_step(
-    hessian: &DenseSym,
-    load: &[f64],
+fn evaluate(
     data: &DualData<'_>,
-    active: &[bool],
-) -> Option<(Vec<f64>, Vec<f64>)> {
-    let rows: Vec<usize> = (0..active.len()).filter(|&i| active[i]).collect();
-    let p = rows.len();
-    let k = data.modes.count();
-    let size = p + k;
-    let max_diag = (0..hessian.size)
-        .map(|i| hessian.diag(i))
-        .fold(0.0, f64::max);
-    let shift = SHIFT * max_diag;
-    let matrix = Mat::<f64>::from_fn(size, size, |a, b| match (a < p, b < p) {
-        (true, true) => hessian.col(rows[b])[rows[a]],
-        (true, false) => data.modes.coupling[b - p][rows[a]],
-        (false, true) => data.modes.coupling[a - p][rows[b]],
-        (false, false) => 0.0,
-    });
-    let shifted = Mat::<f64>::from_fn(size, size, |a, b| {
-        matrix[(a, b)] + if a == b && a < p { shift } else { 0.0 }
-    });
-    let rhs = Mat::<f64>::from_fn(size, 1, |a, _| {
-        if a < p {
-            load[rows[a]]
-        } else {
-            data.modes.load[a - p]
-        }
-    });
-    let solver = if k == 0 {
-        match shifted.llt(Side::Lower) {
-            Ok(llt) => Dense::Cholesky(llt),
-            Err(_) => Dense::Lu(shifted.partial_piv_lu()),
-        }
+    rows: &[usize],
+    lambda: &[f64],
+    low: &[f64],
+    mu: &[f64],
+    corrections: usize,
+) -> Evaluated {
+    let free = data.free_part_accurate(lambda, Some(low), corrections);
+    let x = data.primal_at_from(free, mu);
+    let gradient = data.dual_gradient(&x);
+    let residual_rows: Vec<f64> = rows.iter().map(|&i| -gradient[i]).collect();
+    let kernel: Vec<f64> = data
+        .modes
+        .equality_residual(lambda)
+        .iter()
+        .map(|r| -r)
+        .collect();
+    let length = norm_inf(&x).max(f64::MIN_POSITIVE);
+    let force = norm_inf(&data.problem.load)
+        .max(norm_inf(&data.modes.load))
+        .max(f64::MIN_POSITIVE);
+    let norm = norm_inf(&residual_rows) / length + norm_inf(&kernel) / force;
+    Evaluated {
+        x,
+        gradient,
+        rows: residual_rows,
+        kernel,
+        norm,
+    }
+}
+
+/// The solve of one active set's Newton system: (r_F, r_e) ↦ (λ_F, μ), `None` when singular.
+type NewtonSolve<'a> = dyn Fn(&[f64], &[f64]) -> Option<(Vec<f64>, Vec<f64>)> + 'a;
+
+/// Solves the Newton system on the active `rows` with `solve` (dense factor or matrix-free CG)
+/// and refines it against the primal residual; `None` when the system is singular.
+fn refined_step(
+    data: &DualData<'_>,
+    rows: &[usize],
+    solve: &NewtonSolve<'_>,
+    load: &[f64],
+    monitor: &Monitor<'_>,
+    accurate: bool,
+) -> Option<Step> {
+    let corrections = if accurate {
+        ACCURATE_SOLVE_CORRECTIONS
     } else {
-        Dense::Lu(shifted.partial_piv_lu())
+        0
     };
-    let mut solution = rhs.clone();
-    solver.solve(&mut solution);
-    for _ in 0..REFINEMENT_STEPS {
-        let mut residual = &rhs - &matrix * &solution;
-        solver.solve(&mut residual);
-        solution += residual;
+    let rows = rows.to_vec();
+    let rhs: Vec<f64> = rows.iter().map(|&i| load[i]).collect();
+    let (lambda_f, mut mu) = solve(&rhs, &data.modes.load)?;
+    let mut lambda = vec![0.0; data.rows()];
+    for (&i, l) in rows.iter().zip(&lambda_f) {
+        lambda[i] = *l;
     }
-    if (0..size).any(|a| !solution[(a, 0)].is_finite()) {
-        return None;
+    // λ is carried as the unevaluated sum λ + λ_lo, so that corrections far below ε‖λ‖ (the
+    // dual of a thin body amplifies the rounding of λ by its condition number) still move x.
+    let mut low = vec![0.0; data.rows()];
+    let mut current = evaluate(data, &rows, &lambda, &low, &mu, corrections);
+    let mut refinements = 0;
+    while refinements < MAX_REFINEMENT && current.norm > 0.0 && !monitor.out_of_time() {
+        let Some((dl, dmu)) = solve(&current.rows, &current.kernel) else {
+            break;
+        };
+        let mut trial = lambda.clone();
+        let mut trial_low = low.clone();
+        for (&i, d) in rows.iter().zip(&dl) {
+            let (hi, err) = two_sum(trial[i], d + trial_low[i]);
+            trial[i] = hi;
+            trial_low[i] = err;
+        }
+        let trial_mu: Vec<f64> = mu.iter().zip(&dmu).map(|(a, b)| a + b).collect();
+        let next = evaluate(data, &rows, &trial, &trial_low, &trial_mu, corrections);
+        if next.norm.is_nan() || next.norm >= current.norm {
+            break;
+        }
+        refinements += 1;
+        let enough = next.norm > CONTRACTION * current.norm;
+        lambda = trial;
+        low = trial_low;
+        mu = trial_mu;
+        current = next;
+        if enough {
+            break;
+        }
     }
-    let mut lambda = vec![0.0; active.len()];
-    for (a, &i) in rows.iter().enumerate() {
-        lambda[i] = solution[(a, 0)];
-    }
-    let mu = (0..k).map(|j| solution[(p + j, 0)]).collect();
-    Some((lambda, mu))
+    Some(Step {
+        lambda,
+        mu,
+        x: current.x,
+        gradient: current.gradient,
+        residual: current.norm,
+        refinements,
+    })
 }

@@ -26,6 +26,11 @@ pub fn solve(
 ) -> Result<Outcome, DualError> {
     let m = data.rows();
     let hessian_norm = power_iteration(m, settings.power_iterations, |v| {
+        // Past the time limit: a zero product ends the power iteration (the main loop then
+        // stops at once), so the overshoot is at most one solve.
+        if monitor.out_of_time() {
+            return vec![0.0; v.len()];
+        }
         // H v = B A⁺ Bᵀ v = B (A⁺ f − A⁺(f − Bᵀ v)).
         let free = data.free_part(v);
         let diff: Vec<f64> = data.base.iter().zip(&free).map(|(b, u)| b - u).collect();
