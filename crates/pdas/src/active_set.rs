@@ -1,0 +1,341 @@
+//! The primal–dual active-set iteration (Hintermüller–Ito–Kunisch):
+//!
+//! ```text
+//! F₀ from the settings;  repeat:  solve the KKT system on F_k (refined),
+//!                                 F_{k+1} = { i : λᵢ + c (Bx − g)ᵢ > 0 },
+//! ```
+//!
+//! stopping as soon as (x, max(λ, 0)) meets the core's KKT residuals, and honestly otherwise:
+//! a set that repeats without meeting them, a cycle of sets, the iteration or time limit, or a
+//! certificate of primal or dual infeasibility.
+
+use std::collections::HashSet;
+use std::time::Instant;
+
+use signorini_core::qp::{
+    dot, kkt_residuals_with, mat_t_vec, norm_inf, QpProblem, QpStatus, ResidualScales, SolveOptions,
+};
+
+use crate::error::PdasError;
+use crate::factor::KktFactor;
+use crate::kernel::{pushed_away, rigid_part};
+use crate::kkt::KktMatrix;
+use crate::refine::{solve_set, SetSolution};
+use crate::settings::{PdasSettings, StartSet};
+
+/// What the iteration hands back to the backend.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// Primal x.
+    pub x: Vec<f64>,
+    /// Multipliers λ ≥ 0.
+    pub multipliers: Vec<f64>,
+    /// The method's verdict.
+    pub status: QpStatus,
+    /// Active-set iterations (numeric factorisations).
+    pub iterations: usize,
+    /// Why it stopped.
+    pub message: String,
+}
+
+/// The state of one solve: the problem, its fixed-pattern KKT matrix and factor.
+pub struct ActiveSet<'p> {
+    problem: &'p QpProblem,
+    settings: &'p PdasSettings,
+    options: &'p SolveOptions,
+    start: Instant,
+    scales: ResidualScales,
+    kkt: KktMatrix,
+    factor: KktFactor,
+    /// Mean |Aⱼⱼ|, the stiffness unit the relative settings refer to.
+    stiffness: f64,
+    refinement_steps: usize,
+}
+
+impl<'p> ActiveSet<'p> {
+    /// Builds K's pattern and its symbolic factor (ordering + analysis), then checks that the
+    /// numeric factor fits in memory and allocates it.
+    pub fn new(
+        problem: &'p QpProblem,
+        settings: &'p PdasSettings,
+        options: &'p SolveOptions,
+        start: Instant,
+    ) -> Result<Self, SetupError> {
+        let kkt = KktMatrix::new(problem)?;
+        let mut factor = KktFactor::analyse(kkt.matrix(), kkt.dofs())?;
+        let (dim, nnz_k, nnz_l) = (kkt.dim(), kkt.matrix().nnz(), factor.nnz_l());
+        // The factor and faer's workspace, plus K and about ten vectors of length n + m.
+        let bytes = factor.bytes_needed() + (nnz_k * 16 + dim * 80) as f64;
+        signorini_core::memory::check_fits(
+            "pdas",
+            || format!("the LDLᵀ factor of the {dim}×{dim} KKT matrix (nnz(L) = {nnz_l:.3e})"),
+            bytes,
+        )
+        .map_err(SetupError::TooLarge)?;
+        factor.allocate()?;
+        let n = problem.dofs();
+        let diagonal_sum: f64 = (0..n)
+            .map(|j| problem.stiffness.get(j, j).copied().unwrap_or(0.0).abs())
+            .sum();
+        let stiffness = if n > 0 && diagonal_sum > 0.0 && diagonal_sum.is_finite() {
+            diagonal_sum / n as f64
+        } else {
+            1.0
+        };
+        Ok(Self {
+            problem,
+            settings,
+            options,
+            start,
+            scales: ResidualScales::of(problem),
+            kkt,
+            factor,
+            stiffness,
+            refinement_steps: 0,
+        })
+    }
+
+    /// "ordering amd, nnz(L) 1.2e6" for messages.
+    pub fn describe_factor(&self) -> String {
+        format!(
+            "ordering {}, nnz(L) {:.3e}",
+            self.factor.method(),
+            self.factor.nnz_l() as f64
+        )
+    }
+
+    fn first_set(&self) -> Vec<bool> {
+        let p = self.problem;
+        match self.settings.start {
+            StartSet::Empty => vec![false; p.rows()],
+            StartSet::All => vec![true; p.rows()],
+            StartSet::ClosedGaps => p
+                .gap
+                .iter()
+                .zip(&self.scales.rows)
+                .map(|(g, x)| *g <= self.settings.closed_gap * x)
+                .collect(),
+        }
+    }
+
+    fn deadline(&self) -> Option<Instant> {
+        self.options.time_limit.map(|t| self.start + t)
+    }
+
+    fn out_of_time(&self) -> bool {
+        self.deadline().is_some_and(|d| Instant::now() >= d)
+    }
+
+    /// Factorises K for `active` and solves with refinement.
+    fn solve_for(&mut self, active: &[bool]) -> Result<SetSolution, PdasError> {
+        let s = self.stiffness;
+        let rho = if self.problem.kernel.is_empty() {
+            0.0
+        } else {
+            self.settings.primal_regularization * s
+        };
+        let delta = self.settings.dual_regularization / s;
+        self.kkt.set_values(active, rho, delta, 1.0 / s);
+        // Dynamic regularisation is a safety net below every static pivot: a primal pivot
+        // under 1e-3 ρ (relative), or a multiplier pivot under 1e-3 δ, is replaced.
+        let floor = 1e-3
+            * self
+                .settings
+                .primal_regularization
+                .min(self.settings.dual_regularization);
+        let epsilon = floor * s.min(1.0 / s);
+        self.factor
+            .factor(self.kkt.matrix(), epsilon, 1e3 * epsilon)?;
+        let deadline = self.deadline();
+        let solution = solve_set(
+            self.problem,
+            &self.scales,
+            active,
+            &mut self.factor,
+            self.settings.refinement_steps,
+            deadline,
+        );
+        self.refinement_steps += solution.steps;
+        Ok(solution)
+    }
+
+    /// Runs the iteration.
+    pub fn run(&mut self) -> Outcome {
+        let p = self.problem;
+        let (n, m) = (p.dofs(), p.rows());
+        let max_iter = self.options.max_iter.unwrap_or(self.settings.max_iter);
+        let c = self.settings.penalty * self.stiffness;
+        let mut active = self.first_set();
+        let mut seen: HashSet<Vec<bool>> = HashSet::new();
+        let mut best = Outcome {
+            x: vec![0.0; n],
+            multipliers: vec![0.0; m],
+            status: QpStatus::MaxIterations,
+            iterations: 0,
+            message: String::new(),
+        };
+        let mut best_worst = f64::INFINITY;
+        for iteration in 1..=max_iter {
+            if self.out_of_time() {
+                return self.finish(
+                    best,
+                    QpStatus::TimeLimit,
+                    iteration - 1,
+                    "time limit reached before the next factorisation".into(),
+                );
+            }
+            let solution = match self.solve_for(&active) {
+                Ok(s) => s,
+                Err(e) => {
+                    return self.finish(
+                        best,
+                        QpStatus::NumericalError,
+                        iteration - 1,
+                        e.to_string(),
+                    )
+                }
+            };
+            let SetSolution {
+                x,
+                multipliers,
+                residual,
+                timed_out,
+                ..
+            } = solution;
+            if x.iter().chain(&multipliers).any(|v| !v.is_finite()) {
+                return self.finish(
+                    best,
+                    QpStatus::NumericalError,
+                    iteration,
+                    format!(
+                        "non-finite solution of the KKT system on a set of {} rows",
+                        count(&active)
+                    ),
+                );
+            }
+            let clamped: Vec<f64> = multipliers.iter().map(|l| l.max(0.0)).collect();
+            let r = kkt_residuals_with(p, &self.scales, &x, &clamped);
+            let worst = r.worst();
+            let bx = signorini_core::qp::mat_vec(&p.constraints, &x);
+            let next: Vec<bool> = multipliers
+                .iter()
+                .zip(&bx)
+                .zip(&p.gap)
+                .map(|((l, b), g)| l + c * (b - g) > 0.0)
+                .collect();
+            let changes = next.iter().zip(&active).filter(|(a, b)| a != b).count();
+            if self.options.verbose {
+                eprintln!(
+                    "pdas: iteration {iteration}: {} active rows, refined residual {residual:.1e}, KKT {worst:.1e}, {changes} changes",
+                    count(&active)
+                );
+            }
+            let candidate = Outcome {
+                x,
+                multipliers: clamped,
+                status: QpStatus::Solved,
+                iterations: iteration,
+                message: String::new(),
+            };
+            if r.meet(self.options.tol) {
+                let message = format!("{} active rows", count(&active));
+                return self.finish(candidate, QpStatus::Solved, iteration, message);
+            }
+            let stalled = changes == 0;
+            let cycling = !stalled && seen.contains(&next);
+            if stalled || cycling || timed_out || iteration == max_iter {
+                if let Some(message) = self.certificate(&candidate, &multipliers) {
+                    let status = if message.starts_with("primal") {
+                        QpStatus::PrimalInfeasible
+                    } else {
+                        QpStatus::DualInfeasible
+                    };
+                    return self.finish(candidate, status, iteration, message);
+                }
+            }
+            if worst < best_worst {
+                best_worst = worst;
+                best = candidate;
+            }
+            if timed_out {
+                return self.finish(
+                    best,
+                    QpStatus::TimeLimit,
+                    iteration,
+                    "time limit reached during refinement".into(),
+                );
+            }
+            if stalled {
+                let message = format!("active set of {} rows settled but the KKT residuals ({worst:.1e}, refined KKT system {residual:.1e}) miss the tolerance", count(&active));
+                return self.finish(best, QpStatus::Inaccurate, iteration, message);
+            }
+            if cycling {
+                let message = format!("active sets cycle (a set of {} rows came back); best KKT residuals {best_worst:.1e}", count(&next));
+                return self.finish(best, QpStatus::Inaccurate, iteration, message);
+            }
+            seen.insert(std::mem::replace(&mut active, next));
+        }
+        let message = format!("{max_iter} active-set iterations without meeting the tolerance (best KKT residuals {best_worst:.1e})");
+        self.finish(best, QpStatus::MaxIterations, max_iter, message)
+    }
+
+    fn finish(
+        &self,
+        mut outcome: Outcome,
+        status: QpStatus,
+        iterations: usize,
+        message: String,
+    ) -> Outcome {
+        outcome.status = status;
+        outcome.iterations = iterations;
+        outcome.message = format!(
+            "{message}; {iterations} factorisations, {} refinement steps; {}",
+            self.refinement_steps,
+            self.describe_factor()
+        );
+        outcome
+    }
+
+    /// A certificate of infeasibility in an iterate that does not converge:
+    /// * primal: y = λ⁺ / ‖λ⁺‖∞ with gᵀy < 0 and Bᵀy ≈ 0 — any feasible x would need
+    ///   ‖x‖∞ ≥ −gᵀy / ‖Bᵀy‖₁, which must exceed 10⁸ times the problem's length scale and x;
+    /// * dual: the rigid part r of x with fᵀr > 0 and B r ≤ 0 (see [`pushed_away`]).
+    fn certificate(&self, iterate: &Outcome, multipliers: &[f64]) -> Option<String> {
+        let p = self.problem;
+        let size = multipliers.iter().fold(0.0_f64, |a, l| a.max(*l));
+        if size > 0.0 && size.is_finite() {
+            let y: Vec<f64> = multipliers.iter().map(|l| l.max(0.0) / size).collect();
+            let gy = dot(&p.gap, &y);
+            let bty: f64 = mat_t_vec(&p.constraints, &y).iter().map(|v| v.abs()).sum();
+            let reach = self.scales.length.max(norm_inf(&iterate.x));
+            if gy < 0.0 && -gy > 1e8 * reach * bty {
+                return Some(format!(
+                    "primal infeasible: y ≥ 0 with gᵀy = {gy:.3e} and ‖Bᵀy‖₁ = {bty:.1e} (no x satisfies B x ≤ g)"
+                ));
+            }
+        }
+        let r = rigid_part(&p.kernel, &iterate.x)?;
+        pushed_away(p, &r).map(|work| {
+            format!("dual infeasible: a rigid motion r with B r ≤ 0 and fᵀr = {work:.3e} ‖r‖∞ > 0 (a floating body is pushed away from every contact); the objective is unbounded below")
+        })
+    }
+}
+
+fn count(active: &[bool]) -> usize {
+    active.iter().filter(|a| **a).count()
+}
+
+/// Why the iteration could not start.
+#[derive(Debug)]
+pub enum SetupError {
+    /// The factor would not fit in memory.
+    TooLarge(signorini_core::qp::QpError),
+    /// Anything else (pattern, ordering, allocation).
+    Pdas(PdasError),
+}
+
+impl From<PdasError> for SetupError {
+    fn from(e: PdasError) -> Self {
+        SetupError::Pdas(e)
+    }
+}
