@@ -10,18 +10,20 @@
 //! certificate of primal or dual infeasibility.
 
 use std::collections::HashSet;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use signorini_core::qp::{
-    dot, kkt_residuals_with, mat_t_vec, norm_inf, QpProblem, QpStatus, ResidualScales, SolveOptions,
+    dot, kkt_residuals_with, mat_t_vec, mat_vec, norm_inf, QpProblem, QpStatus, ResidualScales,
+    SolveOptions,
 };
 
 use crate::error::PdasError;
 use crate::factor::KktFactor;
 use crate::kernel::{pushed_away, rigid_part};
 use crate::kkt::KktMatrix;
-use crate::refine::{solve_set, SetSolution};
+use crate::refine::{first_solve, refine, Limits, SetSolution};
 use crate::settings::{PdasSettings, StartSet};
+use crate::update::{SetSolver, SetUpdate};
 
 /// What the iteration hands back to the backend.
 #[derive(Debug, Clone)]
@@ -50,6 +52,19 @@ pub struct ActiveSet<'p> {
     /// Mean |Aⱼⱼ|, the stiffness unit the relative settings refer to.
     stiffness: f64,
     refinement_steps: usize,
+    factorisations: usize,
+    updates: usize,
+    /// Time of the pattern, ordering and symbolic analysis.
+    analysis: Duration,
+    /// Total time in numeric factorisations.
+    factor_time: Duration,
+}
+
+/// Measured cost of the last factorisation and of one solve with it.
+#[derive(Debug, Default)]
+struct Timing {
+    factor: Duration,
+    solve: Duration,
 }
 
 impl<'p> ActiveSet<'p> {
@@ -92,6 +107,10 @@ impl<'p> ActiveSet<'p> {
             factor,
             stiffness,
             refinement_steps: 0,
+            factorisations: 0,
+            updates: 0,
+            analysis: start.elapsed(),
+            factor_time: Duration::ZERO,
         })
     }
 
@@ -126,16 +145,16 @@ impl<'p> ActiveSet<'p> {
         self.deadline().is_some_and(|d| Instant::now() >= d)
     }
 
-    /// Factorises K for `active` and solves with refinement.
-    fn solve_for(&mut self, active: &[bool]) -> Result<SetSolution, PdasError> {
+    /// Numeric factorisation of K for `active`; returns its duration.
+    fn factorise(&mut self, active: &[bool]) -> Result<Duration, PdasError> {
+        let clock = Instant::now();
         let s = self.stiffness;
         let rho = if self.problem.kernel.is_empty() {
             0.0
         } else {
             self.settings.primal_regularization * s
         };
-        let delta = self.settings.dual_regularization / s;
-        self.kkt.set_values(active, rho, delta, 1.0 / s);
+        self.kkt.set_values(active, rho, self.delta(), 1.0 / s);
         // Dynamic regularisation is a safety net below every static pivot: a primal pivot
         // under 1e-3 ρ (relative), or a multiplier pivot under 1e-3 δ, is replaced.
         let floor = 1e-3
@@ -146,17 +165,37 @@ impl<'p> ActiveSet<'p> {
         let epsilon = floor * s.min(1.0 / s);
         self.factor
             .factor(self.kkt.matrix(), epsilon, 1e3 * epsilon)?;
-        let deadline = self.deadline();
-        let solution = solve_set(
-            self.problem,
-            &self.scales,
-            active,
-            &mut self.factor,
-            self.settings.refinement_steps,
-            deadline,
-        );
-        self.refinement_steps += solution.steps;
-        Ok(solution)
+        self.factorisations += 1;
+        self.factor_time += clock.elapsed();
+        Ok(clock.elapsed())
+    }
+
+    /// δ in the problem's units (compliance).
+    fn delta(&self) -> f64 {
+        self.settings.dual_regularization / self.stiffness
+    }
+
+    /// F_{k+1} = { i : λᵢ + c (Bx − g)ᵢ > 0 }.
+    fn next_set(&self, solution: &SetSolution) -> Vec<bool> {
+        let p = self.problem;
+        let c = self.settings.penalty * self.stiffness;
+        let bx = mat_vec(&p.constraints, &solution.x);
+        solution
+            .multipliers
+            .iter()
+            .zip(&bx)
+            .zip(&p.gap)
+            .map(|((l, b), g)| l + c * (b - g) > 0.0)
+            .collect()
+    }
+
+    /// Whether to reach `active` from the factored set by a low-rank update rather than a
+    /// factorisation: few changed rows, and their solves cheaper than a factorisation.
+    fn prefer_update(&self, factored: &[bool], active: &[bool], timing: &Timing) -> bool {
+        let rank = factored.iter().zip(active).filter(|(a, b)| a != b).count();
+        rank > 0
+            && rank <= self.settings.max_update_rank
+            && (rank as f64 + 4.0) * timing.solve.as_secs_f64() < timing.factor.as_secs_f64()
     }
 
     /// Runs the iteration.
@@ -164,7 +203,6 @@ impl<'p> ActiveSet<'p> {
         let p = self.problem;
         let (n, m) = (p.dofs(), p.rows());
         let max_iter = self.options.max_iter.unwrap_or(self.settings.max_iter);
-        let c = self.settings.penalty * self.stiffness;
         let mut active = self.first_set();
         let mut seen: HashSet<Vec<bool>> = HashSet::new();
         let mut best = Outcome {
@@ -175,7 +213,12 @@ impl<'p> ActiveSet<'p> {
             message: String::new(),
         };
         let mut best_worst = f64::INFINITY;
-        for iteration in 1..=max_iter {
+        let mut factored: Option<Vec<bool>> = None;
+        let mut timing = Timing::default();
+        let mut force_factor = false;
+        let mut iteration = 0;
+        while iteration < max_iter {
+            iteration += 1;
             if self.out_of_time() {
                 return self.finish(
                     best,
@@ -184,25 +227,74 @@ impl<'p> ActiveSet<'p> {
                     "time limit reached before the next factorisation".into(),
                 );
             }
-            let solution = match self.solve_for(&active) {
-                Ok(s) => s,
-                Err(e) => {
-                    return self.finish(
-                        best,
-                        QpStatus::NumericalError,
-                        iteration - 1,
-                        e.to_string(),
-                    )
+            let delta = self.delta();
+            let update = match &factored {
+                Some(f) if !force_factor && self.prefer_update(f, &active, &timing) => {
+                    SetUpdate::new(p, &mut self.factor, f, &active, delta)
                 }
+                _ => None,
             };
-            let SetSolution {
-                x,
-                multipliers,
-                residual,
-                timed_out,
-                ..
-            } = solution;
-            if x.iter().chain(&multipliers).any(|v| !v.is_finite()) {
+            let fresh = update.is_none() && factored.as_ref() != Some(&active);
+            force_factor = false;
+            if fresh {
+                match self.factorise(&active) {
+                    Ok(t) => timing.factor = t,
+                    Err(e) => {
+                        return self.finish(
+                            best,
+                            QpStatus::NumericalError,
+                            iteration - 1,
+                            e.to_string(),
+                        )
+                    }
+                }
+                factored = Some(active.clone());
+            }
+            if update.is_some() {
+                self.updates += 1;
+            }
+            let deadline = self.deadline();
+            let mut solver = SetSolver {
+                factor: &mut self.factor,
+                update: update.as_ref(),
+            };
+            let clock = Instant::now();
+            let mut solution = first_solve(p, &self.scales, &active, &mut solver);
+            if fresh {
+                timing.solve = clock.elapsed();
+            }
+            let mut next = self.next_set(&solution);
+            let mut solver = SetSolver {
+                factor: &mut self.factor,
+                update: update.as_ref(),
+            };
+            if next == active {
+                let limits = Limits {
+                    max_steps: self.settings.refinement_steps,
+                    target: self.settings.refinement_target * self.options.tol,
+                    deadline,
+                };
+                refine(
+                    p,
+                    &self.scales,
+                    &active,
+                    &mut solver,
+                    &mut solution,
+                    &limits,
+                );
+                self.refinement_steps += solution.steps;
+                next = self.next_set(&solution);
+            }
+            if solution
+                .x
+                .iter()
+                .chain(&solution.multipliers)
+                .any(|v| !v.is_finite())
+            {
+                if update.is_some() {
+                    force_factor = true;
+                    continue;
+                }
                 return self.finish(
                     best,
                     QpStatus::NumericalError,
@@ -213,25 +305,25 @@ impl<'p> ActiveSet<'p> {
                     ),
                 );
             }
-            let clamped: Vec<f64> = multipliers.iter().map(|l| l.max(0.0)).collect();
-            let r = kkt_residuals_with(p, &self.scales, &x, &clamped);
+            let clamped: Vec<f64> = solution.multipliers.iter().map(|l| l.max(0.0)).collect();
+            let r = kkt_residuals_with(p, &self.scales, &solution.x, &clamped);
             let worst = r.worst();
-            let bx = signorini_core::qp::mat_vec(&p.constraints, &x);
-            let next: Vec<bool> = multipliers
-                .iter()
-                .zip(&bx)
-                .zip(&p.gap)
-                .map(|((l, b), g)| l + c * (b - g) > 0.0)
-                .collect();
             let changes = next.iter().zip(&active).filter(|(a, b)| a != b).count();
             if self.options.verbose {
                 eprintln!(
-                    "pdas: iteration {iteration}: {} active rows, refined residual {residual:.1e}, KKT {worst:.1e}, {changes} changes",
-                    count(&active)
+                    "pdas: iteration {iteration}: {} active rows ({}), KKT system residual {:.1e} after {} refinement steps, KKT {worst:.1e}, {changes} changes",
+                    count(&active),
+                    match (&update, fresh) {
+                        (Some(u), _) => format!("update of rank {}", u.rank()),
+                        (None, true) => "factorised".to_string(),
+                        (None, false) => "same factor".to_string(),
+                    },
+                    solution.residual,
+                    solution.steps,
                 );
             }
             let candidate = Outcome {
-                x,
+                x: solution.x,
                 multipliers: clamped,
                 status: QpStatus::Solved,
                 iterations: iteration,
@@ -242,14 +334,15 @@ impl<'p> ActiveSet<'p> {
                 return self.finish(candidate, QpStatus::Solved, iteration, message);
             }
             let stalled = changes == 0;
+            if stalled && update.is_some() {
+                // The update may have lost accuracy: factorise this set before judging it.
+                force_factor = true;
+                continue;
+            }
             let cycling = !stalled && seen.contains(&next);
-            if stalled || cycling || timed_out || iteration == max_iter {
-                if let Some(message) = self.certificate(&candidate, &multipliers) {
-                    let status = if message.starts_with("primal") {
-                        QpStatus::PrimalInfeasible
-                    } else {
-                        QpStatus::DualInfeasible
-                    };
+            if stalled || cycling || solution.timed_out || iteration == max_iter {
+                if let Some((status, message)) = self.certificate(&candidate, &solution.multipliers)
+                {
                     return self.finish(candidate, status, iteration, message);
                 }
             }
@@ -257,7 +350,7 @@ impl<'p> ActiveSet<'p> {
                 best_worst = worst;
                 best = candidate;
             }
-            if timed_out {
+            if solution.timed_out {
                 return self.finish(
                     best,
                     QpStatus::TimeLimit,
@@ -266,16 +359,25 @@ impl<'p> ActiveSet<'p> {
                 );
             }
             if stalled {
-                let message = format!("active set of {} rows settled but the KKT residuals ({worst:.1e}, refined KKT system {residual:.1e}) miss the tolerance", count(&active));
+                let message = format!(
+                    "active set of {} rows settled but the KKT residuals ({worst:.1e}, refined KKT system {:.1e}) miss the tolerance",
+                    count(&active),
+                    solution.residual
+                );
                 return self.finish(best, QpStatus::Inaccurate, iteration, message);
             }
             if cycling {
-                let message = format!("active sets cycle (a set of {} rows came back); best KKT residuals {best_worst:.1e}", count(&next));
+                let message = format!(
+                    "active sets cycle (a set of {} rows came back); best KKT residuals {best_worst:.1e}",
+                    count(&next)
+                );
                 return self.finish(best, QpStatus::Inaccurate, iteration, message);
             }
             seen.insert(std::mem::replace(&mut active, next));
         }
-        let message = format!("{max_iter} active-set iterations without meeting the tolerance (best KKT residuals {best_worst:.1e})");
+        let message = format!(
+            "{max_iter} active-set iterations without meeting the tolerance (best KKT residuals {best_worst:.1e})"
+        );
         self.finish(best, QpStatus::MaxIterations, max_iter, message)
     }
 
@@ -289,9 +391,13 @@ impl<'p> ActiveSet<'p> {
         outcome.status = status;
         outcome.iterations = iterations;
         outcome.message = format!(
-            "{message}; {iterations} factorisations, {} refinement steps; {}",
+            "{message}; {iterations} active-set iterations: {} factorisations, {} low-rank updates, {} refinement steps; {}; setup {:.1} ms, factorisations {:.1} ms",
+            self.factorisations,
+            self.updates,
             self.refinement_steps,
-            self.describe_factor()
+            self.describe_factor(),
+            self.analysis.as_secs_f64() * 1e3,
+            self.factor_time.as_secs_f64() * 1e3,
         );
         outcome
     }
@@ -300,7 +406,7 @@ impl<'p> ActiveSet<'p> {
     /// * primal: y = λ⁺ / ‖λ⁺‖∞ with gᵀy < 0 and Bᵀy ≈ 0 — any feasible x would need
     ///   ‖x‖∞ ≥ −gᵀy / ‖Bᵀy‖₁, which must exceed 10⁸ times the problem's length scale and x;
     /// * dual: the rigid part r of x with fᵀr > 0 and B r ≤ 0 (see [`pushed_away`]).
-    fn certificate(&self, iterate: &Outcome, multipliers: &[f64]) -> Option<String> {
+    fn certificate(&self, iterate: &Outcome, multipliers: &[f64]) -> Option<(QpStatus, String)> {
         let p = self.problem;
         let size = multipliers.iter().fold(0.0_f64, |a, l| a.max(*l));
         if size > 0.0 && size.is_finite() {
@@ -309,14 +415,14 @@ impl<'p> ActiveSet<'p> {
             let bty: f64 = mat_t_vec(&p.constraints, &y).iter().map(|v| v.abs()).sum();
             let reach = self.scales.length.max(norm_inf(&iterate.x));
             if gy < 0.0 && -gy > 1e8 * reach * bty {
-                return Some(format!(
+                return Some((QpStatus::PrimalInfeasible, format!(
                     "primal infeasible: y ≥ 0 with gᵀy = {gy:.3e} and ‖Bᵀy‖₁ = {bty:.1e} (no x satisfies B x ≤ g)"
-                ));
+                )));
             }
         }
         let r = rigid_part(&p.kernel, &iterate.x)?;
         pushed_away(p, &r).map(|work| {
-            format!("dual infeasible: a rigid motion r with B r ≤ 0 and fᵀr = {work:.3e} ‖r‖∞ > 0 (a floating body is pushed away from every contact); the objective is unbounded below")
+            (QpStatus::DualInfeasible, format!("dual infeasible: a rigid motion r with B r ≤ 0 and fᵀr = {work:.3e} ‖r‖∞ > 0 (a floating body is pushed away from every contact); the objective is unbounded below"))
         })
     }
 }

@@ -3,6 +3,7 @@
 
 use signorini_core::qp::{dot, mat_vec, norm_inf, QpProblem};
 
+use crate::dense::DenseLu;
 use crate::error::PdasError;
 
 /// Relative size below which a direction counts as dependent on the others.
@@ -72,30 +73,8 @@ pub fn rigid_part(kernel: &[Vec<f64>], x: &[f64]) -> Option<Vec<f64>> {
             gram[i * k + j] = dot(&kernel[i], &kernel[j]);
         }
     }
-    // Gaussian elimination with partial pivoting on the small k × k system.
-    for col in 0..k {
-        let pivot = (col..k)
-            .max_by(|&a, &b| gram[a * k + col].abs().total_cmp(&gram[b * k + col].abs()))?;
-        if gram[pivot * k + col].abs() <= f64::MIN_POSITIVE {
-            return None;
-        }
-        for j in 0..k {
-            gram.swap(col * k + j, pivot * k + j);
-        }
-        rhs.swap(col, pivot);
-        for row in col + 1..k {
-            let factor = gram[row * k + col] / gram[col * k + col];
-            for j in col..k {
-                gram[row * k + j] -= factor * gram[col * k + j];
-            }
-            rhs[row] -= factor * rhs[col];
-        }
-    }
-    let mut alpha = vec![0.0; k];
-    for row in (0..k).rev() {
-        let tail: f64 = (row + 1..k).map(|j| gram[row * k + j] * alpha[j]).sum();
-        alpha[row] = (rhs[row] - tail) / gram[row * k + row];
-    }
+    DenseLu::new(gram, k)?.solve_in_place(&mut rhs);
+    let alpha = rhs;
     let mut r = vec![0.0; x.len()];
     for (v, a) in kernel.iter().zip(&alpha) {
         r.iter_mut().zip(v).for_each(|(ri, vi)| *ri += a * vi);

@@ -4,12 +4,14 @@
 
 mod active_set;
 mod backend;
+mod dense;
 mod error;
 mod factor;
 mod kernel;
 mod kkt;
 mod refine;
 mod settings;
+mod update;
 
 pub use backend::PdasBackend;
 pub use error::PdasError;

@@ -15,10 +15,10 @@ use std::time::Instant;
 
 use signorini_core::qp::{mat_t_vec, mat_vec, QpProblem, ResidualScales};
 
-use crate::factor::KktFactor;
+use crate::update::SetSolver;
 
 /// A residual below this (scaled as below) is at round-off level: refinement stops.
-const ROUND_OFF: f64 = 1e-15;
+pub const ROUND_OFF: f64 = 1e-15;
 
 /// A step must reduce the residual at least by this factor to count as progress.
 const PROGRESS: f64 = 0.5;
@@ -38,15 +38,23 @@ pub struct SetSolution {
     pub timed_out: bool,
 }
 
-/// Solves K z = [f; g_F] with the current factor and refines it (at most `max_steps` steps,
-/// none after `deadline`).
-pub fn solve_set(
+/// When refinement stops.
+#[derive(Debug, Clone, Copy)]
+pub struct Limits {
+    /// The most steps.
+    pub max_steps: usize,
+    /// Stop once the scaled residual is at most this.
+    pub target: f64,
+    /// No step after this instant.
+    pub deadline: Option<Instant>,
+}
+
+/// Solves K z = [f; g_F] with the current factor, without refinement.
+pub fn first_solve(
     problem: &QpProblem,
     scales: &ResidualScales,
     active: &[bool],
-    factor: &mut KktFactor,
-    max_steps: usize,
-    deadline: Option<Instant>,
+    solver: &mut SetSolver<'_>,
 ) -> SetSolution {
     let n = problem.dofs();
     let mut z: Vec<f64> = problem
@@ -61,22 +69,55 @@ pub fn solve_set(
                 .map(|(g, &on)| if on { *g } else { 0.0 }),
         )
         .collect();
-    factor.solve_in_place(&mut z);
+    solver.solve_in_place(&mut z);
     clear_inactive(&mut z[n..], active);
+    let (_, residual) = residual(problem, scales, active, &z);
+    let multipliers = z.split_off(n);
+    SetSolution {
+        x: z,
+        multipliers,
+        steps: 0,
+        residual,
+        timed_out: false,
+    }
+}
+
+/// Refines `solution` for the set `active` (at most `max_steps` steps, none after
+/// `deadline`) until its scaled residual is at most `target` or stops decreasing, keeping the
+/// best iterate.
+pub fn refine(
+    problem: &QpProblem,
+    scales: &ResidualScales,
+    active: &[bool],
+    solver: &mut SetSolver<'_>,
+    solution: &mut SetSolution,
+    limits: &Limits,
+) {
+    let Limits {
+        max_steps,
+        target,
+        deadline,
+    } = *limits;
+    let n = problem.dofs();
+    let mut z: Vec<f64> = solution
+        .x
+        .iter()
+        .chain(&solution.multipliers)
+        .copied()
+        .collect();
     let (mut r, mut norm) = residual(problem, scales, active, &z);
     let mut steps = 0;
-    let mut timed_out = false;
-    while steps < max_steps && norm > ROUND_OFF && norm.is_finite() {
+    while steps < max_steps && norm > target.max(ROUND_OFF) && norm.is_finite() {
         if deadline.is_some_and(|d| Instant::now() >= d) {
-            timed_out = true;
+            solution.timed_out = true;
             break;
         }
-        factor.solve_in_place(&mut r);
+        solver.solve_in_place(&mut r);
         clear_inactive(&mut r[n..], active);
         let candidate: Vec<f64> = z.iter().zip(&r).map(|(a, b)| a + b).collect();
         let (next_r, next_norm) = residual(problem, scales, active, &candidate);
         steps += 1;
-        if !(next_norm < norm) {
+        if next_norm.is_nan() || next_norm >= norm {
             break;
         }
         let progress = next_norm < PROGRESS * norm;
@@ -87,14 +128,10 @@ pub fn solve_set(
             break;
         }
     }
-    let multipliers = z.split_off(n);
-    SetSolution {
-        x: z,
-        multipliers,
-        steps,
-        residual: norm,
-        timed_out,
-    }
+    solution.multipliers = z.split_off(n);
+    solution.x = z;
+    solution.steps += steps;
+    solution.residual = norm;
 }
 
 fn clear_inactive(multipliers: &mut [f64], active: &[bool]) {

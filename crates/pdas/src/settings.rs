@@ -46,6 +46,15 @@ pub struct PdasSettings {
     /// The most refinement steps after each factorisation; refinement stops earlier as soon
     /// as the residual stops decreasing.  Default `30`.
     pub refinement_steps: usize,
+    /// Refinement also stops once the scaled residual of the KKT system (‖r_x‖∞ / F,
+    /// |r_λ,ᵢ| / Xᵢ) is at most `refinement_target` × `SolveOptions::tol` (and never goes on
+    /// below 1e-15, round-off).  Default `1e-3`: three digits beyond what the answer is judged by.
+    pub refinement_target: f64,
+    /// The most rows by which a set may differ from the factored one to be solved by a
+    /// low-rank update of that factor instead of a new factorisation (one extra solve per
+    /// changed row; used only when those solves are measured to be cheaper than a
+    /// factorisation).  `0` factorises every set.  Default `64`.
+    pub max_update_rank: usize,
 }
 
 impl Default for PdasSettings {
@@ -58,6 +67,8 @@ impl Default for PdasSettings {
             dual_regularization: 1e-10,
             primal_regularization: 1e-10,
             refinement_steps: 30,
+            refinement_target: 1e-3,
+            max_update_rank: 64,
         }
     }
 }
@@ -86,6 +97,9 @@ impl PdasSettings {
         }
         if !(positive(self.primal_regularization) && self.primal_regularization < 1.0) {
             return bad("primal_regularization", "must lie in (0, 1)");
+        }
+        if !(self.refinement_target >= 0.0 && self.refinement_target.is_finite()) {
+            return bad("refinement_target", "must be non-negative and finite");
         }
         Ok(())
     }

@@ -1,0 +1,194 @@
+//! Solving with the KKT matrix of a set F through the factor of an earlier set F_f, when the
+//! two differ in a few rows (low-rank update by block elimination, no new factorisation).
+//!
+//! K_F and K_f agree except in the multiplier rows and columns of S = F Δ F_f.  Split S into
+//! the rows removed (active in F_f, inactive in F) and added (the other way round); R is every
+//! other unknown.  Both matrices share the block K_RR, and
+//!
+//! * K_RR⁻¹ v comes from K_f: w = K_f⁻¹[v; 0] has nonzero multipliers on the removed rows,
+//!   which a correction along Y = K_f⁻¹ P (P the unit columns of the removed rows) cancels:
+//!   w ← w − Y (PᵀY)⁻¹ Pᵀ w.  (An added row is decoupled in K_f — its row is −λᵢ/s = 0 — so
+//!   its multiplier is zero in w already.)
+//! * The added rows a_j = [B_jᵀ; 0] enter through their Schur complement
+//!   C = −δI − A_aᵀ K_RR⁻¹ A_a, and for a right-hand side b:
+//!   w = K_RR⁻¹ b_R,  λ_a = C⁻¹(b_a − A_aᵀ w),  z_R = w − K_RR⁻¹ A_a λ_a, λ_removed = 0.
+//!
+//! Setting up costs one solve per changed row; every later solve one solve with K_f plus
+//! O((n + m)·|S|) dense work.  The answer is exact up to round-off (and is refined against the
+//! unregularised system like any other).
+
+use signorini_core::qp::QpProblem;
+
+use crate::dense::DenseLu;
+use crate::factor::KktFactor;
+
+/// The correction data for one set relative to the factored one.
+#[derive(Debug)]
+pub struct SetUpdate {
+    dofs: usize,
+    removed: Vec<usize>,
+    added: Vec<usize>,
+    /// K_f⁻¹ e_{n+i} for the removed rows i.
+    removal_columns: Vec<Vec<f64>>,
+    /// LU of PᵀY (removed × removed).
+    removal: Option<DenseLu>,
+    /// K_RR⁻¹ a_j for the added rows j.
+    added_columns: Vec<Vec<f64>>,
+    /// B rows of the added rows as (column, value) lists.
+    added_rows: Vec<Vec<(usize, f64)>>,
+    /// LU of the Schur complement C (added × added).
+    schur: Option<DenseLu>,
+}
+
+impl SetUpdate {
+    /// Prepares the update from the factored set `factored` to `active`; `None` when a small
+    /// dense system is singular (then the set is factorised instead).
+    pub fn new(
+        problem: &QpProblem,
+        factor: &mut KktFactor,
+        factored: &[bool],
+        active: &[bool],
+        delta: f64,
+    ) -> Option<Self> {
+        let n = problem.dofs();
+        let dim = n + problem.rows();
+        let removed: Vec<usize> = (0..active.len())
+            .filter(|&i| factored[i] && !active[i])
+            .collect();
+        let added: Vec<usize> = (0..active.len())
+            .filter(|&i| !factored[i] && active[i])
+            .collect();
+        let removal_columns: Vec<Vec<f64>> = removed
+            .iter()
+            .map(|&i| {
+                let mut e = vec![0.0; dim];
+                e[n + i] = 1.0;
+                factor.solve_in_place(&mut e);
+                e
+            })
+            .collect();
+        let kr = removed.len();
+        let removal = if kr > 0 {
+            let mut cap = vec![0.0; kr * kr];
+            for (a, &i) in removed.iter().enumerate() {
+                for (b, column) in removal_columns.iter().enumerate() {
+                    cap[a * kr + b] = column[n + i];
+                }
+            }
+            Some(DenseLu::new(cap, kr)?)
+        } else {
+            None
+        };
+        let mut update = Self {
+            dofs: n,
+            removed,
+            added: Vec::new(),
+            removal_columns,
+            removal,
+            added_columns: Vec::new(),
+            added_rows: Vec::new(),
+            schur: None,
+        };
+        let rows = problem.constraints.to_csr();
+        let added_rows: Vec<Vec<(usize, f64)>> = added
+            .iter()
+            .map(|&i| {
+                rows.outer_view(i)
+                    .map(|r| r.iter().map(|(j, v)| (j, *v)).collect())
+                    .unwrap_or_default()
+            })
+            .collect();
+        let added_columns: Vec<Vec<f64>> = added_rows
+            .iter()
+            .map(|row| {
+                let mut a = vec![0.0; dim];
+                for &(j, v) in row {
+                    a[j] = v;
+                }
+                update.rr_solve(factor, &mut a);
+                a
+            })
+            .collect();
+        let ka = added.len();
+        if ka > 0 {
+            let mut schur = vec![0.0; ka * ka];
+            for (a, row) in added_rows.iter().enumerate() {
+                for (b, column) in added_columns.iter().enumerate() {
+                    let product: f64 = row.iter().map(|&(j, v)| v * column[j]).sum();
+                    schur[a * ka + b] = -product - if a == b { delta } else { 0.0 };
+                }
+            }
+            update.schur = Some(DenseLu::new(schur, ka)?);
+        }
+        update.added = added;
+        update.added_rows = added_rows;
+        update.added_columns = added_columns;
+        Some(update)
+    }
+
+    /// Rows that differ from the factored set.
+    pub fn rank(&self) -> usize {
+        self.removed.len() + self.added.len()
+    }
+
+    /// v ← K_RR⁻¹ v for v that is zero on every changed row.
+    fn rr_solve(&self, factor: &mut KktFactor, v: &mut [f64]) {
+        factor.solve_in_place(v);
+        if let Some(lu) = &self.removal {
+            let n = self.dofs;
+            let mut t: Vec<f64> = self.removed.iter().map(|&i| v[n + i]).collect();
+            lu.solve_in_place(&mut t);
+            for (column, tj) in self.removal_columns.iter().zip(&t) {
+                v.iter_mut().zip(column).for_each(|(vi, ci)| *vi -= tj * ci);
+            }
+            for &i in &self.removed {
+                v[n + i] = 0.0;
+            }
+        }
+    }
+
+    /// rhs ← K_F⁻¹ rhs for the updated set F.
+    pub fn solve_in_place(&self, factor: &mut KktFactor, rhs: &mut [f64]) {
+        let n = self.dofs;
+        let b_added: Vec<f64> = self.added.iter().map(|&i| rhs[n + i]).collect();
+        for &i in self.removed.iter().chain(&self.added) {
+            rhs[n + i] = 0.0;
+        }
+        self.rr_solve(factor, rhs);
+        if let Some(lu) = &self.schur {
+            let mut lambda: Vec<f64> = self
+                .added_rows
+                .iter()
+                .zip(&b_added)
+                .map(|(row, b)| b - row.iter().map(|&(j, v)| v * rhs[j]).sum::<f64>())
+                .collect();
+            lu.solve_in_place(&mut lambda);
+            for (column, l) in self.added_columns.iter().zip(&lambda) {
+                rhs.iter_mut().zip(column).for_each(|(r, c)| *r -= l * c);
+            }
+            for (&i, l) in self.added.iter().zip(&lambda) {
+                rhs[n + i] = *l;
+            }
+        }
+    }
+}
+
+/// Solves with the KKT matrix of the current set: the factor itself, or the factor of an
+/// earlier set and a [`SetUpdate`].
+#[derive(Debug)]
+pub struct SetSolver<'a> {
+    /// The numeric factor.
+    pub factor: &'a mut KktFactor,
+    /// The correction when the factored set is not the current one.
+    pub update: Option<&'a SetUpdate>,
+}
+
+impl SetSolver<'_> {
+    /// rhs ← K_F⁻¹ rhs.
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        match self.update {
+            Some(update) => update.solve_in_place(self.factor, rhs),
+            None => self.factor.solve_in_place(rhs),
+        }
+    }
+}
