@@ -12,7 +12,8 @@ pub enum StartSet {
     /// No row: the first factorisation gives the unconstrained solution, the second starts from
     /// the rows it violates (the textbook start).
     Empty,
-    /// Every row.
+    /// Every row: the bodies glued along the whole interface, the rows in tension dropped
+    /// next.  Holds every rigid mode of a floating body from the first factorisation.
     All,
 }
 
@@ -28,7 +29,7 @@ pub struct PdasSettings {
     /// Default `1.0`.  (The rule only compares c (Bx − g)ᵢ with 0 off the set and λᵢ with 0
     /// on it, so c matters only for the rows whose status changes in both ways at once.)
     pub penalty: f64,
-    /// The first active set.  Default [`StartSet::ClosedGaps`] (see the crate docs for the
+    /// The first active set.  Default [`StartSet::All`] (see the crate docs for the
     /// measurements behind the choice).
     pub start: StartSet,
     /// A gap counts as closed for [`StartSet::ClosedGaps`] when gᵢ ≤ `closed_gap` · Xᵢ.
@@ -62,7 +63,7 @@ impl Default for PdasSettings {
         Self {
             max_iter: 100,
             penalty: 1.0,
-            start: StartSet::ClosedGaps,
+            start: StartSet::All,
             closed_gap: 1e-9,
             dual_regularization: 1e-10,
             primal_regularization: 1e-10,
