@@ -16,11 +16,15 @@ const KERNEL_RESIDUAL: f64 = 1e-8;
 pub fn check_kernel(problem: &QpProblem) -> Result<(), PdasError> {
     let a_max = norm_inf(problem.stiffness.data());
     for (index, r) in problem.kernel.iter().enumerate() {
-        let scale = a_max * norm_inf(r);
-        let residual = if scale > 0.0 {
-            norm_inf(&mat_vec(&problem.stiffness, r)) / scale
-        } else {
+        let size = norm_inf(r);
+        let residual = if size == 0.0 {
+            // The zero vector spans nothing.
             f64::INFINITY
+        } else if a_max == 0.0 {
+            // A = 0: every vector is in its kernel.
+            0.0
+        } else {
+            norm_inf(&mat_vec(&problem.stiffness, r)) / (a_max * size)
         };
         if residual.is_nan() || residual > KERNEL_RESIDUAL {
             return Err(PdasError::NotAKernelVector { index, residual });
