@@ -13,12 +13,12 @@
 
 use std::time::Instant;
 
-use signorini_core::qp::{mat_t_vec, mat_vec, QpProblem, ResidualScales};
+use signorini_core::qp::{CscMatrix, QpProblem, ResidualScales};
 
 use crate::update::SetSolver;
 
-/// A residual below this (scaled as below) is at round-off level: refinement stops.
-pub const ROUND_OFF: f64 = 1e-15;
+/// Refinement stops once the residual is within this multiple of the round-off in forming it.
+const ROUND_OFF_MULTIPLE: f64 = 4.0;
 
 /// A step must reduce the residual at least by this factor to count as progress.
 const PROGRESS: f64 = 0.5;
@@ -71,7 +71,7 @@ pub fn first_solve(
         .collect();
     solver.solve_in_place(&mut z);
     clear_inactive(&mut z[n..], active);
-    let (_, residual) = residual(problem, scales, active, &z);
+    let residual = residual(problem, scales, active, &z).norm;
     let multipliers = z.split_off(n);
     SetSolution {
         x: z,
@@ -105,9 +105,12 @@ pub fn refine(
         .chain(&solution.multipliers)
         .copied()
         .collect();
-    let (mut r, mut norm) = residual(problem, scales, active, &z);
+    let first = residual(problem, scales, active, &z);
+    let (mut r, mut norm) = (first.vector, first.norm);
+    // Refinement cannot beat the round-off of its own residual: stop within a small multiple.
+    let floor = ROUND_OFF_MULTIPLE * first.round_off;
     let mut steps = 0;
-    while steps < max_steps && norm > target.max(ROUND_OFF) && norm.is_finite() {
+    while steps < max_steps && norm > target.max(floor) && norm.is_finite() {
         if deadline.is_some_and(|d| Instant::now() >= d) {
             solution.timed_out = true;
             break;
@@ -115,7 +118,8 @@ pub fn refine(
         solver.solve_in_place(&mut r);
         clear_inactive(&mut r[n..], active);
         let candidate: Vec<f64> = z.iter().zip(&r).map(|(a, b)| a + b).collect();
-        let (next_r, next_norm) = residual(problem, scales, active, &candidate);
+        let next = residual(problem, scales, active, &candidate);
+        let (next_r, next_norm) = (next.vector, next.norm);
         steps += 1;
         if next_norm.is_nan() || next_norm >= norm {
             break;
@@ -142,32 +146,82 @@ fn clear_inactive(multipliers: &mut [f64], active: &[bool]) {
         .for_each(|(l, _)| *l = 0.0);
 }
 
-/// The unregularised KKT residual [r_x; r_λ] of z = [x; λ] and its scaled size.
-fn residual(
-    problem: &QpProblem,
-    scales: &ResidualScales,
-    active: &[bool],
-    z: &[f64],
-) -> (Vec<f64>, f64) {
-    let n = problem.dofs();
-    let (x, multipliers) = z.split_at(n);
-    let ax = mat_vec(&problem.stiffness, x);
-    let btl = mat_t_vec(&problem.constraints, multipliers);
-    let bx = mat_vec(&problem.constraints, x);
-    let mut r = Vec::with_capacity(z.len());
-    let mut norm = 0.0_f64;
-    for ((f, a), b) in problem.load.iter().zip(&ax).zip(&btl) {
-        let v = f - a - b;
-        norm = norm.max(v.abs() / scales.force);
-        r.push(v);
+/// The unregularised KKT residual of z = [x; λ] and its size.
+struct Residual {
+    /// [r_x; r_λ].
+    vector: Vec<f64>,
+    /// max(‖r_x‖∞ / F, maxᵢ |r_λ,ᵢ| / Xᵢ).
+    norm: f64,
+    /// The same measure of the round-off in forming it, ε (|A||x| + |B|ᵀ|λ| + |f|) and
+    /// ε (|B||x| + |g|): no refinement can go much below it.
+    round_off: f64,
+}
+
+/// y += M v and |y| += |M| |v| for a CSC matrix, in one pass.
+fn mat_vec_abs(m: &CscMatrix, v: &[f64], y: &mut [f64], y_abs: &mut [f64]) {
+    for (j, col) in m.outer_iterator().enumerate() {
+        let vj = v[j];
+        if vj != 0.0 {
+            for (i, a) in col.iter() {
+                y[i] += a * vj;
+                y_abs[i] += (a * vj).abs();
+            }
+        }
     }
-    for (((g, b), &on), xi) in problem.gap.iter().zip(&bx).zip(active).zip(&scales.rows) {
+}
+
+/// y += Mᵀ v and |y| += |M|ᵀ |v| for a CSC matrix, in one pass.
+fn mat_t_vec_abs(m: &CscMatrix, v: &[f64], y: &mut [f64], y_abs: &mut [f64]) {
+    for ((col, yj), yj_abs) in m.outer_iterator().zip(y.iter_mut()).zip(y_abs.iter_mut()) {
+        for (i, a) in col.iter() {
+            *yj += a * v[i];
+            *yj_abs += (a * v[i]).abs();
+        }
+    }
+}
+
+fn residual(problem: &QpProblem, scales: &ResidualScales, active: &[bool], z: &[f64]) -> Residual {
+    let n = problem.dofs();
+    let m = problem.rows();
+    let (x, multipliers) = z.split_at(n);
+    let mut ax = vec![0.0; n];
+    let mut ax_abs = vec![0.0; n];
+    mat_vec_abs(&problem.stiffness, x, &mut ax, &mut ax_abs);
+    mat_t_vec_abs(&problem.constraints, multipliers, &mut ax, &mut ax_abs);
+    let mut bx = vec![0.0; m];
+    let mut bx_abs = vec![0.0; m];
+    mat_vec_abs(&problem.constraints, x, &mut bx, &mut bx_abs);
+    let mut vector = Vec::with_capacity(z.len());
+    let mut norm = 0.0_f64;
+    let mut round_off = 0.0_f64;
+    for ((f, a), a_abs) in problem.load.iter().zip(&ax).zip(&ax_abs) {
+        let v = f - a;
+        norm = norm.max(v.abs() / scales.force);
+        round_off = round_off.max((a_abs + f.abs()) / scales.force);
+        vector.push(v);
+    }
+    for ((((g, b), b_abs), &on), xi) in problem
+        .gap
+        .iter()
+        .zip(&bx)
+        .zip(&bx_abs)
+        .zip(active)
+        .zip(&scales.rows)
+    {
+        let scale = xi.max(f64::MIN_POSITIVE);
         let v = if on { g - b } else { 0.0 };
-        norm = norm.max(v.abs() / xi.max(f64::MIN_POSITIVE));
-        r.push(v);
+        norm = norm.max(v.abs() / scale);
+        if on {
+            round_off = round_off.max((b_abs + g.abs()) / scale);
+        }
+        vector.push(v);
     }
     if !norm.is_finite() {
         norm = f64::INFINITY;
     }
-    (r, norm)
+    Residual {
+        vector,
+        norm,
+        round_off: f64::EPSILON * round_off,
+    }
 }
