@@ -23,7 +23,7 @@ use crate::kernel::{pushed_away, rigid_part};
 use crate::kkt::KktMatrix;
 use crate::refine::{first_solve, refine, Limits, SetSolution};
 use crate::settings::{PdasSettings, StartSet};
-use crate::update::{SetSolver, SetUpdate};
+use crate::update::{ColumnCache, SetSolver, SetUpdate};
 
 /// What the iteration hands back to the backend.
 #[derive(Debug, Clone)]
@@ -49,6 +49,8 @@ pub struct ActiveSet<'p> {
     scales: ResidualScales,
     kkt: KktMatrix,
     factor: KktFactor,
+    /// Solves with the current factor kept for low-rank updates.
+    cache: ColumnCache,
     /// Mean |Aⱼⱼ|, the stiffness unit the relative settings refer to.
     stiffness: f64,
     refinement_steps: usize,
@@ -65,6 +67,8 @@ pub struct ActiveSet<'p> {
 struct Timing {
     factor: Duration,
     solve: Duration,
+    /// One column of a batched solve.
+    column: Duration,
 }
 
 impl<'p> ActiveSet<'p> {
@@ -105,6 +109,7 @@ impl<'p> ActiveSet<'p> {
             scales: ResidualScales::of(problem),
             kkt,
             factor,
+            cache: ColumnCache::default(),
             stiffness,
             refinement_steps: 0,
             factorisations: 0,
@@ -192,10 +197,20 @@ impl<'p> ActiveSet<'p> {
     /// Whether to reach `active` from the factored set by a low-rank update rather than a
     /// factorisation: few changed rows, and their solves cheaper than a factorisation.
     fn prefer_update(&self, factored: &[bool], active: &[bool], timing: &Timing) -> bool {
-        let rank = factored.iter().zip(active).filter(|(a, b)| a != b).count();
+        let (rank, missing) = self.cache.need(factored, active);
+        let dim = self.kkt.dim() as f64;
+        // Memory: the stored columns never outgrow the factor itself.
+        let fits = ((self.cache.len() + missing) as f64) * dim <= self.factor.nnz_l() as f64;
+        // Time: the missing columns (one batched solve), then the solves of the iteration
+        // (one, and one or two of refinement once the set settles: two on average) with the
+        // correction of `rank` dense columns each, against a factorisation and plain solves.
+        let solve = timing.solve.as_secs_f64();
+        let cost =
+            missing as f64 * timing.column.as_secs_f64() + 2.0 * (solve + rank as f64 * dim * 1e-9);
         rank > 0
             && rank <= self.settings.max_update_rank
-            && (rank as f64 + 4.0) * timing.solve.as_secs_f64() < timing.factor.as_secs_f64()
+            && fits
+            && cost < timing.factor.as_secs_f64() + 2.0 * solve
     }
 
     /// Runs the iteration.
@@ -230,7 +245,24 @@ impl<'p> ActiveSet<'p> {
             let delta = self.delta();
             let update = match &factored {
                 Some(f) if !force_factor && self.prefer_update(f, &active, &timing) => {
-                    SetUpdate::new(p, &mut self.factor, f, &active, delta)
+                    let (_, missing) = self.cache.need(f, &active);
+                    let clock = Instant::now();
+                    let update =
+                        SetUpdate::new(p, &mut self.factor, &mut self.cache, f, &active, delta);
+                    if missing > 0 {
+                        timing.column = clock.elapsed() / missing as u32;
+                    }
+                    match update {
+                        Ok(update) => update,
+                        Err(e) => {
+                            return self.finish(
+                                best,
+                                QpStatus::NumericalError,
+                                iteration - 1,
+                                e.to_string(),
+                            )
+                        }
+                    }
                 }
                 _ => None,
             };
@@ -238,7 +270,10 @@ impl<'p> ActiveSet<'p> {
             force_factor = false;
             if fresh {
                 match self.factorise(&active) {
-                    Ok(t) => timing.factor = t,
+                    Ok(t) => {
+                        timing.factor = t;
+                        self.cache.clear();
+                    }
                     Err(e) => {
                         return self.finish(
                             best,
@@ -262,6 +297,10 @@ impl<'p> ActiveSet<'p> {
             let mut solution = first_solve(p, &self.scales, &active, &mut solver);
             if fresh {
                 timing.solve = clock.elapsed();
+                if timing.column.is_zero() {
+                    // Until a batch is measured: a column of a batched solve at half a solve.
+                    timing.column = timing.solve / 2;
+                }
             }
             let mut next = self.next_set(&solution);
             let mut solver = SetSolver {

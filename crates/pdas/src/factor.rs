@@ -126,6 +126,27 @@ impl KktFactor {
             .map_err(|e| PdasError::Numeric(format!("{e:?}")))
     }
 
+    /// Overwrites the column-major (n + m) × k block `rhs` with K⁻¹ rhs (k = rhs.len() / (n + m)),
+    /// one supernodal sweep for all k columns.
+    pub fn solve_many_in_place(&mut self, rhs: &mut [f64]) -> Result<(), PdasError> {
+        let dim = self.signs.len();
+        if dim == 0 || rhs.is_empty() {
+            return Ok(());
+        }
+        let k = rhs.len() / dim;
+        let mut buffer =
+            MemBuffer::try_new(self.symbolic.solve_in_place_scratch::<f64>(k, Par::Seq))
+                .map_err(|e| PdasError::Numeric(format!("{e:?}")))?;
+        let ldlt = LdltRef::new(&self.symbolic, &self.values);
+        ldlt.solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(rhs, dim, k),
+            Par::Seq,
+            MemStack::new(&mut buffer),
+        );
+        Ok(())
+    }
+
     /// Overwrites `rhs` (length n + m) with K⁻¹ rhs for the last factorised K.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
         let dim = self.signs.len();

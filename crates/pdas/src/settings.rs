@@ -56,8 +56,9 @@ pub struct PdasSettings {
     pub refinement_target: f64,
     /// The most rows by which a set may differ from the factored one to be solved by a
     /// low-rank update of that factor instead of a new factorisation (one extra solve per
-    /// changed row; used only when those solves are measured to be cheaper than a
-    /// factorisation).  `0` factorises every set.  Default `64`.
+    /// changed row, batched and kept until the next factorisation; used only when those
+    /// solves are measured to be cheaper than a factorisation and the kept columns take no
+    /// more memory than the factor).  `0` factorises every set.  Default `256`.
     pub max_update_rank: usize,
 }
 
@@ -72,7 +73,7 @@ impl Default for PdasSettings {
             primal_regularization: 1e-10,
             refinement_steps: 30,
             refinement_target: 1e-3,
-            max_update_rank: 64,
+            max_update_rank: 256,
         }
     }
 }

@@ -17,10 +17,52 @@
 //! O((n + m)·|S|) dense work.  The answer is exact up to round-off (and is refined against the
 //! unregularised system like any other).
 
+use std::collections::HashMap;
+use std::sync::Arc;
+
 use signorini_core::qp::QpProblem;
 
 use crate::dense::DenseLu;
+use crate::error::PdasError;
 use crate::factor::KktFactor;
+
+/// Solves with the factor of the factored set, kept until the next factorisation:
+/// K_f⁻¹ e_{n+i} for rows removed since, K_f⁻¹ [B_jᵀ; 0] for rows added since.  A row that
+/// stays removed (or added) over several iterations costs one solve, not one per iteration.
+#[derive(Debug, Default)]
+pub struct ColumnCache {
+    removal: HashMap<usize, Arc<Vec<f64>>>,
+    added: HashMap<usize, Arc<Vec<f64>>>,
+}
+
+impl ColumnCache {
+    /// Forgets every column (the factor changed).
+    pub fn clear(&mut self) {
+        self.removal.clear();
+        self.added.clear();
+    }
+
+    /// Columns stored.
+    pub fn len(&self) -> usize {
+        self.removal.len() + self.added.len()
+    }
+
+    /// (rows that differ from the factored set, columns not stored yet) for `active`.
+    pub fn need(&self, factored: &[bool], active: &[bool]) -> (usize, usize) {
+        let mut rank = 0;
+        let mut missing = 0;
+        for (i, (&f, &a)) in factored.iter().zip(active).enumerate() {
+            if f && !a {
+                rank += 1;
+                missing += usize::from(!self.removal.contains_key(&i));
+            } else if a && !f {
+                rank += 1;
+                missing += usize::from(!self.added.contains_key(&i));
+            }
+        }
+        (rank, missing)
+    }
+}
 
 /// The correction data for one set relative to the factored one.
 #[derive(Debug)]
@@ -29,7 +71,7 @@ pub struct SetUpdate {
     removed: Vec<usize>,
     added: Vec<usize>,
     /// K_f⁻¹ e_{n+i} for the removed rows i.
-    removal_columns: Vec<Vec<f64>>,
+    removal_columns: Vec<Arc<Vec<f64>>>,
     /// LU of PᵀY (removed × removed).
     removal: Option<DenseLu>,
     /// K_RR⁻¹ a_j for the added rows j.
@@ -41,15 +83,17 @@ pub struct SetUpdate {
 }
 
 impl SetUpdate {
-    /// Prepares the update from the factored set `factored` to `active`; `None` when a small
-    /// dense system is singular (then the set is factorised instead).
+    /// Prepares the update from the factored set `factored` to `active`, solving (in one
+    /// batch) for the columns `cache` does not hold yet; `Ok(None)` when a small dense system
+    /// is singular (then the set is factorised instead).
     pub fn new(
         problem: &QpProblem,
         factor: &mut KktFactor,
+        cache: &mut ColumnCache,
         factored: &[bool],
         active: &[bool],
         delta: f64,
-    ) -> Option<Self> {
+    ) -> Result<Option<Self>, PdasError> {
         let n = problem.dofs();
         let dim = n + problem.rows();
         let removed: Vec<usize> = (0..active.len())
@@ -58,16 +102,57 @@ impl SetUpdate {
         let added: Vec<usize> = (0..active.len())
             .filter(|&i| !factored[i] && active[i])
             .collect();
-        let removal_columns: Vec<Vec<f64>> = removed
+        let rows = problem.constraints.to_csr();
+        let added_rows: Vec<Vec<(usize, f64)>> = added
             .iter()
             .map(|&i| {
-                let mut e = vec![0.0; dim];
-                e[n + i] = 1.0;
-                factor.solve_in_place(&mut e);
-                e
+                rows.outer_view(i)
+                    .map(|r| r.iter().map(|(j, v)| (j, *v)).collect())
+                    .unwrap_or_default()
             })
             .collect();
+        // One batched solve for every missing column.
+        let missing_removed: Vec<usize> = removed
+            .iter()
+            .copied()
+            .filter(|i| !cache.removal.contains_key(i))
+            .collect();
+        let missing_added: Vec<usize> = (0..added.len())
+            .filter(|&a| !cache.added.contains_key(&added[a]))
+            .collect();
+        let batch = missing_removed.len() + missing_added.len();
+        if batch > 0 {
+            let mut block = vec![0.0; dim * batch];
+            for (c, &i) in missing_removed.iter().enumerate() {
+                block[c * dim + n + i] = 1.0;
+            }
+            for (c, &a) in missing_added.iter().enumerate() {
+                let column = &mut block[(missing_removed.len() + c) * dim..];
+                for &(j, v) in &added_rows[a] {
+                    column[j] = v;
+                }
+            }
+            factor.solve_many_in_place(&mut block)?;
+            let mut columns = block.chunks_exact(dim).map(|c| Arc::new(c.to_vec()));
+            for &i in &missing_removed {
+                if let Some(c) = columns.next() {
+                    cache.removal.insert(i, c);
+                }
+            }
+            for &a in &missing_added {
+                if let Some(c) = columns.next() {
+                    cache.added.insert(added[a], c);
+                }
+            }
+        }
+        let removal_columns: Vec<Arc<Vec<f64>>> = removed
+            .iter()
+            .filter_map(|i| cache.removal.get(i).cloned())
+            .collect();
         let kr = removed.len();
+        if removal_columns.len() != kr {
+            return Ok(None);
+        }
         let removal = if kr > 0 {
             let mut cap = vec![0.0; kr * kr];
             for (a, &i) in removed.iter().enumerate() {
@@ -75,7 +160,10 @@ impl SetUpdate {
                     cap[a * kr + b] = column[n + i];
                 }
             }
-            Some(DenseLu::new(cap, kr)?)
+            match DenseLu::new(cap, kr) {
+                Some(lu) => Some(lu),
+                None => return Ok(None),
+            }
         } else {
             None
         };
@@ -89,26 +177,15 @@ impl SetUpdate {
             added_rows: Vec::new(),
             schur: None,
         };
-        let rows = problem.constraints.to_csr();
-        let added_rows: Vec<Vec<(usize, f64)>> = added
-            .iter()
-            .map(|&i| {
-                rows.outer_view(i)
-                    .map(|r| r.iter().map(|(j, v)| (j, *v)).collect())
-                    .unwrap_or_default()
-            })
-            .collect();
-        let added_columns: Vec<Vec<f64>> = added_rows
-            .iter()
-            .map(|row| {
-                let mut a = vec![0.0; dim];
-                for &(j, v) in row {
-                    a[j] = v;
-                }
-                update.rr_solve(factor, &mut a);
-                a
-            })
-            .collect();
+        let mut added_columns = Vec::with_capacity(added.len());
+        for i in &added {
+            let Some(raw) = cache.added.get(i) else {
+                return Ok(None);
+            };
+            let mut column = raw.as_ref().clone();
+            update.correct_removed(&mut column);
+            added_columns.push(column);
+        }
         let ka = added.len();
         if ka > 0 {
             let mut schur = vec![0.0; ka * ka];
@@ -118,12 +195,15 @@ impl SetUpdate {
                     schur[a * ka + b] = -product - if a == b { delta } else { 0.0 };
                 }
             }
-            update.schur = Some(DenseLu::new(schur, ka)?);
+            match DenseLu::new(schur, ka) {
+                Some(lu) => update.schur = Some(lu),
+                None => return Ok(None),
+            }
         }
         update.added = added;
         update.added_rows = added_rows;
         update.added_columns = added_columns;
-        Some(update)
+        Ok(Some(update))
     }
 
     /// Rows that differ from the factored set.
@@ -131,20 +211,27 @@ impl SetUpdate {
         self.removed.len() + self.added.len()
     }
 
-    /// v ← K_RR⁻¹ v for v that is zero on every changed row.
-    fn rr_solve(&self, factor: &mut KktFactor, v: &mut [f64]) {
-        factor.solve_in_place(v);
+    /// w ← w − Y (PᵀY)⁻¹ Pᵀ w: turns K_f⁻¹[v; 0] into K_RR⁻¹ v.
+    fn correct_removed(&self, v: &mut [f64]) {
         if let Some(lu) = &self.removal {
             let n = self.dofs;
             let mut t: Vec<f64> = self.removed.iter().map(|&i| v[n + i]).collect();
             lu.solve_in_place(&mut t);
             for (column, tj) in self.removal_columns.iter().zip(&t) {
-                v.iter_mut().zip(column).for_each(|(vi, ci)| *vi -= tj * ci);
+                v.iter_mut()
+                    .zip(column.iter())
+                    .for_each(|(vi, ci)| *vi -= tj * ci);
             }
             for &i in &self.removed {
                 v[n + i] = 0.0;
             }
         }
+    }
+
+    /// v ← K_RR⁻¹ v for v that is zero on every changed row.
+    fn rr_solve(&self, factor: &mut KktFactor, v: &mut [f64]) {
+        factor.solve_in_place(v);
+        self.correct_removed(v);
     }
 
     /// rhs ← K_F⁻¹ rhs for the updated set F.
@@ -221,7 +308,11 @@ mod tests {
         let mut old = KktFactor::analyse(kkt.matrix(), n).unwrap();
         kkt.set_values(&factored, 0.0, delta, inactive);
         old.factor(kkt.matrix(), 1e-20, 1e-17).unwrap();
-        let update = SetUpdate::new(&p, &mut old, &factored, &active, delta).unwrap();
+        let mut cache = ColumnCache::default();
+        let update = SetUpdate::new(&p, &mut old, &mut cache, &factored, &active, delta)
+            .unwrap()
+            .unwrap();
+        assert_eq!(cache.len(), 6);
         assert_eq!(update.rank(), 6);
         let mut fresh = KktFactor::analyse(kkt.matrix(), n).unwrap();
         kkt.set_values(&active, 0.0, delta, inactive);
