@@ -294,7 +294,7 @@ impl<'p> ActiveSet<'p> {
                 update: update.as_ref(),
             };
             let clock = Instant::now();
-            let mut solution = first_solve(p, &self.scales, &active, &mut solver);
+            let mut solution = first_solve(p, &active, &mut solver);
             if fresh {
                 timing.solve = clock.elapsed();
                 if timing.column.is_zero() {

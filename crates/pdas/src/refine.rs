@@ -32,7 +32,7 @@ pub struct SetSolution {
     pub multipliers: Vec<f64>,
     /// Refinement steps taken (solves after the first).
     pub steps: usize,
-    /// The final scaled residual max(‖r_x‖∞ / F, maxᵢ |r_λ,ᵢ| / Xᵢ).
+    /// The final scaled residual max(‖r_x‖∞ / F, maxᵢ |r_λ,ᵢ| / Xᵢ) (NaN until refined).
     pub residual: f64,
     /// True when a time limit interrupted the refinement.
     pub timed_out: bool,
@@ -52,7 +52,6 @@ pub struct Limits {
 /// Solves K z = [f; g_F] with the current factor, without refinement.
 pub fn first_solve(
     problem: &QpProblem,
-    scales: &ResidualScales,
     active: &[bool],
     solver: &mut SetSolver<'_>,
 ) -> SetSolution {
@@ -71,13 +70,13 @@ pub fn first_solve(
         .collect();
     solver.solve_in_place(&mut z);
     clear_inactive(&mut z[n..], active);
-    let residual = residual(problem, scales, active, &z).norm;
     let multipliers = z.split_off(n);
     SetSolution {
         x: z,
         multipliers,
         steps: 0,
-        residual,
+        // Measured by `refine` when the set is kept; an iterate about to be left is not.
+        residual: f64::NAN,
         timed_out: false,
     }
 }

@@ -171,3 +171,18 @@ fn the_message_names_the_ordering_and_the_factor_size() {
         "{message}"
     );
 }
+
+#[test]
+fn verbose_prints_and_solves_the_same() {
+    let options = SolveOptions {
+        verbose: true,
+        tol: TOL,
+        ..SolveOptions::default()
+    };
+    let known = spring_chain();
+    let sol = PdasBackend::default()
+        .solve(&known.problem, &options)
+        .unwrap();
+    assert_eq!(sol.status, QpStatus::Solved);
+    assert!(known.mismatch(&sol.x, &sol.multipliers, 1e-9).is_none());
+}
