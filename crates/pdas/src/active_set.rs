@@ -199,8 +199,12 @@ impl<'p> ActiveSet<'p> {
     fn prefer_update(&self, factored: &[bool], active: &[bool], timing: &Timing) -> bool {
         let (rank, missing) = self.cache.need(factored, active);
         let dim = self.kkt.dim() as f64;
-        // Memory: the stored columns never outgrow the factor itself.
-        let fits = ((self.cache.len() + missing) as f64) * dim <= self.factor.nnz_l() as f64;
+        // Memory: the stored columns never outgrow the factor itself, nor half of what the
+        // machine has left.
+        let new_bytes = missing as f64 * dim * 8.0;
+        let fits = ((self.cache.len() + missing) as f64) * dim <= self.factor.nnz_l() as f64
+            && signorini_core::memory::available_bytes()
+                .is_none_or(|free| new_bytes <= 0.5 * free as f64);
         // Time: the missing columns (one batched solve), then the solves of the iteration
         // (one, and one or two of refinement once the set settles: two on average) with the
         // correction of `rank` dense columns each, against a factorisation and plain solves.
@@ -379,6 +383,11 @@ impl<'p> ActiveSet<'p> {
                 continue;
             }
             let cycling = !stalled && seen.contains(&next);
+            if cycling && update.is_some() {
+                // As for a settled set: judge a cycle only on a factorised set.
+                force_factor = true;
+                continue;
+            }
             if stalled || cycling || solution.timed_out || iteration == max_iter {
                 if let Some((status, message)) = self.certificate(&candidate, &solution.multipliers)
                 {
