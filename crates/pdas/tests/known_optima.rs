@@ -186,3 +186,22 @@ fn verbose_prints_and_solves_the_same() {
     assert_eq!(sol.status, QpStatus::Solved);
     assert!(known.mismatch(&sol.x, &sol.multipliers, 1e-9).is_none());
 }
+
+#[test]
+fn updates_and_factorisations_reach_the_same_answer() {
+    // A 1-D chain with 40 obstacle rows, most of them active: several active-set steps.
+    // Both runs end on the same set with refined solves, so they agree to about
+    // cond · ε ≈ (2000²) · 1e-16 ≈ 4e-10 relative; 1e-8 leaves room.
+    let p = signorini_core::examples::laplacian_with_bounds(2000, 40);
+    let (a, status_a) = solve(&p, 1e-10);
+    let no_updates = PdasSettings {
+        max_update_rank: 0,
+        ..Default::default()
+    };
+    let (b, status_b) = solve_with(no_updates, &p, 1e-10);
+    assert_eq!(status_a, QpStatus::Solved, "{:?}", a.message);
+    assert_eq!(status_b, QpStatus::Solved, "{:?}", b.message);
+    assert!(b.message.unwrap().contains(" 0 low-rank updates"));
+    assert!(common::rel_diff(&a.x, &b.x) < 1e-8);
+    assert!(common::rel_diff(&a.multipliers, &b.multipliers) < 1e-8);
+}
