@@ -34,7 +34,7 @@
 //! Dᵢᵢ = δ = 10⁻⁸/s.  K is then quasi-definite (A + ρI positive definite, −D negative
 //! definite), so an LDLᵀ factorisation without pivoting exists in any symmetric ordering: one
 //! fill-reducing ordering ([`signorini_core::linalg::fill_reducing_order`], the same function
-//! as the timing floor) and one symbolic analysis (faer's supernodal Cholesky structure) serve
+//! as the timing floor) and one symbolic analysis (faer's, simplicial or supernodal as faer chooses) serve
 //! every set; each set costs one numeric LDLᵀ (faer, with dynamic regularisation of any pivot
 //! below 10⁻³ of the static ones as a safety net).  ρ = 10⁻¹⁰ s is added only when A has a
 //! kernel, so that K exists while the active rows do not yet hold every rigid mode.
@@ -66,34 +66,50 @@
 //! | seed/exp6a | 17 | **5** | 5 | 7 |
 //! | seed/exp7 | 4 | **2** | 2 | 3 |
 //!
-//! Starting with every row active is never worse here, and wins on a long interface pressed
-//! along its whole length (all rows end active: one factorisation, then refinement) and on
-//! Hertz-like scenes with a closed initial gap; it also holds every rigid mode of a floating
-//! body from the first factorisation.  Rows with an open gap that should not touch leave the
-//! set after the first solve (they carry tension).
+//! Starting with every row active is never worse than the others here: the textbook empty
+//! start costs one to four more steps (its first step only finds the unconstrained answer),
+//! and the closed-gap start ties except on gap-closes.  A long interface pressed along its
+//! whole length (all rows end active) then takes one factorisation and refinement, and a
+//! floating body has every rigid mode held from the first factorisation; rows with an open
+//! gap that should not touch carry tension after the first solve and leave the set.
+//! (Counts measured with the `start` setting varied, same build otherwise.)
 //!
 //! *Updates.*  When a set differs from the factored one in k rows (say the one row at a
-//! clamped end that lifts off), [`update`](self) solves with the new K through the old factor
-//! by block elimination (k extra solves, a k × k dense system; exact up to round-off, and
-//! refined like any other solve) — used when (k + 4) solves are measured to be cheaper than a
-//! factorisation and k ≤ [`PdasSettings::max_update_rank`]; a set that settles through an
-//! update is factorised once more before it is judged, so the update never decides a status.
+//! clamped end that lifts off, or the few rows a Hertz contact zone gains or loses per step),
+//! [`update`](self) solves with the new K through the old factor by block elimination: one
+//! solve per changed row (batched into one supernodal sweep, and kept until the next
+//! factorisation, so a row that stays changed costs one solve in all), a k × k dense system,
+//! and per later solve a correction of O((n + m) k); exact up to round-off and refined like any
+//! other solve.  It is used when the missing columns plus the iteration's solves are measured
+//! to cost less than a factorisation, k ≤ [`PdasSettings::max_update_rank`], and the kept
+//! columns take no more memory than the factor (nor half the free memory).  A set that settles,
+//! or a cycle that shows, through an update is factorised once more before it is judged, so an
+//! update never decides a status.
 //!
-//! # Measured (release build, 2-core machine shared with other builds; compare's floor =
-//! one factorisation + solve of A)
+//! # Measured
+//! Release build on the 2-core machine, **shared with other builds** (load average 7–8 during
+//! these runs, so single ratios move by ±30 %; three `signorini compare` runs each, 13:15 UTC).
+//! The floor is compare's: one factorisation + solve of A.
 //!
-//! | scene | DOFs | m | ÷floor | factorisations | note |
-//! |---|---|---|---|---|---|
-//! | strip-floating (20 × 0.02) | 51 575 | 2001 | 1.4–1.9 | 1 | clarabel 9–11×, dual-ssn inaccurate |
-//! | strip-clamped | 51 572 | 2001 | 2.0–2.3 | 1 + a rank-1 update | clarabel 13–19× |
-//! | strip-floating 80 × 0.02 | 206 237 | 8001 | 1.2 | 1 | |
-//! | strip-clamped 80 × 0.02 | 206 234 | 8001 | 2.0 | 1 + a rank-1 update | |
-//! | seed/exp3-both-h0.08 | 2 124 | 14 | 1.3–13 | 2–3 (+ updates) | tiny: timer noise |
-//! | hard/nonconforming-10to1 | 15 226 | 51 | 4–7 | 3–5 (+ updates) | 7 active-set steps |
+//! | scene | DOFs | m | pdas ÷floor | pdas steps | clarabel ÷floor | dual-ssn |
+//! |---|---|---|---|---|---|---|
+//! | strip-floating (20 × 0.02, hmax 0.01) | 51 575 | 2001 | 1.69, 1.48, 0.98 | 1 factorisation | 10.7, 10.5, 10.0 | inaccurate, 45–65× |
+//! | strip-clamped | 51 572 | 2001 | 1.52, 1.12, 1.38 | 1 factorisation + rank-1 update | 11.5, 12.6, 14.4 | inaccurate, 45–60× |
+//! | strip-floating 80 × 0.02 | 206 237 | 8001 | 1.27 | 1 factorisation | – | – |
+//! | strip-clamped 80 × 0.02 | 206 234 | 8001 | 1.73 | 1 factorisation + rank-1 update | – | – |
+//! | seed/exp2b | 448 | 6 | 3.9, 2.4, 2.5 | 4 (1 factorisation + 3 updates) | 34, 10, 10 | 2.7× |
+//! | seed/exp3-both-h0.08 | 2 124 | 14 | 4.0, 4.2, 4.0 | 5 (2 + 3 updates) | 25, 19, 20 | 1.5–3.7× |
+//! | exp3-both at hmax 0.04 | 7 816 | 26 | 1.42 | 6 (1 + 5 updates) | – | 0.70× |
+//! | exp2b at hmax 0.005 | 461 680 | 201 | 4.3–4.6 | 9 (5 + 4 updates) | – | 1.3–1.6× |
 //!
-//! Most of the time outside the numeric factorisation is the ordering and symbolic analysis of
-//! K (the floor pays the same for A).  Every seed and hard fixture is solved and agrees with
-//! clarabel (max |Δu| ≤ 5e-12); hard/floating-free is `dual-infeasible`, as for every backend.
+//! On a long interface pdas is the fastest solver that meets the tolerance, well inside 2× the
+//! floor; its residuals (stationarity ~1e-12) are as good as clarabel's.  On Hertz-like scenes
+//! with few rows the PDAS needs 4–9 active-set steps, like dual-ssn, and each step that is not
+//! an update is a factorisation of the whole K: there the condensed dual (dual-ssn, dual-pgs)
+//! is 2–3× faster.  Outside the numeric factorisation most time goes to the ordering and the
+//! symbolic analysis of K, which the floor pays for A.  Every seed and hard fixture is solved
+//! and agrees with clarabel (max |Δu| ≤ 3e-10 at displacements ~0.2); hard/floating-free is
+//! `dual-infeasible`, as for every backend.
 //!
 //! # Layout
 //! `settings` — [`PdasSettings`]; `kkt` — K's fixed pattern and its values for a set;
