@@ -28,6 +28,12 @@ use crate::kkt::KktMatrix;
 use crate::PdasBackend;
 
 fn strip(length: f64, clamped: bool) -> QpProblem {
+    strip_loaded(length, clamped, (0.0, length))
+}
+
+/// The strip with its traction on [load.0, load.1] only.
+fn strip_loaded(length: f64, clamped: bool, load: (f64, f64)) -> QpProblem {
+    let (load_from, load_to) = load;
     let components = if clamped { "" } else { "components = [\"x\"]" };
     let toml = format!(
         r#"
@@ -53,7 +59,7 @@ region = [0, 0, 1, 1.02]
 {components}
 [[neumann]]
 body = "strip"
-region = [0, {length}, 1.02, 1.02]
+region = [{load_from}, {load_to}, 1.02, 1.02]
 traction = [0, -1e-3]
 [[contact]]
 bodies = ["strip", "foundation"]
@@ -132,6 +138,31 @@ fn where_the_time_goes_on_the_strip() {
             p.dofs(),
             p.rows(),
             pdas / floor
+        );
+    }
+}
+
+#[test]
+#[ignore = "measurement, run by hand"]
+fn strip_loaded_in_its_middle() {
+    // Loaded on [8, 12] only: the strip bends, its unloaded parts lift off or rest on the
+    // foundation with next to no force.  Measured: the active set chatters (tens of rows per
+    // step, ~650 active) and 200 steps end at KKT residuals ~3e-3 (max-iterations); a
+    // backtracking line search on the complementarity residual did not help (tried, removed);
+    // clarabel ends `inaccurate` here too.
+    for clamped in [false, true] {
+        let p = strip_loaded(20.0, clamped, (8.0, 12.0));
+        let options = SolveOptions {
+            max_iter: Some(200),
+            ..SolveOptions::default()
+        };
+        let clock = Instant::now();
+        let s = PdasBackend::default().solve(&p, &options).unwrap();
+        println!(
+            "clamped {clamped}: {} in {:.0} ms: {:?}",
+            s.status,
+            clock.elapsed().as_secs_f64() * 1e3,
+            s.message
         );
     }
 }
