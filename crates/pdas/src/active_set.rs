@@ -34,7 +34,7 @@ pub struct Outcome {
     pub multipliers: Vec<f64>,
     /// The method's verdict.
     pub status: QpStatus,
-    /// Active-set iterations (numeric factorisations).
+    /// Active-set iterations (each a numeric factorisation or a low-rank update).
     pub iterations: usize,
     /// Why it stopped.
     pub message: String,
@@ -56,7 +56,8 @@ pub struct ActiveSet<'p> {
     refinement_steps: usize,
     factorisations: usize,
     updates: usize,
-    /// Time of the pattern, ordering and symbolic analysis.
+    /// Time from the start of the solve to the end of the setup (checks, K's pattern, the
+    /// ordering, the symbolic analysis, the memory check and the allocation).
     analysis: Duration,
     /// Total time in numeric factorisations.
     factor_time: Duration,
