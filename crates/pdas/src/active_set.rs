@@ -373,11 +373,15 @@ impl<'p> ActiveSet<'p> {
                 iterations: iteration,
                 message: String::new(),
             };
-            if r.meet(self.options.tol) {
+            let stalled = changes == 0;
+            // An answer is accepted on a set that reproduces itself (or at the end of a cycle or
+            // of the budget): residuals that meet the tolerance while rows still want to change
+            // can hide a penetration that a soft row's length scale makes look small.
+            let settled = stalled || seen.contains(&next) || iteration == max_iter;
+            if r.meet(self.options.tol) && settled {
                 let message = format!("{} active rows", count(&active));
                 return self.finish(candidate, QpStatus::Solved, iteration, message);
             }
-            let stalled = changes == 0;
             if stalled && update.is_some() {
                 // The update may have lost accuracy: factorise this set before judging it.
                 force_factor = true;
