@@ -5,7 +5,8 @@
 //!                                 F_{k+1} = { i : λᵢ + c (Bx − g)ᵢ > 0 },
 //! ```
 //!
-//! stopping as soon as (x, max(λ, 0)) meets the core's KKT residuals, and honestly otherwise:
+//! stopping when the set reproduces itself and (x, max(λ, 0)) meets the core's KKT residuals,
+//! and honestly otherwise:
 //! a set that repeats without meeting them, a cycle of sets, the iteration or time limit, or a
 //! certificate of primal or dual infeasibility.
 

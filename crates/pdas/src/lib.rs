@@ -18,8 +18,9 @@
 //!           F ← { i : λᵢ + c (Bx − g)ᵢ > 0 }
 //! ```
 //!
-//! until (x, max(λ, 0)) meets the core's KKT residuals ([`signorini_core::qp::kkt_residuals`])
-//! at the requested tolerance.  The status is honest otherwise: a set that repeats without
+//! until the set reproduces itself and (x, max(λ, 0)) meets the core's KKT residuals
+//! ([`signorini_core::qp::kkt_residuals`]) at the requested tolerance (an answer that meets
+//! them while rows still want to change is taken only at a cycle or at the iteration cap).  The status is honest otherwise: a set that repeats without
 //! meeting them (`inaccurate`), a cycle of sets (`inaccurate`), the iteration or time limit,
 //! `primal-infeasible` only with a Farkas certificate y ≥ 0, Bᵀy ≈ 0, gᵀy < 0 (any feasible x
 //! would need ‖x‖∞ ≥ −gᵀy / ‖Bᵀy‖₁, more than 10⁸ times the problem's length scale), and
@@ -82,9 +83,10 @@
 //! and per later solve a correction of O((n + m) k); exact up to round-off and refined like any
 //! other solve.  It is used when the missing columns plus the iteration's solves are measured
 //! to cost less than a factorisation, k ≤ [`PdasSettings::max_update_rank`], and the kept
-//! columns take no more memory than the factor (nor half the free memory).  A set that settles,
-//! or a cycle that shows, through an update is factorised once more before it is judged, so an
-//! update never decides a status.
+//! columns take no more memory than the factor (nor half the free memory).  A set that settles
+//! short of the tolerance, or a cycle that shows, through an update is factorised once more
+//! before it is judged, so an update never makes a status worse than `solved`, which the
+//! residuals against the exact A and B decide.
 //!
 //! # Measured
 //! Release build on the 2-core machine, **shared with other builds** (load average 7–8 during
