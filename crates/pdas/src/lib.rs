@@ -89,20 +89,21 @@
 //! residuals against the exact A and B decide.
 //!
 //! # Measured
-//! Release build on the 2-core machine, **shared with other builds** (load average 7–8 during
-//! these runs, so single ratios move by ±30 %; three `signorini compare` runs each, 13:15 UTC).
-//! The floor is compare's: one factorisation + solve of A.
+//! Release build on the 2-core machine shared with other helpers (load average ~2 during these
+//! runs, 13:36 UTC; `signorini compare SCENE --backends clarabel,dual-ssn,pdas --time-limit 60`,
+//! three runs each for the first four rows, one for the rest).  The floor is compare's: one
+//! factorisation + solve of A.
 //!
 //! | scene | DOFs | m | pdas ÷floor | pdas steps | clarabel ÷floor | dual-ssn |
 //! |---|---|---|---|---|---|---|
-//! | strip-floating (20 × 0.02, hmax 0.01) | 51 575 | 2001 | 1.69, 1.48, 0.98 | 1 factorisation | 10.7, 10.5, 10.0 | inaccurate, 45–65× |
-//! | strip-clamped | 51 572 | 2001 | 1.52, 1.12, 1.38 | 1 factorisation + rank-1 update | 11.5, 12.6, 14.4 | inaccurate, 45–60× |
-//! | strip-floating 80 × 0.02 | 206 237 | 8001 | 1.27 | 1 factorisation | – | – |
-//! | strip-clamped 80 × 0.02 | 206 234 | 8001 | 1.73 | 1 factorisation + rank-1 update | – | – |
-//! | seed/exp2b | 448 | 6 | 3.9, 2.4, 2.5 | 4 (1 factorisation + 3 updates) | 34, 10, 10 | 2.7× |
-//! | seed/exp3-both-h0.08 | 2 124 | 14 | 4.0, 4.2, 4.0 | 5 (2 + 3 updates) | 25, 19, 20 | 1.5–3.7× |
-//! | exp3-both at hmax 0.04 | 7 816 | 26 | 1.42 | 6 (1 + 5 updates) | – | 0.70× |
-//! | exp2b at hmax 0.005 | 461 680 | 201 | 4.3–4.6 | 9 (5 + 4 updates) | – | 1.3–1.6× |
+//! | strip-floating (20 × 0.02, hmax 0.01) | 51 575 | 2001 | 1.52, 1.49, 1.51 | 1 factorisation | 13.1, 12.9, 13.1 | inaccurate, 64× |
+//! | strip-clamped | 51 572 | 2001 | 1.68, 1.73, 1.79 | 1 factorisation + rank-1 update | 16.6, 16.8, 17.0 | inaccurate, 67× |
+//! | seed/exp2b | 448 | 6 | 2.42, 2.39, 2.19 | 4 (1 factorisation + 3 updates) | 9.9, 9.9, 9.8 | 2.6, 2.4, 2.2× |
+//! | seed/exp3-both-h0.08 | 2 124 | 14 | 1.99, 2.03, 1.96 | 5 (1 + 4 updates) | 11.2, 11.0, 11.0 | 1.6, 1.6, 1.5× |
+//! | strip-floating 80 × 0.02 | 206 237 | 8001 | 1.55 | 1 factorisation | – | max-iterations, 195× |
+//! | strip-clamped 80 × 0.02 | 206 234 | 8001 | 1.73 | 1 factorisation + rank-1 update | – | max-iterations, 230× |
+//! | exp2b at hmax 0.02 | 30 002 | 51 | 4.14 | 8 (2 + 6 updates) | – | 1.81× |
+//! | exp2b at hmax 0.005 | 461 680 | 201 | 4.16 | 9 (5 + 4 updates) | – | 1.35× |
 //!
 //! On a long interface pdas is the fastest solver that meets the tolerance, well inside 2× the
 //! floor; its residuals (stationarity ~1e-12) are as good as clarabel's.  On Hertz-like scenes
