@@ -102,8 +102,13 @@
 //! | seed/exp3-both-h0.08 | 2 124 | 14 | 1.99, 2.03, 1.96 | 5 (1 + 4 updates) | 11.2, 11.0, 11.0 | 1.6, 1.6, 1.5× |
 //! | strip-floating 80 × 0.02 | 206 237 | 8001 | 1.55 | 1 factorisation | – | max-iterations, 195× |
 //! | strip-clamped 80 × 0.02 | 206 234 | 8001 | 1.73 | 1 factorisation + rank-1 update | – | max-iterations, 230× |
+//! | strip-floating 200 × 0.02 | 515 577 | 20 001 | 1.58 | 1 factorisation (nnz(L) 8.8e6) | – | – |
 //! | exp2b at hmax 0.02 | 30 002 | 51 | 4.14 | 8 (2 + 6 updates) | – | 1.81× |
 //! | exp2b at hmax 0.005 | 461 680 | 201 | 4.16 | 9 (5 + 4 updates) | – | 1.35× |
+//!
+//! The clamped 200 × 0.02 strip has no floor at all: compare's Cholesky of A alone breaks down
+//! (a pivot vanishes; A is that ill-conditioned), while pdas solves it (`signorini solve …
+//! --backend pdas`: 20 000 rows active, stationarity 1.4e-11, 1 factorisation + a rank-1 update).
 //!
 //! On a long interface pdas is the fastest solver that meets the tolerance, well inside 2× the
 //! floor; its residuals (stationarity ~1e-12) are as good as clarabel's.  On Hertz-like scenes
