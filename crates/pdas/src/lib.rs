@@ -1,28 +1,162 @@
 //! Primal–dual active-set QP backend of signorini on the sparse primal KKT system.
 //!
-//! (Skeleton: the method is being written; `solve` reports that it is not available yet.)
+//! The contact problem
+//!
+//! ```text
+//! minimise ½ xᵀ A x − fᵀ x   subject to   B x ≤ g
+//! ```
+//!
+//! (A: n × n stiffness, possibly singular for floating bodies with a known kernel R; B: m × n
+//! node-to-segment rows) is solved by the primal–dual active-set method of Hintermüller, Ito
+//! and Kunisch — a semismooth Newton method on the complementarity function
+//! λ − max(0, λ + c (Bx − g)) — as in deal.II's step-41, but with a sparse direct solver:
+//!
+//! ```text
+//! F₀ = every row (see "Start" below)
+//! repeat:   [ A    B_Fᵀ ] [ x  ]   [ f   ]
+//!           [ B_F   0   ] [ λ_F] = [ g_F ],     λᵢ = 0 off F,
+//!           F ← { i : λᵢ + c (Bx − g)ᵢ > 0 }
+//! ```
+//!
+//! until the set reproduces itself and (x, max(λ, 0)) meets the core's KKT residuals
+//! ([`signorini_core::qp::kkt_residuals`]) at the requested tolerance (an answer that meets
+//! them while rows still want to change is taken only at a cycle or at the iteration cap).  The status is honest otherwise: a set that repeats without
+//! meeting them (`inaccurate`), a cycle of sets (`inaccurate`), the iteration or time limit,
+//! `primal-infeasible` only with a Farkas certificate y ≥ 0, Bᵀy ≈ 0, gᵀy < 0 (any feasible x
+//! would need ‖x‖∞ ≥ −gᵀy / ‖Bᵀy‖₁, more than 10⁸ times the problem's length scale), and
+//! `dual-infeasible` only with a rigid motion r = R α that the load drives (fᵀr > 0) and that
+//! closes no contact (B r ≤ 0) — found before any factorisation when no row sees a loaded mode,
+//! or in the rigid part of a stalled iterate.  A non-finite answer is never handed out.
+//!
+//! # One symbolic factorisation for every active set
+//! [`kkt`](self) builds K = [A + ρI, Bᵀ; B, −D] once with the pattern of **all** m rows: an
+//! inactive row keeps its B entries as explicit zeros and gets Dᵢᵢ = 1/s (s the mean diagonal
+//! of A), so its equation reads λᵢ = 0; an active row gets its B entries and a static
+//! Dᵢᵢ = δ = 10⁻⁸/s.  K is then quasi-definite (A + ρI positive definite, −D negative
+//! definite), so an LDLᵀ factorisation without pivoting exists in any symmetric ordering: one
+//! fill-reducing ordering ([`signorini_core::linalg::fill_reducing_order`], the same function
+//! as the timing floor) and one symbolic analysis (faer's, simplicial or supernodal as faer chooses) serve
+//! every set; each set costs one numeric LDLᵀ (faer, with dynamic regularisation of any pivot
+//! below 10⁻³ of the static ones as a safety net).  ρ = 10⁻¹⁰ s is added only when A has a
+//! kernel, so that K exists while the active rows do not yet hold every rigid mode.
+//!
+//! # Accuracy: refinement against the unregularised system
+//! δ and ρ perturb the system, and the factor of a very ill-conditioned K (a strip 1000 times
+//! longer than thick) carries round-off.  [`refine`](self) therefore iterates
+//! z ← z + K̃⁻¹ (b − K z) with K̃ the regularised factor and K the **exact** KKT matrix applied
+//! through the sparse A and B, until the scaled residual max(‖r_x‖∞ / F, |r_λ,ᵢ| / Xᵢ) is
+//! 10⁻³ × tol, within 4× the round-off of forming it, or stops decreasing.  Refinement runs
+//! only for a set that predicts itself (the unrefined solution of a set that is about to change
+//! is accurate enough to choose the next set).  Measured: one or two steps reach 10⁻¹²–10⁻¹³
+//! stationarity on the 51 575-DOF strip, where dual-ssn (dense condensed Hessian) settles
+//! on an inaccurate answer.
+//!
+//! # Few factorisations: start set and low-rank updates
+//! *Start.*  Active-set iterations (one LDLᵀ or update each) by first set, tol 1e-9:
+//!
+//! | scene | m | every row ([`StartSet::All`], default) | closed gaps | empty (textbook) |
+//! |---|---|---|---|---|
+//! | strip-floating (51 575 DOFs) | 2001 | **1** | 1 | 2 |
+//! | strip-clamped (51 572 DOFs) | 2001 | **2** | 2 | 2 |
+//! | hard/chain-four | 25 | **1** | 1 | 5 |
+//! | hard/inclined | 11 | **2** | 2 | 3 |
+//! | hard/gap-closes | 6 | **4** | 5 | 5 |
+//! | hard/nonconforming-10to1 | 51 | **7** | 7 | 8 |
+//! | seed/exp1, exp2b | 6 | **4** | 4 | 5 |
+//! | seed/exp3-both-h0.08 | 14 | **5** | 5 | 6 |
+//! | seed/exp6a | 17 | **5** | 5 | 7 |
+//! | seed/exp7 | 4 | **2** | 2 | 3 |
+//!
+//! Starting with every row active is never worse than the others here: the textbook empty
+//! start costs one to four more steps (its first step only finds the unconstrained answer),
+//! and the closed-gap start ties except on gap-closes.  A long interface pressed along its
+//! whole length (all rows end active) then takes one factorisation and refinement, and a
+//! floating body has every rigid mode held from the first factorisation; rows with an open
+//! gap that should not touch carry tension after the first solve and leave the set.
+//! (Counts measured with the `start` setting varied, same build otherwise.)
+//!
+//! *Updates.*  When a set differs from the factored one in k rows (say the one row at a
+//! clamped end that lifts off, or the few rows a Hertz contact zone gains or loses per step),
+//! [`update`](self) solves with the new K through the old factor by block elimination: one
+//! solve per changed row (batched into one supernodal sweep, and kept until the next
+//! factorisation, so a row that stays changed costs one solve in all), a k × k dense system,
+//! and per later solve a correction of O((n + m) k); exact up to round-off and refined like any
+//! other solve.  It is used when the missing columns plus the iteration's solves are measured
+//! to cost less than a factorisation, k ≤ [`PdasSettings::max_update_rank`], and the kept
+//! columns take no more memory than the factor (nor half the free memory).  A set that settles
+//! short of the tolerance, or a cycle that shows, through an update is factorised once more
+//! before it is judged, so an update never makes a status worse than `solved`, which the
+//! residuals against the exact A and B decide.
+//!
+//! # Measured
+//! Release build on the 2-core machine shared with other helpers (load average ~2 during these
+//! runs, 13:36 UTC; `signorini compare SCENE --backends clarabel,dual-ssn,pdas --time-limit 60`,
+//! three runs each for the first four rows, one for the rest).  The floor is compare's: one
+//! factorisation + solve of A.
+//!
+//! | scene | DOFs | m | pdas ÷floor | pdas steps | clarabel ÷floor | dual-ssn |
+//! |---|---|---|---|---|---|---|
+//! | strip-floating (20 × 0.02, hmax 0.01) | 51 575 | 2001 | 1.52, 1.49, 1.51 | 1 factorisation | 13.1, 12.9, 13.1 | inaccurate, 64× |
+//! | strip-clamped | 51 572 | 2001 | 1.68, 1.73, 1.79 | 1 factorisation + rank-1 update | 16.6, 16.8, 17.0 | inaccurate, 67× |
+//! | seed/exp2b | 448 | 6 | 2.42, 2.39, 2.19 | 4 (1 factorisation + 3 updates) | 9.9, 9.9, 9.8 | 2.6, 2.4, 2.2× |
+//! | seed/exp3-both-h0.08 | 2 124 | 14 | 1.99, 2.03, 1.96 | 5 (1 + 4 updates) | 11.2, 11.0, 11.0 | 1.6, 1.6, 1.5× |
+//! | strip-floating 80 × 0.02 | 206 237 | 8001 | 1.55 | 1 factorisation | – | max-iterations, 195× |
+//! | strip-clamped 80 × 0.02 | 206 234 | 8001 | 1.73 | 1 factorisation + rank-1 update | – | max-iterations, 230× |
+//! | strip-floating 200 × 0.02 | 515 577 | 20 001 | 1.58 | 1 factorisation (nnz(L) 8.8e6) | – | – |
+//! | exp2b at hmax 0.02 | 30 002 | 51 | 4.14 | 8 (2 + 6 updates) | – | 1.81× |
+//! | exp2b at hmax 0.005 | 461 680 | 201 | 4.16 | 9 (5 + 4 updates) | – | 1.35× |
+//!
+//! The clamped 200 × 0.02 strip has no floor at all: compare's Cholesky of A alone breaks down
+//! (a pivot vanishes; A is that ill-conditioned), while pdas solves it (`signorini solve …
+//! --backend pdas`: 20 000 rows active, stationarity 1.4e-11, 1 factorisation + a rank-1 update).
+//!
+//! On a long interface pdas is the fastest solver that meets the tolerance, well inside 2× the
+//! floor; its residuals (stationarity ~1e-12) are as good as clarabel's.  On Hertz-like scenes
+//! with few rows the PDAS needs 4–9 active-set steps, like dual-ssn, and each step that is not
+//! an update is a factorisation of the whole K: there the condensed dual (dual-ssn, dual-pgs)
+//! is 2–3× faster.  Outside the numeric factorisation most time goes to the ordering and the
+//! symbolic analysis of K, which the floor pays for A.  Where the rest of the gap to the floor
+//! comes from (`measure`, one process, medians of five, 51 575-DOF strip): K's factor holds
+//! 8.8e5 entries against A's 5.6e5 (the contact rows couple the two bodies, which A alone does
+//! not), and faer's simplicial LDLᵀ takes ~1.7× its LLᵀ on the same pattern (20 ms against
+//! 12 ms on A); faer's supernodal variant factors K slightly faster but solves 8× slower, so
+//! faer's own choice (simplicial here) is kept.  Every seed and hard fixture is solved
+//! and agrees with clarabel (max |Δu| ≤ 3e-10 at displacements ~0.2); hard/floating-free is
+//! `dual-infeasible`, as for every backend.
+//!
+//! # Known limitation
+//! A thin strip loaded on part of its length only (the 51 575-DOF strip with its traction on
+//! [8, 12]) bends and leaves hundreds of rows barely touching: there the active set chatters
+//! (tens of rows per step around ~650 active) and the iteration ends at its cap with KKT
+//! residuals ~3e-3, `max-iterations` — honestly, and within `--time-limit`; clarabel ends
+//! `inaccurate` on it as well.  Two cures were tried and removed: a backtracking line search
+//! on the complementarity residual (no change), and, after eight plain steps, changing only
+//! the rows whose scaled violation is within a factor θ of the worst (θ = 0.5–0.99: residuals
+//! fall to ~5e-5 after 200 steps, still short of 1e-9).  `cargo test -p signorini-pdas --release --lib
+//! strip_loaded -- --ignored --nocapture` reproduces it.
+//!
+//! # Layout
+//! `settings` — [`PdasSettings`]; `kkt` — K's fixed pattern and its values for a set;
+//! `factor` — ordering, symbolic analysis, numeric LDLᵀ, solves; `update` — solves for a set
+//! near the factored one; `refine` — one set's refined solution; `kernel` — rigid modes and the
+//! dual-infeasibility certificate; `dense` — a small LU; `active_set` — the iteration and its
+//! stopping tests; `backend` — the [`QpBackend`](signorini_core::qp::QpBackend).
+//! The memory of the factor (its values and faer's workspace, from the symbolic factor) is
+//! checked with [`signorini_core::memory::check_fits`] before the numeric factorisation; a
+//! factor that does not fit gives `QpError::TooLarge`.
 
-use signorini_core::qp::{QpBackend, QpError, QpProblem, QpSolution, SolveOptions};
+mod active_set;
+mod backend;
+mod dense;
+mod error;
+mod factor;
+mod kernel;
+mod kkt;
+mod measure;
+mod refine;
+mod settings;
+mod update;
 
-/// The primal–dual active-set backend (name `"pdas"`).
-#[derive(Debug, Clone, Default)]
-pub struct PdasBackend {
-    _settings: (),
-}
-
-impl QpBackend for PdasBackend {
-    fn name(&self) -> &'static str {
-        "pdas"
-    }
-
-    fn solve(
-        &mut self,
-        _problem: &QpProblem,
-        _options: &SolveOptions,
-    ) -> Result<QpSolution, QpError> {
-        Err(QpError::Backend {
-            backend: "pdas",
-            reason: "not implemented yet".to_string(),
-        })
-    }
-}
+pub use backend::PdasBackend;
+pub use error::PdasError;
+pub use settings::{PdasSettings, StartSet};

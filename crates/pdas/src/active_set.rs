@@ -1,0 +1,501 @@
+//! The primal–dual active-set iteration (Hintermüller–Ito–Kunisch):
+//!
+//! ```text
+//! F₀ from the settings;  repeat:  solve the KKT system on F_k (refined),
+//!                                 F_{k+1} = { i : λᵢ + c (Bx − g)ᵢ > 0 },
+//! ```
+//!
+//! stopping when the set reproduces itself and (x, max(λ, 0)) meets the core's KKT residuals,
+//! and honestly otherwise:
+//! a set that repeats without meeting them, a cycle of sets, the iteration or time limit, or a
+//! certificate of primal or dual infeasibility.
+
+use std::collections::HashSet;
+use std::time::{Duration, Instant};
+
+use signorini_core::qp::{
+    dot, kkt_residuals_with, mat_t_vec, mat_vec, norm_inf, QpProblem, QpStatus, ResidualScales,
+    SolveOptions,
+};
+
+use crate::error::PdasError;
+use crate::factor::KktFactor;
+use crate::kernel::{pushed_away, rigid_part};
+use crate::kkt::KktMatrix;
+use crate::refine::{first_solve, refine, Limits, SetSolution};
+use crate::settings::{PdasSettings, StartSet};
+use crate::update::{ColumnCache, SetSolver, SetUpdate};
+
+/// What the iteration hands back to the backend.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// Primal x.
+    pub x: Vec<f64>,
+    /// Multipliers λ ≥ 0.
+    pub multipliers: Vec<f64>,
+    /// The method's verdict.
+    pub status: QpStatus,
+    /// Active-set iterations (each a numeric factorisation or a low-rank update).
+    pub iterations: usize,
+    /// Why it stopped.
+    pub message: String,
+}
+
+/// The state of one solve: the problem, its fixed-pattern KKT matrix and factor.
+pub struct ActiveSet<'p> {
+    problem: &'p QpProblem,
+    settings: &'p PdasSettings,
+    options: &'p SolveOptions,
+    start: Instant,
+    scales: ResidualScales,
+    kkt: KktMatrix,
+    factor: KktFactor,
+    /// Solves with the current factor kept for low-rank updates.
+    cache: ColumnCache,
+    /// Mean |Aⱼⱼ|, the stiffness unit the relative settings refer to.
+    stiffness: f64,
+    refinement_steps: usize,
+    factorisations: usize,
+    updates: usize,
+    /// Time from the start of the solve to the end of the setup (checks, K's pattern, the
+    /// ordering, the symbolic analysis, the memory check and the allocation).
+    analysis: Duration,
+    /// Total time in numeric factorisations.
+    factor_time: Duration,
+}
+
+/// Measured cost of the last factorisation and of one solve with it.
+#[derive(Debug, Default)]
+struct Timing {
+    factor: Duration,
+    solve: Duration,
+    /// One column of a batched solve.
+    column: Duration,
+}
+
+impl<'p> ActiveSet<'p> {
+    /// Builds K's pattern and its symbolic factor (ordering + analysis), then checks that the
+    /// numeric factor fits in memory and allocates it.
+    pub fn new(
+        problem: &'p QpProblem,
+        settings: &'p PdasSettings,
+        options: &'p SolveOptions,
+        start: Instant,
+    ) -> Result<Self, SetupError> {
+        let kkt = KktMatrix::new(problem)?;
+        let mut factor = KktFactor::analyse(kkt.matrix(), kkt.dofs())?;
+        let (dim, nnz_k, nnz_l) = (kkt.dim(), kkt.matrix().nnz(), factor.nnz_l());
+        // The factor and faer's workspace, plus K and about ten vectors of length n + m.
+        let bytes = factor.bytes_needed() + (nnz_k * 16 + dim * 80) as f64;
+        signorini_core::memory::check_fits(
+            "pdas",
+            || format!("the LDLᵀ factor of the {dim}×{dim} KKT matrix (nnz(L) = {nnz_l:.3e})"),
+            bytes,
+        )
+        .map_err(SetupError::TooLarge)?;
+        factor.allocate()?;
+        let n = problem.dofs();
+        let diagonal_sum: f64 = (0..n)
+            .map(|j| problem.stiffness.get(j, j).copied().unwrap_or(0.0).abs())
+            .sum();
+        let stiffness = if n > 0 && diagonal_sum > 0.0 && diagonal_sum.is_finite() {
+            diagonal_sum / n as f64
+        } else {
+            1.0
+        };
+        Ok(Self {
+            problem,
+            settings,
+            options,
+            start,
+            scales: ResidualScales::of(problem),
+            kkt,
+            factor,
+            cache: ColumnCache::default(),
+            stiffness,
+            refinement_steps: 0,
+            factorisations: 0,
+            updates: 0,
+            analysis: start.elapsed(),
+            factor_time: Duration::ZERO,
+        })
+    }
+
+    /// "ordering amd, nnz(L) 1.2e6" for messages.
+    pub fn describe_factor(&self) -> String {
+        format!(
+            "ordering {}, nnz(L) {:.3e}",
+            self.factor.method(),
+            self.factor.nnz_l() as f64
+        )
+    }
+
+    fn first_set(&self) -> Vec<bool> {
+        let p = self.problem;
+        match self.settings.start {
+            StartSet::Empty => vec![false; p.rows()],
+            StartSet::All => vec![true; p.rows()],
+            StartSet::ClosedGaps => p
+                .gap
+                .iter()
+                .zip(&self.scales.rows)
+                .map(|(g, x)| *g <= self.settings.closed_gap * x)
+                .collect(),
+        }
+    }
+
+    fn deadline(&self) -> Option<Instant> {
+        self.options.time_limit.map(|t| self.start + t)
+    }
+
+    fn out_of_time(&self) -> bool {
+        self.deadline().is_some_and(|d| Instant::now() >= d)
+    }
+
+    /// Numeric factorisation of K for `active`; returns its duration.
+    fn factorise(&mut self, active: &[bool]) -> Result<Duration, PdasError> {
+        let clock = Instant::now();
+        let s = self.stiffness;
+        let rho = if self.problem.kernel.is_empty() {
+            0.0
+        } else {
+            self.settings.primal_regularization * s
+        };
+        self.kkt.set_values(active, rho, self.delta(), 1.0 / s);
+        // Dynamic regularisation is a safety net below every static pivot: a primal pivot
+        // under 1e-3 ρ (relative), or a multiplier pivot under 1e-3 δ, is replaced.
+        let floor = 1e-3
+            * self
+                .settings
+                .primal_regularization
+                .min(self.settings.dual_regularization);
+        let epsilon = floor * s.min(1.0 / s);
+        self.factor
+            .factor(self.kkt.matrix(), epsilon, 1e3 * epsilon)?;
+        self.factorisations += 1;
+        self.factor_time += clock.elapsed();
+        Ok(clock.elapsed())
+    }
+
+    /// δ in the problem's units (compliance).
+    fn delta(&self) -> f64 {
+        self.settings.dual_regularization / self.stiffness
+    }
+
+    /// F_{k+1} = { i : λᵢ + c (Bx − g)ᵢ > 0 }.
+    fn next_set(&self, solution: &SetSolution) -> Vec<bool> {
+        let p = self.problem;
+        let c = self.settings.penalty * self.stiffness;
+        let bx = mat_vec(&p.constraints, &solution.x);
+        solution
+            .multipliers
+            .iter()
+            .zip(&bx)
+            .zip(&p.gap)
+            .map(|((l, b), g)| l + c * (b - g) > 0.0)
+            .collect()
+    }
+
+    /// Whether to reach `active` from the factored set by a low-rank update rather than a
+    /// factorisation: few changed rows, and their solves cheaper than a factorisation.
+    fn prefer_update(&self, factored: &[bool], active: &[bool], timing: &Timing) -> bool {
+        let (rank, missing) = self.cache.need(factored, active);
+        let dim = self.kkt.dim() as f64;
+        // Memory: the stored columns never outgrow the factor itself, nor half of what the
+        // machine has left.
+        let new_bytes = missing as f64 * dim * 8.0;
+        let fits = ((self.cache.len() + missing) as f64) * dim <= self.factor.nnz_l() as f64
+            && signorini_core::memory::available_bytes()
+                .is_none_or(|free| new_bytes <= 0.5 * free as f64);
+        // Time: the missing columns (one batched solve), then the solves of the iteration
+        // (one, and one or two of refinement once the set settles: two on average) with the
+        // correction of `rank` dense columns each, against a factorisation and plain solves.
+        let solve = timing.solve.as_secs_f64();
+        let cost =
+            missing as f64 * timing.column.as_secs_f64() + 2.0 * (solve + rank as f64 * dim * 1e-9);
+        rank > 0
+            && rank <= self.settings.max_update_rank
+            && fits
+            && cost < timing.factor.as_secs_f64() + 2.0 * solve
+    }
+
+    /// Runs the iteration.
+    pub fn run(&mut self) -> Outcome {
+        let p = self.problem;
+        let (n, m) = (p.dofs(), p.rows());
+        let max_iter = self.options.max_iter.unwrap_or(self.settings.max_iter);
+        let mut active = self.first_set();
+        let mut seen: HashSet<Vec<bool>> = HashSet::new();
+        let mut best = Outcome {
+            x: vec![0.0; n],
+            multipliers: vec![0.0; m],
+            status: QpStatus::MaxIterations,
+            iterations: 0,
+            message: String::new(),
+        };
+        let mut best_worst = f64::INFINITY;
+        let mut factored: Option<Vec<bool>> = None;
+        let mut timing = Timing::default();
+        let mut force_factor = false;
+        let mut iteration = 0;
+        while iteration < max_iter {
+            iteration += 1;
+            if self.out_of_time() {
+                return self.finish(
+                    best,
+                    QpStatus::TimeLimit,
+                    iteration - 1,
+                    "time limit reached before the next factorisation".into(),
+                );
+            }
+            let delta = self.delta();
+            let update = match &factored {
+                Some(f) if !force_factor && self.prefer_update(f, &active, &timing) => {
+                    let (_, missing) = self.cache.need(f, &active);
+                    let clock = Instant::now();
+                    let update =
+                        SetUpdate::new(p, &mut self.factor, &mut self.cache, f, &active, delta);
+                    if missing > 0 {
+                        timing.column = clock.elapsed() / missing as u32;
+                    }
+                    match update {
+                        Ok(update) => update,
+                        Err(e) => {
+                            return self.finish(
+                                best,
+                                QpStatus::NumericalError,
+                                iteration - 1,
+                                e.to_string(),
+                            )
+                        }
+                    }
+                }
+                _ => None,
+            };
+            let fresh = update.is_none() && factored.as_ref() != Some(&active);
+            force_factor = false;
+            if fresh {
+                match self.factorise(&active) {
+                    Ok(t) => {
+                        timing.factor = t;
+                        self.cache.clear();
+                    }
+                    Err(e) => {
+                        return self.finish(
+                            best,
+                            QpStatus::NumericalError,
+                            iteration - 1,
+                            e.to_string(),
+                        )
+                    }
+                }
+                factored = Some(active.clone());
+            }
+            if update.is_some() {
+                self.updates += 1;
+            }
+            let deadline = self.deadline();
+            let mut solver = SetSolver {
+                factor: &mut self.factor,
+                update: update.as_ref(),
+            };
+            let clock = Instant::now();
+            let mut solution = first_solve(p, &active, &mut solver);
+            if fresh {
+                timing.solve = clock.elapsed();
+                if timing.column.is_zero() {
+                    // Until a batch is measured: a column of a batched solve at half a solve.
+                    timing.column = timing.solve / 2;
+                }
+            }
+            let mut next = self.next_set(&solution);
+            let mut solver = SetSolver {
+                factor: &mut self.factor,
+                update: update.as_ref(),
+            };
+            if next == active {
+                let limits = Limits {
+                    max_steps: self.settings.refinement_steps,
+                    target: self.settings.refinement_target * self.options.tol,
+                    deadline,
+                };
+                refine(
+                    p,
+                    &self.scales,
+                    &active,
+                    &mut solver,
+                    &mut solution,
+                    &limits,
+                );
+                self.refinement_steps += solution.steps;
+                next = self.next_set(&solution);
+            }
+            if solution
+                .x
+                .iter()
+                .chain(&solution.multipliers)
+                .any(|v| !v.is_finite())
+            {
+                if update.is_some() {
+                    force_factor = true;
+                    continue;
+                }
+                return self.finish(
+                    best,
+                    QpStatus::NumericalError,
+                    iteration,
+                    format!(
+                        "non-finite solution of the KKT system on a set of {} rows",
+                        count(&active)
+                    ),
+                );
+            }
+            let clamped: Vec<f64> = solution.multipliers.iter().map(|l| l.max(0.0)).collect();
+            let r = kkt_residuals_with(p, &self.scales, &solution.x, &clamped);
+            let worst = r.worst();
+            let changes = next.iter().zip(&active).filter(|(a, b)| a != b).count();
+            if self.options.verbose {
+                eprintln!(
+                    "pdas: iteration {iteration}: {} active rows ({}), KKT system residual {:.1e} after {} refinement steps, KKT {worst:.1e}, {changes} changes",
+                    count(&active),
+                    match (&update, fresh) {
+                        (Some(u), _) => format!("update of rank {}", u.rank()),
+                        (None, true) => "factorised".to_string(),
+                        (None, false) => "same factor".to_string(),
+                    },
+                    solution.residual,
+                    solution.steps,
+                );
+            }
+            let candidate = Outcome {
+                x: solution.x,
+                multipliers: clamped,
+                status: QpStatus::Solved,
+                iterations: iteration,
+                message: String::new(),
+            };
+            let stalled = changes == 0;
+            // An answer is accepted on a set that reproduces itself (or at the end of a cycle or
+            // of the budget): residuals that meet the tolerance while rows still want to change
+            // can hide a penetration that a soft row's length scale makes look small.
+            let settled = stalled || seen.contains(&next) || iteration == max_iter;
+            if r.meet(self.options.tol) && settled {
+                let message = format!("{} active rows", count(&active));
+                return self.finish(candidate, QpStatus::Solved, iteration, message);
+            }
+            if stalled && update.is_some() {
+                // The update may have lost accuracy: factorise this set before judging it.
+                force_factor = true;
+                continue;
+            }
+            let cycling = !stalled && seen.contains(&next);
+            if cycling && update.is_some() {
+                // As for a settled set: judge a cycle only on a factorised set.
+                force_factor = true;
+                continue;
+            }
+            if stalled || cycling || solution.timed_out || iteration == max_iter {
+                if let Some((status, message)) = self.certificate(&candidate, &solution.multipliers)
+                {
+                    return self.finish(candidate, status, iteration, message);
+                }
+            }
+            if worst < best_worst {
+                best_worst = worst;
+                best = candidate;
+            }
+            if solution.timed_out {
+                return self.finish(
+                    best,
+                    QpStatus::TimeLimit,
+                    iteration,
+                    "time limit reached during refinement".into(),
+                );
+            }
+            if stalled {
+                let message = format!(
+                    "active set of {} rows settled but the KKT residuals ({worst:.1e}, refined KKT system {:.1e}) miss the tolerance",
+                    count(&active),
+                    solution.residual
+                );
+                return self.finish(best, QpStatus::Inaccurate, iteration, message);
+            }
+            if cycling {
+                let message = format!(
+                    "active sets cycle (a set of {} rows came back); best KKT residuals {best_worst:.1e}",
+                    count(&next)
+                );
+                return self.finish(best, QpStatus::Inaccurate, iteration, message);
+            }
+            seen.insert(std::mem::replace(&mut active, next));
+        }
+        let message = format!(
+            "{max_iter} active-set iterations without meeting the tolerance (best KKT residuals {best_worst:.1e})"
+        );
+        self.finish(best, QpStatus::MaxIterations, max_iter, message)
+    }
+
+    fn finish(
+        &self,
+        mut outcome: Outcome,
+        status: QpStatus,
+        iterations: usize,
+        message: String,
+    ) -> Outcome {
+        outcome.status = status;
+        outcome.iterations = iterations;
+        outcome.message = format!(
+            "{message}; {iterations} active-set iterations: {} factorisations, {} low-rank updates, {} refinement steps; {}; setup {:.1} ms, factorisations {:.1} ms",
+            self.factorisations,
+            self.updates,
+            self.refinement_steps,
+            self.describe_factor(),
+            self.analysis.as_secs_f64() * 1e3,
+            self.factor_time.as_secs_f64() * 1e3,
+        );
+        outcome
+    }
+
+    /// A certificate of infeasibility in an iterate that does not converge:
+    /// * primal: y = λ⁺ / ‖λ⁺‖∞ with gᵀy < 0 and Bᵀy ≈ 0 — any feasible x would need
+    ///   ‖x‖∞ ≥ −gᵀy / ‖Bᵀy‖₁, which must exceed 10⁸ times the problem's length scale and x;
+    /// * dual: the rigid part r of x with fᵀr > 0 and B r ≤ 0 (see [`pushed_away`]).
+    fn certificate(&self, iterate: &Outcome, multipliers: &[f64]) -> Option<(QpStatus, String)> {
+        let p = self.problem;
+        let size = multipliers.iter().fold(0.0_f64, |a, l| a.max(*l));
+        if size > 0.0 && size.is_finite() {
+            let y: Vec<f64> = multipliers.iter().map(|l| l.max(0.0) / size).collect();
+            let gy = dot(&p.gap, &y);
+            let bty: f64 = mat_t_vec(&p.constraints, &y).iter().map(|v| v.abs()).sum();
+            let reach = self.scales.length.max(norm_inf(&iterate.x));
+            if gy < 0.0 && -gy > 1e8 * reach * bty {
+                return Some((QpStatus::PrimalInfeasible, format!(
+                    "primal infeasible: y ≥ 0 with gᵀy = {gy:.3e} and ‖Bᵀy‖₁ = {bty:.1e} (no x satisfies B x ≤ g)"
+                )));
+            }
+        }
+        let r = rigid_part(&p.kernel, &iterate.x)?;
+        pushed_away(p, &r).map(|work| {
+            (QpStatus::DualInfeasible, format!("dual infeasible: a rigid motion r with B r ≤ 0 and fᵀr = {work:.3e} ‖r‖∞ > 0 (a floating body is pushed away from every contact); the objective is unbounded below"))
+        })
+    }
+}
+
+fn count(active: &[bool]) -> usize {
+    active.iter().filter(|a| **a).count()
+}
+
+/// Why the iteration could not start.
+#[derive(Debug)]
+pub enum SetupError {
+    /// The factor would not fit in memory.
+    TooLarge(signorini_core::qp::QpError),
+    /// Anything else (pattern, ordering, allocation).
+    Pdas(PdasError),
+}
+
+impl From<PdasError> for SetupError {
+    fn from(e: PdasError) -> Self {
+        SetupError::Pdas(e)
+    }
+}

@@ -1,0 +1,207 @@
+//! pdas on the QPs of `signorini_core::examples` with hand-known optima, an infeasible one,
+//! and the limits (iterations, time, settings).
+#![allow(clippy::unwrap_used)]
+
+mod common;
+
+use std::time::Duration;
+
+use common::{qp, solve, solve_with};
+use signorini_core::examples::{
+    infeasible, scalar, spring_chain, two_rows, two_rows_scaled, unconstrained, Known,
+};
+use signorini_core::qp::{QpBackend, QpError, QpStatus, SolveOptions};
+use signorini_pdas::{PdasBackend, PdasSettings, StartSet};
+
+/// The tolerance the answer is judged by; the known optima are exact rationals, and the
+/// KKT systems here are 1×1 to 11×11 with condition numbers below 10³, so an answer meeting
+/// 1e-12 is within 1e-9 of them (the comparison tolerance of `Known::mismatch`).
+const TOL: f64 = 1e-12;
+
+fn check(known: &Known, settings: PdasSettings) {
+    let (sol, status) = solve_with(settings.clone(), &known.problem, TOL);
+    assert_eq!(
+        status,
+        QpStatus::Solved,
+        "{:?} {:?}",
+        settings.start,
+        sol.message
+    );
+    if let Some(why) = known.mismatch(&sol.x, &sol.multipliers, 1e-9) {
+        panic!("{:?}: {why}", settings.start);
+    }
+}
+
+fn every_start() -> Vec<PdasSettings> {
+    [StartSet::All, StartSet::ClosedGaps, StartSet::Empty]
+        .into_iter()
+        .map(|start| PdasSettings {
+            start,
+            ..Default::default()
+        })
+        .collect()
+}
+
+#[test]
+fn scalar_with_active_and_inactive_bound() {
+    for s in every_start() {
+        check(&scalar(1.0), s.clone());
+        check(&scalar(3.0), s.clone());
+        check(&scalar(-2.0), s);
+    }
+}
+
+#[test]
+fn one_of_two_rows_active() {
+    for s in every_start() {
+        check(&two_rows(), s);
+    }
+}
+
+#[test]
+fn scaled_problems_have_the_same_answer() {
+    // The regularisations are relative to A's diagonal: a stiffness of 1e±8 must not matter.
+    for factor in [1e-8, 1e8] {
+        for s in every_start() {
+            check(&two_rows_scaled(factor), s);
+        }
+    }
+}
+
+#[test]
+fn no_rows_is_one_solve() {
+    let known = unconstrained();
+    check(&known, PdasSettings::default());
+    let (sol, _) = solve(&known.problem, TOL);
+    assert_eq!(sol.iterations, 1);
+}
+
+#[test]
+fn spring_chain_against_a_wall() {
+    for s in every_start() {
+        check(&spring_chain(), s);
+    }
+}
+
+#[test]
+fn contradicting_rows_are_primal_infeasible() {
+    // x ≤ −1 and x ≥ 1: the certificate y = (1, 1) has Bᵀy = 0, gᵀy = −2 < 0.
+    for s in every_start() {
+        let (sol, status) = solve_with(s.clone(), &infeasible(), TOL);
+        assert_eq!(
+            status,
+            QpStatus::PrimalInfeasible,
+            "{:?}: {:?}",
+            s.start,
+            sol.message
+        );
+        assert!(sol.message.unwrap().contains("primal infeasible"));
+    }
+}
+
+#[test]
+fn compatible_redundant_rows_are_solved() {
+    // x ≤ 1 twice (B rank-deficient on the active set, but consistent): x = 1, λ₁ + λ₂ = 2.
+    let p = qp(
+        1,
+        &[(0, 0, 2.0)],
+        vec![4.0],
+        2,
+        &[(0, 0, 1.0), (1, 0, 1.0)],
+        vec![1.0, 1.0],
+    );
+    let (sol, status) = solve(&p, 1e-10);
+    assert_eq!(status, QpStatus::Solved, "{:?}", sol.message);
+    assert!((sol.x[0] - 1.0).abs() < 1e-10);
+    assert!((sol.multipliers[0] + sol.multipliers[1] - 2.0).abs() < 1e-9);
+}
+
+#[test]
+fn a_tiny_time_limit_stops_with_time_limit() {
+    let options = SolveOptions {
+        time_limit: Some(Duration::from_nanos(1)),
+        ..SolveOptions::default()
+    };
+    let known = spring_chain();
+    let sol = PdasBackend::default()
+        .solve(&known.problem, &options)
+        .unwrap();
+    assert_eq!(sol.status, QpStatus::TimeLimit, "{:?}", sol.message);
+    assert!(sol.x.iter().all(|v| v.is_finite()));
+}
+
+#[test]
+fn the_iteration_cap_is_honoured() {
+    // Started from the empty set, the wall row is violated by the free solution: one
+    // iteration cannot finish.
+    let options = SolveOptions {
+        max_iter: Some(1),
+        ..SolveOptions::default()
+    };
+    let settings = PdasSettings {
+        start: StartSet::Empty,
+        ..Default::default()
+    };
+    let sol = PdasBackend::new(settings)
+        .solve(&spring_chain().problem, &options)
+        .unwrap();
+    assert_eq!(sol.status, QpStatus::MaxIterations, "{:?}", sol.message);
+    assert_eq!(sol.iterations, 1);
+}
+
+#[test]
+fn a_bad_setting_is_an_error_not_a_panic() {
+    let settings = PdasSettings {
+        penalty: -1.0,
+        ..Default::default()
+    };
+    let err = PdasBackend::new(settings)
+        .solve(&two_rows().problem, &SolveOptions::default())
+        .unwrap_err();
+    assert!(matches!(err, QpError::Backend { .. }), "{err}");
+    assert!(err.to_string().contains("penalty"));
+}
+
+#[test]
+fn the_message_names_the_ordering_and_the_factor_size() {
+    let (sol, _) = solve(&two_rows().problem, TOL);
+    let message = sol.message.unwrap();
+    assert!(
+        message.contains("ordering ") && message.contains("nnz(L)"),
+        "{message}"
+    );
+}
+
+#[test]
+fn verbose_prints_and_solves_the_same() {
+    let options = SolveOptions {
+        verbose: true,
+        tol: TOL,
+        ..SolveOptions::default()
+    };
+    let known = spring_chain();
+    let sol = PdasBackend::default()
+        .solve(&known.problem, &options)
+        .unwrap();
+    assert_eq!(sol.status, QpStatus::Solved);
+    assert!(known.mismatch(&sol.x, &sol.multipliers, 1e-9).is_none());
+}
+
+#[test]
+fn updates_and_factorisations_reach_the_same_answer() {
+    // A 1-D chain with 40 obstacle rows, most of them active: several active-set steps.
+    // Both runs end on the same set with refined solves, so they agree to about
+    // cond · ε ≈ (2000²) · 1e-16 ≈ 4e-10 relative; 1e-8 leaves room.
+    let p = signorini_core::examples::laplacian_with_bounds(2000, 40);
+    let (a, status_a) = solve(&p, 1e-10);
+    let no_updates = PdasSettings {
+        max_update_rank: 0,
+        ..Default::default()
+    };
+    let (b, status_b) = solve_with(no_updates, &p, 1e-10);
+    assert_eq!(status_a, QpStatus::Solved, "{:?}", a.message);
+    assert_eq!(status_b, QpStatus::Solved, "{:?}", b.message);
+    assert!(b.message.unwrap().contains(" 0 low-rank updates"));
+    assert!(common::rel_diff(&a.x, &b.x) < 1e-8);
+    assert!(common::rel_diff(&a.multipliers, &b.multipliers) < 1e-8);
+}
