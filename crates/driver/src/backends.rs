@@ -70,11 +70,12 @@ impl FromStr for Form {
 
 impl BackendKind {
     /// Every backend, in the order reports list them.
-    pub const ALL: [BackendKind; 5] = [
+    pub const ALL: [BackendKind; 6] = [
         BackendKind::Clarabel,
         BackendKind::Osqp,
         BackendKind::DualPgs,
         BackendKind::DualUzawa,
+        BackendKind::Pdas,
         BackendKind::DualSsn,
     ];
 

@@ -28,7 +28,14 @@ const TOL: f64 = 1e-10;
 /// Backend names, in the order of [`BackendKind::ALL`] (dual-ssn, the active-set method, is the
 /// reference).  A backend not compiled into this build (osqp without the `osqp` feature) is
 /// skipped, and so is its expected status.
-const NAMES: [&str; 5] = ["clarabel", "osqp", "dual-pgs", "dual-uzawa", "dual-ssn"];
+const NAMES: [&str; 6] = [
+    "clarabel",
+    "osqp",
+    "dual-pgs",
+    "dual-uzawa",
+    "pdas",
+    "dual-ssn",
+];
 
 /// Every backend of this build, with its name (each once).
 fn backends() -> Vec<(&'static str, Box<dyn QpBackend>)> {
@@ -129,7 +136,7 @@ fn solve_all(dir: &str, name: &str) -> Case {
 /// Asserts each backend's status (`expected[i]` for `NAMES[i]`) and the contract every answer
 /// keeps: finite numbers; a `solved` answer meets the tolerance with λ ≥ 0 and balanced forces;
 /// a non-solved answer says why.
-fn check_statuses(case: &Case, expected: [QpStatus; 5]) {
+fn check_statuses(case: &Case, expected: [QpStatus; 6]) {
     assert_eq!(case.runs.len(), backends().len());
     for run in &case.runs {
         let want = expected[NAMES.iter().position(|n| *n == run.backend).unwrap()];
@@ -173,7 +180,7 @@ fn check_statuses(case: &Case, expected: [QpStatus; 5]) {
     }
 }
 
-const ALL_SOLVED: [QpStatus; 5] = [QpStatus::Solved; 5];
+const ALL_SOLVED: [QpStatus; 6] = [QpStatus::Solved; 6];
 
 fn max_abs(v: &[f64]) -> f64 {
     norm_inf(v)
@@ -256,6 +263,7 @@ fn stiffness_contrast() {
             QpStatus::Inaccurate,
             QpStatus::Solved,
             QpStatus::Solved,
+            QpStatus::Solved, // pdas
             QpStatus::Solved,
         ],
     );
@@ -305,6 +313,7 @@ fn nearly_incompressible() {
             QpStatus::Solved,
             QpStatus::Solved,
             QpStatus::Solved,
+            QpStatus::Solved, // pdas
             QpStatus::Solved,
         ],
     );
@@ -627,7 +636,7 @@ fn floating_free_is_refused_by_every_backend() {
     let case = solve_all("hard", "floating-free");
     // Ill-posed: a frictionless block under a sheared load slides away.  Every backend must say
     // so (dual infeasible, the objective is unbounded below), never "solved".
-    check_statuses(&case, [QpStatus::DualInfeasible; 5]);
+    check_statuses(&case, [QpStatus::DualInfeasible; 6]);
     assert_eq!(case.solved().count(), 0);
 }
 
