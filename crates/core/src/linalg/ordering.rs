@@ -1,6 +1,12 @@
 //! The fill-reducing ordering every sparse factorisation of the project uses: the timing floor,
 //! the dual backends' factor of A and the sparse KKT factor of the active-set backend.  One
 //! function, so that a floor and the solves it is compared with always share the ordering path.
+//!
+//! Two orderings are available: approximate minimum degree ([`OrderingMethod::Amd`], faer's
+//! AMD) and nested dissection ([`OrderingMethod::Metis`], METIS_NodeND through
+//! `signorini-metis`).  [`fill_reducing_order`] picks one by the rule below.
+//!
+//! RULE_PLACEHOLDER
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::amd;
@@ -13,13 +19,16 @@ use crate::qp::CscMatrix;
 pub enum OrderingMethod {
     /// Approximate minimum degree (faer's AMD).
     Amd,
+    /// Nested dissection (METIS_NodeND, METIS 5 defaults).
+    Metis,
 }
 
 impl OrderingMethod {
-    /// The word used in reports (`"amd"`).
+    /// The word used in reports (`"amd"`, `"metis"`).
     pub fn as_str(self) -> &'static str {
         match self {
             OrderingMethod::Amd => "amd",
+            OrderingMethod::Metis => "metis",
         }
     }
 }
@@ -42,9 +51,39 @@ pub struct FillOrdering {
     pub method: OrderingMethod,
 }
 
+impl FillOrdering {
+    fn from_forward(forward: Vec<usize>, method: OrderingMethod) -> Self {
+        let mut inverse = vec![0; forward.len()];
+        for (new, &old) in forward.iter().enumerate() {
+            inverse[old] = new;
+        }
+        Self {
+            forward,
+            inverse,
+            method,
+        }
+    }
+}
+
+/// Matrices with at least this many rows are ordered by nested dissection, smaller ones by AMD
+/// (see the module documentation for the measurements behind it).
+pub const METIS_FROM_DOFS: usize = 20_000;
+
 /// The fill-reducing ordering of the symmetric pattern of `a` (both triangles or one may be
-/// stored; the pattern of A + Aᵀ is ordered).
+/// stored; the pattern of A + Aᵀ is ordered), by the rule of the module documentation: METIS
+/// nested dissection from [`METIS_FROM_DOFS`] rows on, AMD below.
 pub fn fill_reducing_order(a: &CscMatrix) -> Result<FillOrdering, LinalgError> {
+    let method = if a.rows() >= METIS_FROM_DOFS {
+        OrderingMethod::Metis
+    } else {
+        OrderingMethod::Amd
+    };
+    order_with(a, method)
+}
+
+/// The ordering of `a` by the given method (for measurements and tests; solves use
+/// [`fill_reducing_order`]).
+pub fn order_with(a: &CscMatrix, method: OrderingMethod) -> Result<FillOrdering, LinalgError> {
     let n = a.rows();
     if a.cols() != n {
         return Err(LinalgError::Shape {
@@ -52,6 +91,14 @@ pub fn fill_reducing_order(a: &CscMatrix) -> Result<FillOrdering, LinalgError> {
             cols: a.cols(),
         });
     }
+    match method {
+        OrderingMethod::Amd => amd_order(a),
+        OrderingMethod::Metis => metis_order(a),
+    }
+}
+
+fn amd_order(a: &CscMatrix) -> Result<FillOrdering, LinalgError> {
+    let n = a.rows();
     let view = faer_view(a)?;
     let mut forward = vec![0usize; n];
     let mut inverse = vec![0usize; n];
@@ -72,10 +119,99 @@ pub fn fill_reducing_order(a: &CscMatrix) -> Result<FillOrdering, LinalgError> {
     })
 }
 
+fn metis_order(a: &CscMatrix) -> Result<FillOrdering, LinalgError> {
+    let (xadj, adjncy) = adjacency(a)?;
+    let (perm, _) = signorini_metis::node_nd(&xadj, &adjncy)
+        .map_err(|e| LinalgError::Ordering(e.to_string()))?;
+    Ok(FillOrdering::from_forward(perm, OrderingMethod::Metis))
+}
+
+/// The adjacency graph of the pattern of A + Aᵀ without the diagonal, in CSR (`xadj`,
+/// `adjncy`), each edge stored both ways once.
+pub fn adjacency(a: &CscMatrix) -> Result<(Vec<usize>, Vec<usize>), LinalgError> {
+    let n = a.rows();
+    let view = faer_view(a)?;
+    let sym = view.symbolic();
+    // Count both directions of every off-diagonal entry (duplicates when both triangles are
+    // stored), fill, then remove the duplicates of each list in place.
+    let mut ptr = vec![0usize; n + 1];
+    for j in 0..n {
+        for i in sym.row_idx_of_col(j) {
+            if i != j {
+                ptr[i + 1] += 1;
+                ptr[j + 1] += 1;
+            }
+        }
+    }
+    for j in 0..n {
+        ptr[j + 1] += ptr[j];
+    }
+    let mut fill = ptr.clone();
+    let mut adj = vec![0usize; ptr[n]];
+    for j in 0..n {
+        for i in sym.row_idx_of_col(j) {
+            if i != j {
+                adj[fill[i]] = j;
+                fill[i] += 1;
+                adj[fill[j]] = i;
+                fill[j] += 1;
+            }
+        }
+    }
+    let mut mark = vec![usize::MAX; n];
+    let mut xadj = Vec::with_capacity(n + 1);
+    xadj.push(0);
+    let mut out = 0;
+    for v in 0..n {
+        for p in ptr[v]..ptr[v + 1] {
+            let w = adj[p];
+            if mark[w] != v {
+                mark[w] = v;
+                adj[out] = w;
+                out += 1;
+            }
+        }
+        xadj.push(out);
+    }
+    adj.truncate(out);
+    adj.shrink_to_fit();
+    Ok((xadj, adj))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use sprs::TriMat;
+
+    /// 5-point Laplacian on a side × side grid, both triangles stored.
+    pub(crate) fn grid(side: usize) -> CscMatrix {
+        let n = side * side;
+        let id = |i: usize, j: usize| j * side + i;
+        let mut t = TriMat::new((n, n));
+        for j in 0..side {
+            for i in 0..side {
+                t.add_triplet(id(i, j), id(i, j), 4.0);
+                if i + 1 < side {
+                    t.add_triplet(id(i, j), id(i + 1, j), -1.0);
+                    t.add_triplet(id(i + 1, j), id(i, j), -1.0);
+                }
+                if j + 1 < side {
+                    t.add_triplet(id(i, j), id(i, j + 1), -1.0);
+                    t.add_triplet(id(i, j + 1), id(i, j), -1.0);
+                }
+            }
+        }
+        t.to_csc()
+    }
+
+    fn assert_permutation(order: &FillOrdering, n: usize) {
+        let mut seen = order.forward.clone();
+        seen.sort_unstable();
+        assert_eq!(seen, (0..n).collect::<Vec<_>>());
+        for (new, &old) in order.forward.iter().enumerate() {
+            assert_eq!(order.inverse[old], new);
+        }
+    }
 
     #[test]
     fn a_permutation_of_every_index() {
@@ -88,12 +224,50 @@ mod tests {
                 t.add_triplet(i + 1, i, -1.0);
             }
         }
-        let order = fill_reducing_order(&t.to_csc()).unwrap();
-        let mut seen = order.forward.clone();
-        seen.sort_unstable();
-        assert_eq!(seen, (0..n).collect::<Vec<_>>());
-        for (new, &old) in order.forward.iter().enumerate() {
-            assert_eq!(order.inverse[old], new);
+        let a = t.to_csc();
+        for method in [OrderingMethod::Amd, OrderingMethod::Metis] {
+            let order = order_with(&a, method).unwrap();
+            assert_eq!(order.method, method);
+            assert_permutation(&order, n);
         }
+        assert_permutation(&fill_reducing_order(&grid(12)).unwrap(), 144);
+    }
+
+    #[test]
+    fn the_rule_switches_at_its_threshold() {
+        let small = grid(10);
+        assert_eq!(fill_reducing_order(&small).unwrap().method, OrderingMethod::Amd);
+        let side = (METIS_FROM_DOFS as f64).sqrt().ceil() as usize;
+        let large = grid(side);
+        let order = fill_reducing_order(&large).unwrap();
+        assert_eq!(order.method, OrderingMethod::Metis);
+        assert_permutation(&order, side * side);
+    }
+
+    #[test]
+    fn adjacency_of_one_triangle_equals_that_of_both() {
+        let both = grid(6);
+        let mut lower = TriMat::new((36, 36));
+        for (v, (i, j)) in both.iter() {
+            if i >= j {
+                lower.add_triplet(i, j, *v);
+            }
+        }
+        let lower: CscMatrix = lower.to_csc();
+        let (xa, aa) = adjacency(&both).unwrap();
+        let (xb, ab) = adjacency(&lower).unwrap();
+        assert_eq!(xa, xb);
+        let sorted = |x: &[usize], a: &[usize]| -> Vec<Vec<usize>> {
+            (0..36)
+                .map(|v| {
+                    let mut l = a[x[v]..x[v + 1]].to_vec();
+                    l.sort_unstable();
+                    l
+                })
+                .collect()
+        };
+        assert_eq!(sorted(&xa, &aa), sorted(&xb, &ab));
+        // An interior grid vertex has 4 neighbours, a corner 2: 2 · (edges) = 2 · 2 · 6 · 5.
+        assert_eq!(xa[36], 120);
     }
 }
