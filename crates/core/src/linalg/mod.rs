@@ -13,8 +13,7 @@ use std::sync::Arc;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    simplicial,
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    factorize_symbolic_cholesky, simplicial, CholeskySymbolicParams, LltRef, SymbolicCholesky,
     SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
@@ -23,6 +22,7 @@ use faer::{Conj, MatMut, Par, Side};
 
 use crate::qp::CscMatrix;
 
+mod measure;
 pub mod ordering;
 
 pub use ordering::{fill_reducing_order, order_with, FillOrdering, OrderingMethod};
@@ -149,9 +149,10 @@ fn column_counts(a: &CscMatrix, inverse: &[usize]) -> Result<Vec<usize>, LinalgE
     let upper = SymbolicSparseColMatRef::new_unsorted_checked(n, n, &col_ptr, None, &row_idx);
     let mut etree = vec![0isize; n];
     let mut counts = vec![0usize; n];
-    let mut buffer =
-        MemBuffer::try_new(simplicial::prefactorize_symbolic_cholesky_scratch::<usize>(n, 0))
-            .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
+    let mut buffer = MemBuffer::try_new(
+        simplicial::prefactorize_symbolic_cholesky_scratch::<usize>(n, 0),
+    )
+    .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
     simplicial::prefactorize_symbolic_cholesky(
         &mut etree,
         &mut counts,
@@ -182,7 +183,10 @@ impl CholeskyPattern {
     pub fn analyse_with(a: &CscMatrix, ordering: &FillOrdering) -> Result<Self, LinalgError> {
         let n = a.rows();
         if a.cols() != n {
-            return Err(LinalgError::Shape { rows: n, cols: a.cols() });
+            return Err(LinalgError::Shape {
+                rows: n,
+                cols: a.cols(),
+            });
         }
         if ordering.forward.len() != n || ordering.inverse.len() != n {
             return Err(LinalgError::Ordering(format!(
@@ -199,7 +203,9 @@ impl CholeskyPattern {
             .enumerate()
             .all(|(new, &old)| old < n && ordering.inverse[old] == new);
         if !is_permutation {
-            return Err(LinalgError::Ordering("the ordering is not a permutation".into()));
+            return Err(LinalgError::Ordering(
+                "the ordering is not a permutation".into(),
+            ));
         }
         let perm = PermRef::new_checked(&ordering.forward, &ordering.inverse, n);
         let symbolic = factorize_symbolic_cholesky(
@@ -222,6 +228,14 @@ impl CholeskyPattern {
     /// What the analysis found: ordering, nnz(L), flops.
     pub fn info(&self) -> FactorInfo {
         self.info
+    }
+
+    /// Bytes of the scratch space the numeric factorisation allocates besides the factor (the
+    /// largest frontal update), from the symbolic analysis.
+    pub fn numeric_scratch_bytes(&self) -> f64 {
+        self.symbolic
+            .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
+            .size_bytes() as f64
     }
 
     /// Numeric factorisation of `a`, which must have the analysed pattern (one thread).
@@ -434,7 +448,11 @@ mod tests {
             let pattern = CholeskyPattern::analyse_with(&a, &ordering).unwrap();
             let info = pattern.info();
             assert_eq!(info.ordering, method);
-            assert_eq!(info.nnz_l, eliminated_nnz(&a, &ordering.inverse), "{method}");
+            assert_eq!(
+                info.nnz_l,
+                eliminated_nnz(&a, &ordering.inverse),
+                "{method}"
+            );
             assert!(info.stored_values >= info.nnz_l);
             let chol = pattern.factor(&a).unwrap();
             let mut x = b.clone();
@@ -442,7 +460,11 @@ mod tests {
             let err: Vec<f64> = x.iter().zip(&x_true).map(|(p, q)| p - q).collect();
             // The matrix is diagonally dominant (condition number < 10), so a backward-stable
             // Cholesky gives a relative error of a few ulps × n; 1e-10 is the task's bound.
-            assert!(norm(&err) / norm(&x_true) < 1e-10, "{method}: {}", norm(&err));
+            assert!(
+                norm(&err) / norm(&x_true) < 1e-10,
+                "{method}: {}",
+                norm(&err)
+            );
         }
     }
 

@@ -236,7 +236,10 @@ mod tests {
     #[test]
     fn the_rule_switches_at_its_threshold() {
         let small = grid(10);
-        assert_eq!(fill_reducing_order(&small).unwrap().method, OrderingMethod::Amd);
+        assert_eq!(
+            fill_reducing_order(&small).unwrap().method,
+            OrderingMethod::Amd
+        );
         let side = (METIS_FROM_DOFS as f64).sqrt().ceil() as usize;
         let large = grid(side);
         let order = fill_reducing_order(&large).unwrap();
