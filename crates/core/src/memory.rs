@@ -58,7 +58,7 @@ impl FactorEstimate {
         let csc = |m: &crate::qp::CscMatrix| 12.0 * m.nnz() as f64 + 8.0 * (m.cols() + 1) as f64;
         let n = qp.dofs() as f64;
         Self {
-            factor: pattern.info().factor_bytes(),
+            factor: 8.0 * pattern.stored_values() as f64,
             scratch: pattern.numeric_scratch_bytes(),
             matrices: csc(&qp.stiffness) + 2.0 * csc(&qp.constraints),
             vectors: 8.0 * 8.0 * n,

@@ -167,7 +167,9 @@ pub fn check_factor_memory(
     let pattern = CholeskyPattern::analyse(&qp.stiffness)
         .map_err(|e| PreflightError::Analysis(e.to_string()))?;
     let estimate = FactorEstimate::of(qp, &pattern);
-    let info = pattern.info();
+    let info = pattern
+        .info(&qp.stiffness)
+        .map_err(|e| PreflightError::Analysis(e.to_string()))?;
     // `as` saturates: the byte figures are finite and nonnegative.
     if estimate.total() > available as f64 {
         return Err(PreflightError::FactorTooLarge {

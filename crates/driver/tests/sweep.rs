@@ -251,9 +251,8 @@ fn resume_refuses_a_foreign_or_corrupt_file_naming_the_line() {
     let join = |ls: &[&str]| ls.join("\n") + "\n";
     let without_last_column = |l: &str| l.rsplit_once(',').unwrap().0.to_string();
     // scene_hash is followed by the floor's two columns (floor_ordering, floor_nnz_l).
-    let without_last_columns = |l: &str, k: usize| {
-        (0..k).fold(l.to_string(), |l, _| without_last_column(&l))
-    };
+    let without_last_columns =
+        |l: &str, k: usize| (0..k).fold(l.to_string(), |l, _| without_last_column(&l));
     let exp2b = fixture("exp2b");
     let exp2c = fixture("exp2c");
     let base = ["--hmax", "0.3,0.2", "--backends", "clarabel"];

@@ -64,6 +64,20 @@ fn describe(code: i32) -> &'static str {
 /// O(n + nnz), so that METIS never reads out of bounds), [`MetisError::TooLarge`] beyond 32-bit
 /// indices, [`MetisError::Metis`] when METIS fails.
 pub fn node_nd(xadj: &[usize], adjncy: &[usize]) -> Result<(Vec<usize>, Vec<usize>), MetisError> {
+    node_nd_weighted(xadj, adjncy, None)
+}
+
+/// [`node_nd`] with vertex weights (`vwgt[i]` ≥ 1, e.g. the number of matrix rows a vertex of
+/// a compressed graph stands for), which METIS balances the parts by.
+///
+/// # Errors
+/// As [`node_nd`]; a weight vector of the wrong length or with a zero or too large entry is an
+/// [`MetisError::InvalidGraph`].
+pub fn node_nd_weighted(
+    xadj: &[usize],
+    adjncy: &[usize],
+    vwgt: Option<&[usize]>,
+) -> Result<(Vec<usize>, Vec<usize>), MetisError> {
     let n = xadj
         .len()
         .checked_sub(1)
@@ -76,6 +90,25 @@ pub fn node_nd(xadj: &[usize], adjncy: &[usize]) -> Result<(Vec<usize>, Vec<usiz
         return Err(too_large());
     }
     check_graph(n, xadj, adjncy)?;
+    let mut vwgt_c: Option<Vec<idx_t>> = match vwgt {
+        None => None,
+        Some(w) if w.len() != n => {
+            return Err(MetisError::InvalidGraph(format!(
+                "{} vertex weights for {n} vertices",
+                w.len()
+            )))
+        }
+        Some(w) => {
+            // The sum must fit METIS's indices too.
+            let total: usize = w.iter().fold(0usize, |s, &x| s.saturating_add(x));
+            if w.contains(&0) || idx_t::try_from(total).is_err() {
+                return Err(MetisError::InvalidGraph(
+                    "vertex weights must be positive and sum below 2³¹".into(),
+                ));
+            }
+            Some(w.iter().map(|&x| x as idx_t).collect())
+        }
+    };
     if n == 0 {
         return Ok((Vec::new(), Vec::new()));
     }
@@ -95,7 +128,8 @@ pub fn node_nd(xadj: &[usize], adjncy: &[usize]) -> Result<(Vec<usize>, Vec<usiz
     // SAFETY: `options` has METIS_NOPTIONS entries as METIS_SetDefaultOptions requires.  For
     // METIS_NodeND: `nvtxs` = n; `xadj_c` has n + 1 nondecreasing entries starting at 0 and
     // `adjncy_c` has at least xadj[n] entries, each in 0..n (checked by `check_graph`), so every
-    // read METIS makes is in bounds; `vwgt` is null (unit weights, allowed by the API); `perm`
+    // read METIS makes is in bounds; `vwgt` is null (unit weights, allowed by the API) or
+    // has n positive entries whose sum fits idx_t; `perm`
     // and `iperm` have n entries each, which is what METIS writes.  All buffers are owned here,
     // live across the call, and METIS keeps no pointer to them after it returns.
     let code = unsafe {
@@ -105,7 +139,9 @@ pub fn node_nd(xadj: &[usize], adjncy: &[usize]) -> Result<(Vec<usize>, Vec<usiz
             &mut nvtxs,
             xadj_c.as_mut_ptr(),
             adjncy_c.as_mut_ptr(),
-            std::ptr::null_mut(),
+            vwgt_c
+                .as_mut()
+                .map_or(std::ptr::null_mut(), |w| w.as_mut_ptr()),
             options.as_mut_ptr(),
             perm.as_mut_ptr(),
             iperm.as_mut_ptr(),

@@ -121,9 +121,78 @@ fn amd_order(a: &CscMatrix) -> Result<FillOrdering, LinalgError> {
 
 fn metis_order(a: &CscMatrix) -> Result<FillOrdering, LinalgError> {
     let (xadj, adjncy) = adjacency(a)?;
-    let (perm, _) = signorini_metis::node_nd(&xadj, &adjncy)
-        .map_err(|e| LinalgError::Ordering(e.to_string()))?;
-    Ok(FillOrdering::from_forward(perm, OrderingMethod::Metis))
+    let groups = Compressed::of(&xadj, &adjncy);
+    let (perm, _) =
+        signorini_metis::node_nd_weighted(&groups.xadj, &groups.adjncy, Some(&groups.weight))
+            .map_err(|e| LinalgError::Ordering(e.to_string()))?;
+    let mut forward = Vec::with_capacity(a.rows());
+    for g in perm {
+        forward.extend(groups.start[g]..groups.start[g + 1]);
+    }
+    Ok(FillOrdering::from_forward(forward, OrderingMethod::Metis))
+}
+
+/// The graph with runs of consecutive vertices of identical closed neighbourhoods (the two DOFs
+/// of a node, numbered one after the other) merged into one weighted vertex: half the vertices
+/// and a quarter of the edges of a 2D elasticity DOF graph, so METIS orders it several times
+/// faster than the DOF graph (its own compression finds the same groups but only after reading
+/// the whole DOF graph).
+struct Compressed {
+    /// Group g holds the vertices `start[g]..start[g + 1]`.
+    start: Vec<usize>,
+    weight: Vec<usize>,
+    xadj: Vec<usize>,
+    adjncy: Vec<usize>,
+}
+
+impl Compressed {
+    fn of(xadj: &[usize], adjncy: &[usize]) -> Self {
+        let n = xadj.len() - 1;
+        let closed = |v: usize| -> Vec<usize> {
+            let mut l: Vec<usize> = adjncy[xadj[v]..xadj[v + 1]].to_vec();
+            l.push(v);
+            l.sort_unstable();
+            l
+        };
+        let mut start = vec![0];
+        let mut group_of = vec![0usize; n];
+        let mut v = 0;
+        while v < n {
+            let first = closed(v);
+            let mut w = v + 1;
+            while w < n && xadj[w + 1] - xadj[w] == xadj[v + 1] - xadj[v] && closed(w) == first {
+                w += 1;
+            }
+            for u in v..w {
+                group_of[u] = start.len() - 1;
+            }
+            start.push(w);
+            v = w;
+        }
+        let groups = start.len() - 1;
+        let weight: Vec<usize> = (0..groups).map(|g| start[g + 1] - start[g]).collect();
+        let mut mark = vec![usize::MAX; groups];
+        let mut gx = Vec::with_capacity(groups + 1);
+        gx.push(0);
+        let mut ga = Vec::new();
+        for g in 0..groups {
+            mark[g] = g;
+            for &w in &adjncy[xadj[start[g]]..xadj[start[g] + 1]] {
+                let h = group_of[w];
+                if mark[h] != g {
+                    mark[h] = g;
+                    ga.push(h);
+                }
+            }
+            gx.push(ga.len());
+        }
+        Self {
+            start,
+            weight,
+            xadj: gx,
+            adjncy: ga,
+        }
+    }
 }
 
 /// The adjacency graph of the pattern of A + Aᵀ without the diagonal, in CSR (`xadj`,
