@@ -327,3 +327,55 @@ pub fn contact_forces(model: &Model, multipliers: &[f64]) -> Vec<f64> {
         .map(|v| -v)
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::tests::{eliminated_nnz, two_dof_grid};
+    use crate::linalg::{fill_reducing_order, METIS_FROM_DOFS};
+
+    fn qp_of(a: CscMatrix) -> QpProblem {
+        let n = a.rows();
+        let b: CscMatrix = sprs::TriMat::new((0, n)).to_csc();
+        QpProblem::try_new(a, vec![1.0; n], b, vec![]).unwrap()
+    }
+
+    #[test]
+    fn the_floor_reports_the_rules_ordering_and_the_exact_nnz_of_l() {
+        // One matrix under the METIS threshold, one above it: both orderings of the rule.
+        for side in [10, ((METIS_FROM_DOFS / 2) as f64).sqrt().ceil() as usize] {
+            let qp = qp_of(two_dof_grid(side));
+            let floor = floor(&qp).unwrap();
+            let ordering = fill_reducing_order(&qp.stiffness).unwrap();
+            assert_eq!(floor.info.ordering, ordering.method);
+            assert_eq!(floor.info.n, qp.dofs());
+            if side <= 10 {
+                // The vertex-by-vertex elimination count is quadratic in the fill: small only.
+                assert_eq!(
+                    floor.info.nnz_l,
+                    eliminated_nnz(&qp.stiffness, &ordering.inverse)
+                );
+            } else {
+                assert_eq!(floor.info.ordering, crate::linalg::OrderingMethod::Metis);
+            }
+            assert!(floor.time > Duration::ZERO);
+        }
+    }
+
+    #[test]
+    fn a_floating_floor_factors_the_shifted_matrix_and_an_empty_one_nothing() {
+        let mut qp = qp_of(two_dof_grid(4));
+        qp.kernel = vec![vec![1.0; qp.dofs()]];
+        let shifted = floor_matrix(&qp).unwrap();
+        // ε = 1e-8 · max Aⱼⱼ = 2e-7 on every diagonal entry, nothing else changed.
+        for j in 0..qp.dofs() {
+            let d = shifted.get(j, j).unwrap() - qp.stiffness.get(j, j).unwrap();
+            // (20 + 2e-7) − 20 is exact to an ulp of 20 (3.6e-15); allow a few.
+            assert!((d - 20.0 * 1e-8).abs() < 2e-14, "{d}");
+        }
+        assert_eq!(shifted.nnz(), qp.stiffness.nnz());
+        assert!(floor(&qp).is_ok());
+        let empty = qp_of(sprs::TriMat::new((0, 0)).to_csc());
+        assert_eq!(floor(&empty).unwrap().info.nnz_l, 0);
+    }
+}

@@ -166,3 +166,38 @@ fn measure_old_vs_new_floor() {
         );
     }
 }
+
+/// Where METIS's ordering time goes: the adjacency graph, its compression, METIS itself.
+#[test]
+#[ignore = "measurement: run by hand with --release --nocapture"]
+fn measure_metis_steps() {
+    let scenes = std::env::var("SIGNORINI_MEASURE_SCENES").unwrap_or_default();
+    for path in scenes.split_whitespace() {
+        let scene = Scene::from_path(std::path::Path::new(path)).unwrap();
+        let meshes = model::mesh_scene(&scene, &MeshLimits::default()).unwrap();
+        let qp = model::assemble(&scene, meshes).unwrap().qp;
+        let a = &qp.stiffness;
+        let t0 = Instant::now();
+        let (xadj, adjncy) = super::ordering::adjacency(a).unwrap();
+        let t1 = Instant::now();
+        let c = super::ordering::Compressed::of(&xadj, &adjncy);
+        let t2 = Instant::now();
+        let _ = signorini_metis::node_nd_weighted(&c.xadj, &c.adjncy, Some(&c.weight)).unwrap();
+        let t3 = Instant::now();
+        let _ = signorini_metis::node_nd(&xadj, &adjncy).unwrap();
+        let t4 = Instant::now();
+        let _ = order_with(a, OrderingMethod::Amd).unwrap();
+        let t5 = Instant::now();
+        let s = |a: Instant, b: Instant| (b - a).as_secs_f64();
+        println!(
+            "| {path} | n {} | groups {} | adjacency {:.3} | compress {:.3} | metis(compressed) {:.3} | metis(DOF graph) {:.3} | amd {:.3} |",
+            a.rows(),
+            c.weight.len(),
+            s(t0, t1),
+            s(t1, t2),
+            s(t2, t3),
+            s(t3, t4),
+            s(t4, t5)
+        );
+    }
+}

@@ -25,7 +25,9 @@ use crate::qp::CscMatrix;
 mod measure;
 pub mod ordering;
 
-pub use ordering::{fill_reducing_order, order_with, FillOrdering, OrderingMethod};
+pub use ordering::{
+    fill_reducing_order, order_with, FillOrdering, OrderingMethod, METIS_FROM_DOFS,
+};
 
 /// Why a factorisation failed.
 #[derive(Debug, thiserror::Error)]
@@ -373,7 +375,7 @@ impl SparseCholesky {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use sprs::TriMat;
 
@@ -407,7 +409,7 @@ mod tests {
 
     /// An SPD matrix with a 2D-elasticity-like pattern: a side × side grid of nodes with two
     /// DOFs each, coupled to the 8 neighbouring nodes (both DOFs), diagonally dominant.
-    fn two_dof_grid(side: usize) -> CscMatrix {
+    pub(crate) fn two_dof_grid(side: usize) -> CscMatrix {
         let nodes = side * side;
         let mut t = TriMat::new((2 * nodes, 2 * nodes));
         let id = |i: usize, j: usize| j * side + i;
@@ -438,7 +440,7 @@ mod tests {
     /// nnz of the lower triangle of L, diagonal included, counted by eliminating the graph of
     /// P A Pᵀ vertex by vertex (each eliminated vertex joins its later neighbours into a
     /// clique): independent of faer's elimination tree and column counts.
-    fn eliminated_nnz(a: &CscMatrix, forward_inverse: &[usize]) -> usize {
+    pub(crate) fn eliminated_nnz(a: &CscMatrix, forward_inverse: &[usize]) -> usize {
         use std::collections::BTreeSet;
         let n = a.rows();
         let mut adj: Vec<BTreeSet<usize>> = vec![BTreeSet::new(); n];

@@ -137,16 +137,16 @@ fn metis_order(a: &CscMatrix) -> Result<FillOrdering, LinalgError> {
 /// and a quarter of the edges of a 2D elasticity DOF graph, so METIS orders it several times
 /// faster than the DOF graph (its own compression finds the same groups but only after reading
 /// the whole DOF graph).
-struct Compressed {
+pub(crate) struct Compressed {
     /// Group g holds the vertices `start[g]..start[g + 1]`.
-    start: Vec<usize>,
-    weight: Vec<usize>,
-    xadj: Vec<usize>,
-    adjncy: Vec<usize>,
+    pub(crate) start: Vec<usize>,
+    pub(crate) weight: Vec<usize>,
+    pub(crate) xadj: Vec<usize>,
+    pub(crate) adjncy: Vec<usize>,
 }
 
 impl Compressed {
-    fn of(xadj: &[usize], adjncy: &[usize]) -> Self {
+    pub(crate) fn of(xadj: &[usize], adjncy: &[usize]) -> Self {
         let n = xadj.len() - 1;
         let closed = |v: usize| -> Vec<usize> {
             let mut l: Vec<usize> = adjncy[xadj[v]..xadj[v + 1]].to_vec();
