@@ -113,7 +113,8 @@ fn measure_orderings() {
 }
 
 /// Old floor (faer's `SymbolicLlt` + `Llt`) against the new one (`CholeskyPattern::analyse` +
-/// `factor` + solve), alternated five times on the first scene, minimum of each.
+/// `factor` + solve), alternated five times (`SIGNORINI_MEASURE_REPS`) on each scene, minimum
+/// of each.
 #[test]
 #[ignore = "measurement: run by hand with --release --nocapture"]
 fn measure_old_vs_new_floor() {
@@ -127,7 +128,11 @@ fn measure_old_vs_new_floor() {
         let a = crate::solve::floor_matrix(&qp);
         let a = a.as_ref().unwrap_or(&qp.stiffness);
         let (mut old, mut new, mut new_metis) = (f64::MAX, f64::MAX, f64::MAX);
-        for _ in 0..5 {
+        let reps: usize = std::env::var("SIGNORINI_MEASURE_REPS")
+            .ok()
+            .and_then(|r| r.parse().ok())
+            .unwrap_or(5);
+        for _ in 0..reps {
             let t = Instant::now();
             let view = super::faer_view(a).unwrap();
             let symbolic = SymbolicLlt::try_new(view.symbolic(), faer::Side::Lower).unwrap();

@@ -25,9 +25,7 @@ use crate::qp::CscMatrix;
 mod measure;
 pub mod ordering;
 
-pub use ordering::{
-    fill_reducing_order, order_with, FillOrdering, OrderingMethod, METIS_FROM_DOFS,
-};
+pub use ordering::{fill_reducing_order, order_with, FillOrdering, OrderingMethod};
 
 /// Why a factorisation failed.
 #[derive(Debug, thiserror::Error)]

@@ -6,7 +6,73 @@
 //! AMD) and nested dissection ([`OrderingMethod::Metis`], METIS_NodeND through
 //! `signorini-metis`).  [`fill_reducing_order`] picks one by the rule below.
 //!
-//! RULE_PLACEHOLDER
+//! # The rule: AMD
+//!
+//! [`fill_reducing_order`] orders every matrix by AMD.  Nested dissection halves the flops of
+//! the factorisation of the seed geometry from 10⁶ DOFs on and shrinks nnz(L) by 20–25 %, but
+//! METIS's ordering (single-threaded, on the node graph: the two DOFs of a node merged) costs 5
+//! to 13 times AMD's, more than the numeric factorisation saves, at every size measured up to
+//! 5.1·10⁶ DOFs, beyond the 4·10⁶ that fit this machine's memory with a solve.  On the long
+//! strips METIS does not even reduce the fill.  The ordering's time is part of the floor, so
+//! AMD is the best ordering the project has on this machine.  METIS stays available through
+//! [`order_with`] (for a caller that reuses one factor for many solves: each solve costs
+//! ∝ nnz(L)).  Picking by nnz(L) would need both orderings, i.e. METIS's time, every time.
+//!
+//! Measured on the 2-core development machine (24 GiB), each factor with
+//! [`super::CholeskyPattern`] (forced supernodal, `Par::Seq`) of the reduced stiffness of real
+//! scenes: `seed-hH` is `fixtures/seed/exp3-both-h0.08.toml` with `hmax = H` on both bodies,
+//! `strip-hH` is `strip-floating` (a 20 × 0.02 strip on a 20 × 0.04 foundation) at `hmax = H`,
+//! `thick-hH` the same with a 0.1-thick strip (10 elements at H = 0.01).  Other builds and
+//! solves were running on the machine throughout (load 4–7 on 2 cores): compare the two rows of
+//! one scene, not seconds across scenes.  Run 1 (METIS on the DOF graph, the symbolic column
+//! including the exact nnz(L) count, ≈ 8 % of a factor, since moved out of the floor):
+//!
+//! | scene | n | nnz(A) | ordering | order s | symbolic s | numeric s | total s | nnz(L) | flops |
+//! |---|---:|---:|---|---:|---:|---:|---:|---:|---:|
+//! | seed-h0.03 | 13 508 | 185 416 | amd | 0.021 | 0.009 | 0.021 | 0.051 | 5.96e5 | 4.78e7 |
+//! | | | | metis | 0.043 | 0.013 | 0.020 | 0.077 | 5.92e5 | 4.46e7 |
+//! | strip-h0.01 | 51 575 | 631 785 | amd | 0.022 | 0.021 | 0.020 | 0.063 | 5.55e5 | 6.26e6 |
+//! | | | | metis | 0.169 | 0.018 | 0.018 | 0.205 | 8.51e5 | 1.63e7 |
+//! | thick-h0.01 | 95 619 | 1 176 338 | amd | 0.067 | 0.032 | 0.061 | 0.161 | 2.23e6 | 7.63e7 |
+//! | | | | metis | 0.257 | 0.035 | 0.053 | 0.344 | 2.70e6 | 1.14e8 |
+//! | seed-h0.0096 | 126 472 | 1 759 200 | amd | 0.067 | 0.051 | 0.158 | 0.275 | 1.01e7 | 2.42e9 |
+//! | | | | metis | 0.354 | 0.083 | 0.162 | 0.598 | 8.46e6 | 1.52e9 |
+//! | strip-h0.005 | 174 271 | 2 152 017 | amd | 0.095 | 0.061 | 0.096 | 0.251 | 3.56e6 | 9.85e7 |
+//! | | | | metis | 0.490 | 0.072 | 0.127 | 0.689 | 4.39e6 | 1.53e8 |
+//! | thick-h0.005 | 356 573 | 4 481 609 | amd | 0.494 | 0.273 | 0.541 | 1.308 | 1.53e7 | 1.36e9 |
+//! | | | | metis | 2.531 | 0.368 | 0.533 | 3.432 | 1.43e7 | 9.87e8 |
+//! | strip-h0.0025 | 624 065 | 7 818 690 | amd | 1.056 | 0.629 | 0.994 | 2.678 | 2.27e7 | 1.43e9 |
+//! | | | | metis | 5.564 | 0.656 | 0.908 | 7.128 | 2.29e7 | 1.31e9 |
+//! | seed-h0.003 | 1 276 480 | 17 834 000 | amd | 1.189 | 0.892 | 4.782 | 6.863 | 1.53e8 | 1.03e11 |
+//! | | | | metis | 8.789 | 1.827 | 5.056 | 15.672 | 1.16e8 | 5.12e10 |
+//! | thick-h0.0025 | 1 360 185 | 16 976 871 | amd | 1.214 | 1.180 | 3.396 | 5.790 | 8.45e7 | 1.42e10 |
+//! | | | | metis | 16.267 | 2.696 | 5.903 | 24.866 | 7.24e7 | 8.17e9 |
+//!
+//! Run 2 (METIS on the node graph, exact count outside the symbolic column; heavier load):
+//!
+//! | scene | n | ordering | order s | symbolic s | numeric s | total s | nnz(L) | flops |
+//! |---|---:|---|---:|---:|---:|---:|---:|---:|
+//! | seed-h0.003 | 1 276 480 | amd | 2.251 | 1.545 | 15.701 | 19.497 | 1.53e8 | 1.03e11 |
+//! | | | metis | 17.057 | 1.932 | 8.417 | 27.407 | 1.17e8 | 5.21e10 |
+//! | thick-h0.0025 | 1 360 185 | amd | 3.083 | 1.582 | 6.052 | 10.717 | 8.45e7 | 1.42e10 |
+//! | | | metis | 36.418 | 3.459 | 3.141 | 43.018 | 7.24e7 | 8.19e9 |
+//! | seed-h0.0021 | 2 598 526 | amd | 15.197 | 7.698 | 66.538 | 89.432 | 3.56e8 | 3.38e11 |
+//! | | | metis | 41.713 | 6.832 | 33.117 | 81.662 | 2.58e8 | 1.54e11 |
+//! | seed-h0.0015 | 5 090 580 | amd | 4.630 | 2.671 | 88.722 | 96.023 | 6.82e8 | 7.39e11 |
+//! | | | metis | 61.079 | 13.334 | 46.615 | 121.028 | 5.42e8 | 4.30e11 |
+//!
+//! (The one row where METIS came out ahead, seed-h0.0021, is one where AMD's ordering and
+//! symbolic analysis took 3–5× their time at twice the size: load, not the ordering.  On the
+//! node graph METIS orders 1.7× faster than on the DOF graph: 0.78 s against 1.30 s at
+//! 126 472 DOFs, 2.98 s against 4.95 s at 356 573, `measure_metis_steps`.)
+//!
+//! Produced by (scenes written to /tmp with `sed "s/hmax = 0.08/hmax = H/"` and likewise):
+//!
+//! ```text
+//! SIGNORINI_MEASURE_SCENES="/tmp/floor-scenes/seed-h0.03.toml …" \
+//!   cargo test --release -p signorini-core --lib linalg::measure::measure_orderings \
+//!   -- --ignored --nocapture
+//! ```
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::amd;
@@ -65,20 +131,15 @@ impl FillOrdering {
     }
 }
 
-/// Matrices with at least this many rows are ordered by nested dissection, smaller ones by AMD
-/// (see the module documentation for the measurements behind it).
-pub const METIS_FROM_DOFS: usize = 20_000;
+/// The ordering [`fill_reducing_order`] uses, for every size: see the module documentation for
+/// the measurements behind the rule.
+pub const RULE: OrderingMethod = OrderingMethod::Amd;
 
 /// The fill-reducing ordering of the symmetric pattern of `a` (both triangles or one may be
-/// stored; the pattern of A + Aᵀ is ordered), by the rule of the module documentation: METIS
-/// nested dissection from [`METIS_FROM_DOFS`] rows on, AMD below.
+/// stored; the pattern of A + Aᵀ is ordered), by the rule of the module documentation
+/// ([`RULE`]: AMD, whose ordering time METIS's smaller factor never paid back on this machine).
 pub fn fill_reducing_order(a: &CscMatrix) -> Result<FillOrdering, LinalgError> {
-    let method = if a.rows() >= METIS_FROM_DOFS {
-        OrderingMethod::Metis
-    } else {
-        OrderingMethod::Amd
-    };
-    order_with(a, method)
+    order_with(a, RULE)
 }
 
 /// The ordering of `a` by the given method (for measurements and tests; solves use
@@ -303,17 +364,34 @@ mod tests {
     }
 
     #[test]
-    fn the_rule_switches_at_its_threshold() {
-        let small = grid(10);
-        assert_eq!(
-            fill_reducing_order(&small).unwrap().method,
-            OrderingMethod::Amd
+    fn the_rule_is_the_measured_one() {
+        let a = grid(40);
+        let order = fill_reducing_order(&a).unwrap();
+        assert_eq!(order.method, RULE);
+        assert_eq!(order, order_with(&a, RULE).unwrap());
+    }
+
+    #[test]
+    fn metis_dissects_a_grid_with_less_fill_than_the_natural_order() {
+        // Nested dissection of a k × k grid: nnz(L) = O(k² log k); the natural (banded) order
+        // fills the band, ≈ k³ = 64 000 at k = 40; METIS stays well under half of that.
+        let a = grid(40);
+        let metis = order_with(&a, OrderingMethod::Metis).unwrap();
+        assert_permutation(&metis, 1600);
+        let identity = FillOrdering::from_forward((0..1600).collect(), OrderingMethod::Amd);
+        let nnz = |o: &FillOrdering| {
+            crate::linalg::CholeskyPattern::analyse_with(&a, o)
+                .unwrap()
+                .info(&a)
+                .unwrap()
+                .nnz_l
+        };
+        assert!(
+            2 * nnz(&metis) < nnz(&identity),
+            "{} vs {}",
+            nnz(&metis),
+            nnz(&identity)
         );
-        let side = (METIS_FROM_DOFS as f64).sqrt().ceil() as usize;
-        let large = grid(side);
-        let order = fill_reducing_order(&large).unwrap();
-        assert_eq!(order.method, OrderingMethod::Metis);
-        assert_permutation(&order, side * side);
     }
 
     #[test]
