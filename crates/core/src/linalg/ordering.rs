@@ -224,9 +224,8 @@ impl Compressed {
             while w < n && xadj[w + 1] - xadj[w] == xadj[v + 1] - xadj[v] && closed(w) == first {
                 w += 1;
             }
-            for u in v..w {
-                group_of[u] = start.len() - 1;
-            }
+            let g = start.len() - 1;
+            group_of[v..w].iter_mut().for_each(|x| *x = g);
             start.push(w);
             v = w;
         }
