@@ -252,6 +252,12 @@ impl CholeskyPattern {
         self.symbolic.nrows()
     }
 
+    /// faer's symbolic factor (supernodal), for callers that read the factor's blocks (the dual
+    /// backend's trailing block) through faer's `SupernodalLltRef`.
+    pub fn symbolic(&self) -> &SymbolicCholesky<usize> {
+        &self.symbolic
+    }
+
     /// Values the supernodal factor will store (8 B each), known before it is computed.
     pub fn stored_values(&self) -> usize {
         self.symbolic.len_val()
@@ -346,6 +352,12 @@ impl SparseCholesky {
     /// [`CholeskyPattern::info`].
     pub fn info(&self, a: &CscMatrix) -> Result<FactorInfo, LinalgError> {
         FactorInfo::of(&self.symbolic, self.method, a)
+    }
+
+    /// faer's symbolic factor and the numeric values, for callers that read L's blocks through
+    /// faer (`LltRef::new(symbolic, values)`, or `SupernodalLltRef` on its supernodal part).
+    pub fn raw(&self) -> (&SymbolicCholesky<usize>, &[f64]) {
+        (&self.symbolic, &self.values)
     }
 
     /// Overwrites `rhs` (length n) with A⁻¹ rhs.
