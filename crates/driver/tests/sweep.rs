@@ -51,6 +51,9 @@ fn sweep_writes_every_point_and_resume_skips_them() {
         assert_eq!(p.status, "solved", "{p:?}");
         assert!(p.floor_s > 0.0 && p.solve_s > 0.0);
         assert!((p.ratio_to_floor - p.solve_s / p.floor_s).abs() <= 1e-12 * p.ratio_to_floor);
+        // L has its diagonal at least, the dense lower triangle at most.
+        assert_eq!(p.floor_ordering, "amd");
+        assert!(p.floor_nnz_l >= p.dofs && p.floor_nnz_l <= p.dofs * (p.dofs + 1) / 2);
         let err = p.error_vs_reference.expect("reference known");
         // Each point meets its tolerance, so it is that close to the tightest answer (with a
         // margin: the tolerance bounds residuals, not the error itself).
