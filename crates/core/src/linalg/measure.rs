@@ -35,6 +35,16 @@ fn measure_orderings() {
         };
         let meshes = model::mesh_scene(&scene, &limits).unwrap();
         let qp = model::assemble(&scene, meshes).unwrap().qp;
+        let (estimate, _) = crate::preflight::check_factor_memory(&qp, u64::MAX).unwrap();
+        let gib = |b: f64| b / crate::memory::GIB;
+        println!(
+            "|   (memory estimate: total {:.2} GiB, factor {:.2}, scratch {:.2}, matrices {:.2}, vectors {:.2}) |",
+            gib(estimate.total()),
+            gib(estimate.factor),
+            gib(estimate.scratch),
+            gib(estimate.matrices),
+            gib(estimate.vectors)
+        );
         let a = crate::solve::floor_matrix(&qp);
         let a = a.as_ref().unwrap_or(&qp.stiffness);
         let name = std::path::Path::new(path)
