@@ -8,24 +8,47 @@
 //!
 //! # The rule: AMD
 //!
-//! [`fill_reducing_order`] orders every matrix by AMD.  Nested dissection halves the flops of
-//! the factorisation of the seed geometry from 10⁶ DOFs on and shrinks nnz(L) by 20–25 %, but
-//! METIS's ordering (single-threaded, on the node graph: the two DOFs of a node merged) costs 5
-//! to 13 times AMD's, more than the numeric factorisation saves, at every size measured up to
-//! 5.1·10⁶ DOFs, beyond the 4·10⁶ that fit this machine's memory with a solve.  On the long
-//! strips METIS does not even reduce the fill.  The ordering's time is part of the floor, so
-//! AMD is the best ordering the project has on this machine.  METIS stays available through
-//! [`order_with`] (for a caller that reuses one factor for many solves: each solve costs
-//! ∝ nnz(L)).  Picking by nnz(L) would need both orderings, i.e. METIS's time, every time.
+//! [`fill_reducing_order`] orders every matrix by AMD.  Nested dissection (METIS) cuts the
+//! flops of the factorisation of the seed geometry by half or more from 10⁶ DOFs on and nnz(L)
+//! by 20–30 %, so its numeric factorisation is 1.3–1.6× faster there; but METIS's ordering
+//! (single-threaded, on the node graph: the two DOFs of a node merged) costs 2–7× AMD's on the
+//! seed geometry and 5–10× on the strips, more than the numeric factorisation saves, at every
+//! size measured up to 5.1·10⁶ DOFs (beyond the 4·10⁶ that fit this machine's memory with a
+//! solve): at 5.1·10⁶ AMD takes 36.1 s in all, METIS 40.4 s.  On the long strips METIS does not
+//! even reduce the fill much.  The ordering's time is part of the floor, so AMD is the best
+//! ordering the project has on this machine.  METIS stays available through [`order_with`] (for
+//! a caller that reuses one factor for many solves: each solve costs ∝ nnz(L)).  Picking by
+//! nnz(L) would need both orderings, i.e. METIS's time, every time.
 //!
 //! Measured on the 2-core development machine (24 GiB), each factor with
 //! [`super::CholeskyPattern`] (forced supernodal, `Par::Seq`) of the reduced stiffness of real
 //! scenes: `seed-hH` is `fixtures/seed/exp3-both-h0.08.toml` with `hmax = H` on both bodies,
 //! `strip-hH` is `strip-floating` (a 20 × 0.02 strip on a 20 × 0.04 foundation) at `hmax = H`,
 //! `thick-hH` the same with a 0.1-thick strip (10 elements at H = 0.01).  Other builds and
-//! solves were running on the machine throughout (load 4–7 on 2 cores): compare the two rows of
-//! one scene, not seconds across scenes.  Run 1 (METIS on the DOF graph, the symbolic column
-//! including the exact nnz(L) count, ≈ 8 % of a factor, since moved out of the floor):
+//! solves were running on the machine (load 2.6–4.8 on 2 cores during run A, 4–7 during run B):
+//! compare the two rows of one scene, not seconds across scenes.
+//!
+//! Run A (the code as it is):
+//!
+//! | scene | n | nnz(A) | ordering | order s | symbolic s | numeric s | total s | nnz(L) | flops |
+//! |---|---:|---:|---|---:|---:|---:|---:|---:|---:|
+//! | seed-h0.0096 | 126 472 | 1 759 200 | amd | 0.117 | 0.042 | 0.221 | 0.381 | 1.01e7 | 2.42e9 |
+//! | | | | metis | 0.313 | 0.057 | 0.209 | 0.579 | 8.46e6 | 1.52e9 |
+//! | strip-h0.0025 | 624 065 | 7 818 690 | amd | 0.657 | 0.183 | 0.606 | 1.445 | 2.27e7 | 1.43e9 |
+//! | | | | metis | 3.295 | 0.323 | 0.674 | 4.293 | 2.29e7 | 1.31e9 |
+//! | seed-h0.003 | 1 276 480 | 17 834 000 | amd | 1.408 | 0.712 | 3.980 | 6.099 | 1.53e8 | 1.03e11 |
+//! | | | | metis | 3.181 | 0.550 | 2.820 | 6.552 | 1.17e8 | 5.21e10 |
+//! | thick-h0.0025 | 1 360 185 | 16 976 871 | amd | 1.246 | 0.592 | 1.807 | 3.645 | 8.45e7 | 1.42e10 |
+//! | | | | metis | 9.089 | 0.973 | 2.104 | 12.166 | 7.24e7 | 8.19e9 |
+//! | seed-h0.0021 | 2 598 526 | 36 327 060 | amd | 2.736 | 1.433 | 9.778 | 13.946 | 3.56e8 | 3.38e11 |
+//! | | | | metis | 9.630 | 1.658 | 7.479 | 18.767 | 2.58e8 | 1.54e11 |
+//! | seed-h0.0015 | 5 090 580 | 71 195 704 | amd | 4.831 | 2.769 | 28.526 | 36.126 | 6.82e8 | 7.39e11 |
+//! | | | | metis | 19.336 | 3.338 | 17.713 | 40.387 | 5.42e8 | 4.30e11 |
+//!
+//! Run B (smaller scenes; METIS then ordered the DOF graph, 1.7× slower than the node graph:
+//! 0.78 s against 1.30 s at 126 472 DOFs, 2.98 s against 4.95 s at 356 573, from
+//! `measure_metis_steps`; the symbolic column then included the exact nnz(L) count, ≈ 8 % of a
+//! factorisation, since moved out of the floor):
 //!
 //! | scene | n | nnz(A) | ordering | order s | symbolic s | numeric s | total s | nnz(L) | flops |
 //! |---|---:|---:|---|---:|---:|---:|---:|---:|---:|
@@ -35,36 +58,13 @@
 //! | | | | metis | 0.169 | 0.018 | 0.018 | 0.205 | 8.51e5 | 1.63e7 |
 //! | thick-h0.01 | 95 619 | 1 176 338 | amd | 0.067 | 0.032 | 0.061 | 0.161 | 2.23e6 | 7.63e7 |
 //! | | | | metis | 0.257 | 0.035 | 0.053 | 0.344 | 2.70e6 | 1.14e8 |
-//! | seed-h0.0096 | 126 472 | 1 759 200 | amd | 0.067 | 0.051 | 0.158 | 0.275 | 1.01e7 | 2.42e9 |
-//! | | | | metis | 0.354 | 0.083 | 0.162 | 0.598 | 8.46e6 | 1.52e9 |
 //! | strip-h0.005 | 174 271 | 2 152 017 | amd | 0.095 | 0.061 | 0.096 | 0.251 | 3.56e6 | 9.85e7 |
 //! | | | | metis | 0.490 | 0.072 | 0.127 | 0.689 | 4.39e6 | 1.53e8 |
 //! | thick-h0.005 | 356 573 | 4 481 609 | amd | 0.494 | 0.273 | 0.541 | 1.308 | 1.53e7 | 1.36e9 |
 //! | | | | metis | 2.531 | 0.368 | 0.533 | 3.432 | 1.43e7 | 9.87e8 |
-//! | strip-h0.0025 | 624 065 | 7 818 690 | amd | 1.056 | 0.629 | 0.994 | 2.678 | 2.27e7 | 1.43e9 |
-//! | | | | metis | 5.564 | 0.656 | 0.908 | 7.128 | 2.29e7 | 1.31e9 |
-//! | seed-h0.003 | 1 276 480 | 17 834 000 | amd | 1.189 | 0.892 | 4.782 | 6.863 | 1.53e8 | 1.03e11 |
-//! | | | | metis | 8.789 | 1.827 | 5.056 | 15.672 | 1.16e8 | 5.12e10 |
-//! | thick-h0.0025 | 1 360 185 | 16 976 871 | amd | 1.214 | 1.180 | 3.396 | 5.790 | 8.45e7 | 1.42e10 |
-//! | | | | metis | 16.267 | 2.696 | 5.903 | 24.866 | 7.24e7 | 8.17e9 |
 //!
-//! Run 2 (METIS on the node graph, exact count outside the symbolic column; heavier load):
-//!
-//! | scene | n | ordering | order s | symbolic s | numeric s | total s | nnz(L) | flops |
-//! |---|---:|---|---:|---:|---:|---:|---:|---:|
-//! | seed-h0.003 | 1 276 480 | amd | 2.251 | 1.545 | 15.701 | 19.497 | 1.53e8 | 1.03e11 |
-//! | | | metis | 17.057 | 1.932 | 8.417 | 27.407 | 1.17e8 | 5.21e10 |
-//! | thick-h0.0025 | 1 360 185 | amd | 3.083 | 1.582 | 6.052 | 10.717 | 8.45e7 | 1.42e10 |
-//! | | | metis | 36.418 | 3.459 | 3.141 | 43.018 | 7.24e7 | 8.19e9 |
-//! | seed-h0.0021 | 2 598 526 | amd | 15.197 | 7.698 | 66.538 | 89.432 | 3.56e8 | 3.38e11 |
-//! | | | metis | 41.713 | 6.832 | 33.117 | 81.662 | 2.58e8 | 1.54e11 |
-//! | seed-h0.0015 | 5 090 580 | amd | 4.630 | 2.671 | 88.722 | 96.023 | 6.82e8 | 7.39e11 |
-//! | | | metis | 61.079 | 13.334 | 46.615 | 121.028 | 5.42e8 | 4.30e11 |
-//!
-//! (The one row where METIS came out ahead, seed-h0.0021, is one where AMD's ordering and
-//! symbolic analysis took 3–5× their time at twice the size: load, not the ordering.  On the
-//! node graph METIS orders 1.7× faster than on the DOF graph: 0.78 s against 1.30 s at
-//! 126 472 DOFs, 2.98 s against 4.95 s at 356 573, `measure_metis_steps`.)
+//! (A third run under load 7 showed METIS ahead once, at 2 598 526 DOFs, because AMD's ordering
+//! took 5× its run-A time there: load, not the ordering; run A repeats that scene.)
 //!
 //! Produced by (scenes written to /tmp with `sed "s/hmax = 0.08/hmax = H/"` and likewise):
 //!
