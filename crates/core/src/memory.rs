@@ -34,6 +34,47 @@ pub fn check_fits(
     }
 }
 
+/// The memory a run that factors A needs at its peak, from the symbolic analysis of A (before
+/// any numeric factorisation): what every path that factors A holds at once (the floor, the
+/// direct solve, the dual backends' factor).  Backends add their own terms (a KKT factor, a
+/// dense dual Hessian) and check them with [`check_fits`] before allocating them.  So it is a
+/// lower bound of a run's peak: a run refused on it cannot fit; one that passes may still be
+/// refused later by its backend.  (At 1 276 480 DOFs of the seed geometry it comes to 1.95 GiB
+/// — factor 1.36 GiB, scratch 0.28 GiB — where `compare --backends dual-ssn` peaked at 2.34 GiB
+/// resident.)
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FactorEstimate {
+    /// The factor's values: 8 B per value the supernodal factor stores.
+    pub factor: f64,
+    /// The numeric factorisation's scratch space (its largest frontal update).
+    pub scratch: f64,
+    /// A and B in CSC (12 B per nonzero: value + row index, 8 B per column pointer) and the
+    /// model's copy of B over all DOFs, counted as B again.
+    pub matrices: f64,
+    /// Vectors and index arrays of size n: the load, a solution, the permutation and its
+    /// inverse, the elimination tree, taken as 8 vectors of 8 B.
+    pub vectors: f64,
+}
+
+impl FactorEstimate {
+    /// Estimates the peak of a run on `qp` whose factor of A was analysed as `pattern`.
+    pub fn of(qp: &crate::qp::QpProblem, pattern: &crate::linalg::CholeskyPattern) -> Self {
+        let csc = |m: &crate::qp::CscMatrix| 12.0 * m.nnz() as f64 + 8.0 * (m.cols() + 1) as f64;
+        let n = qp.dofs() as f64;
+        Self {
+            factor: 8.0 * pattern.stored_values() as f64,
+            scratch: pattern.numeric_scratch_bytes(),
+            matrices: csc(&qp.stiffness) + 2.0 * csc(&qp.constraints),
+            vectors: 8.0 * 8.0 * n,
+        }
+    }
+
+    /// The total, bytes.
+    pub fn total(&self) -> f64 {
+        self.factor + self.scratch + self.matrices + self.vectors
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -29,7 +29,10 @@
 //! assert!(err.to_string().contains("GiB"));
 //! ```
 
+use crate::linalg::{CholeskyPattern, FactorInfo};
+use crate::memory::FactorEstimate;
 use crate::mesh::{estimate_elements, estimate_nodes, MeshLimits};
+use crate::qp::QpProblem;
 use crate::scene::Scene;
 
 /// Resident memory of the process before any scene-sized allocation, in bytes (measured: 9 MiB
@@ -113,6 +116,74 @@ pub enum PreflightError {
         /// The estimates that exceed it.
         preflight: Box<Preflight>,
     },
+    /// After assembly, the symbolic analysis of A shows that its sparse factor and the run's
+    /// matrices would not fit in the memory available.
+    #[error(
+        "the run would need about {} of memory but {} is available: the sparse Cholesky factor \
+         of the stiffness ({dofs} DOFs, {ordering} ordering, nnz(L) = {nnz_l}) takes {} and its \
+         scratch space {}, the matrices and vectors {}; increase hmax",
+        gib(*.needed),
+        gib(*.available),
+        gib(*.factor),
+        gib(*.scratch),
+        gib(*.rest)
+    )]
+    FactorTooLarge {
+        /// Free DOFs.
+        dofs: usize,
+        /// The ordering the factor would use.
+        ordering: String,
+        /// Nonzeros of L.
+        nnz_l: usize,
+        /// Bytes of the factor's values.
+        factor: u64,
+        /// Bytes of the numeric factorisation's scratch.
+        scratch: u64,
+        /// Bytes of the matrices and vectors.
+        rest: u64,
+        /// Total bytes needed.
+        needed: u64,
+        /// Bytes available.
+        available: u64,
+    },
+    /// The symbolic analysis itself failed (the ordering could not be allocated, say).
+    #[error("the symbolic analysis of the stiffness failed: {0}")]
+    Analysis(String),
+}
+
+/// After assembly, before any numeric factorisation: orders and analyses A the way every factor
+/// of it is built ([`CholeskyPattern::analyse`]), estimates the run's peak
+/// ([`FactorEstimate`]) and refuses it when that exceeds `available` bytes.  Returns the
+/// estimate and the factor's description.
+///
+/// # Errors
+/// [`PreflightError::FactorTooLarge`] when the estimate exceeds `available`;
+/// [`PreflightError::Analysis`] when the analysis fails.
+pub fn check_factor_memory(
+    qp: &QpProblem,
+    available: u64,
+) -> Result<(FactorEstimate, FactorInfo), PreflightError> {
+    // A stiffness stores its whole diagonal, so the floor's shifted A + εI has A's pattern.
+    let pattern = CholeskyPattern::analyse(&qp.stiffness)
+        .map_err(|e| PreflightError::Analysis(e.to_string()))?;
+    let estimate = FactorEstimate::of(qp, &pattern);
+    let info = pattern
+        .info(&qp.stiffness)
+        .map_err(|e| PreflightError::Analysis(e.to_string()))?;
+    // `as` saturates: the byte figures are finite and nonnegative.
+    if estimate.total() > available as f64 {
+        return Err(PreflightError::FactorTooLarge {
+            dofs: qp.dofs(),
+            ordering: info.ordering.as_str().to_string(),
+            nnz_l: info.nnz_l,
+            factor: estimate.factor as u64,
+            scratch: estimate.scratch as u64,
+            rest: (estimate.matrices + estimate.vectors) as u64,
+            needed: estimate.total() as u64,
+            available,
+        });
+    }
+    Ok((estimate, info))
 }
 
 fn body_list(bodies: &[BodyEstimate]) -> String {
@@ -196,4 +267,51 @@ pub fn preflight(scene: &Scene, limits: &MeshLimits) -> Result<Preflight, Prefli
         });
     }
     Ok(preflight)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model;
+    use crate::scene::Scene;
+
+    fn block_qp() -> QpProblem {
+        let scene = Scene::from_toml(
+            r#"
+            [[body]]
+            name = "block"
+            polygon = [[0, 0], [1, 0], [1, 1], [0, 1]]
+            hmax = 0.05
+            young = 1.0
+            poisson = 0.3
+            [[dirichlet]]
+            body = "block"
+            region = [0, 1, 0, 0]
+            "#,
+        )
+        .unwrap();
+        let meshes = model::mesh_scene(&scene, &MeshLimits::default()).unwrap();
+        model::assemble(&scene, meshes).unwrap().qp
+    }
+
+    #[test]
+    fn the_factor_check_refuses_exactly_above_its_estimate() {
+        let qp = block_qp();
+        let (estimate, info) = check_factor_memory(&qp, u64::MAX).unwrap();
+        // Independent lower bounds: 8 B per nonzero of L, 12 B per nonzero of A.
+        assert!(estimate.factor >= 8.0 * info.nnz_l as f64);
+        assert!(estimate.matrices >= 12.0 * qp.stiffness.nnz() as f64);
+        let needed = estimate.total().ceil() as u64;
+        assert!(check_factor_memory(&qp, needed).is_ok());
+        let err = check_factor_memory(&qp, needed / 2).unwrap_err();
+        let PreflightError::FactorTooLarge {
+            needed: n, nnz_l, ..
+        } = &err
+        else {
+            panic!("{err}");
+        };
+        assert_eq!(*nnz_l, info.nnz_l);
+        assert!(*n <= needed && *n > needed / 2);
+        assert!(err.to_string().contains("GiB"), "{err}");
+    }
 }

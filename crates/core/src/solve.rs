@@ -4,11 +4,11 @@
 
 use std::time::{Duration, Instant};
 
-use crate::linalg::{LinalgError, SparseCholesky};
+use crate::linalg::{CholeskyPattern, FactorInfo, LinalgError, SparseCholesky};
 use crate::model::{Model, ModelError};
 use crate::qp::{
-    checked_status, kkt_residuals, mat_t_vec, KktResiduals, QpBackend, QpError, QpProblem,
-    QpScaling, QpStatus, SolveOptions,
+    checked_status, kkt_residuals, mat_t_vec, CscMatrix, KktResiduals, QpBackend, QpError,
+    QpProblem, QpScaling, QpStatus, SolveOptions,
 };
 
 /// Name reported when no QP was needed.
@@ -256,28 +256,64 @@ impl Solution {
     }
 }
 
-/// The timing floor: one unconstrained sparse factorisation + solve of the same A, timed here.
-/// With a known null space (floating bodies) A + Σ r rᵀ is factored instead, same pattern cost.
-pub fn floor_time(qp: &QpProblem) -> Result<Duration, LinalgError> {
+/// The timing floor of a QP, and the factor it measured.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Floor {
+    /// Wall-clock time of the fill-reducing ordering, the symbolic analysis, the numeric LLᵀ and
+    /// one solve.
+    pub time: Duration,
+    /// The factor: ordering and nnz(L).
+    pub info: FactorInfo,
+}
+
+/// The matrix the floor factors when it is not A itself: with a known null space (a body held
+/// only by contact) A + εI, ε = 1e-8 · maxⱼ Aⱼⱼ (same pattern, same cost, positive definite).
+pub fn floor_matrix(qp: &QpProblem) -> Option<CscMatrix> {
+    if qp.kernel.is_empty() || qp.dofs() == 0 {
+        return None;
+    }
+    let n = qp.dofs();
+    let shift = 1e-8
+        * (0..n)
+            .map(|j| qp.stiffness.get(j, j).copied().unwrap_or(0.0))
+            .fold(0.0, f64::max);
+    let mut eye = sprs::TriMat::new((n, n));
+    for j in 0..n {
+        eye.add_triplet(j, j, shift);
+    }
+    let eye: CscMatrix = eye.to_csc();
+    Some(&qp.stiffness + &eye)
+}
+
+/// The timing floor: one unconstrained sparse factorisation + solve of the same A, on the path
+/// every factor of A in the project takes ([`CholeskyPattern::analyse`]: the rule's ordering,
+/// forced-supernodal symbolic analysis, numeric LLᵀ on one thread), timed from the ordering to
+/// the end of the solve.  With a known null space (floating bodies) [`floor_matrix`] is factored
+/// instead (built before the clock starts).
+pub fn floor(qp: &QpProblem) -> Result<Floor, LinalgError> {
+    let shifted = floor_matrix(qp);
+    let a = shifted.as_ref().unwrap_or(&qp.stiffness);
     let start = Instant::now();
     let mut x = qp.load.clone();
-    if qp.dofs() > 0 && qp.kernel.is_empty() {
-        SparseCholesky::factor(&qp.stiffness)?.solve_in_place(&mut x);
-    } else if qp.dofs() > 0 {
-        // Shift along the diagonal: same sparsity, positive definite, same cost.
-        let shift = 1e-8
-            * (0..qp.dofs())
-                .map(|j| qp.stiffness.get(j, j).copied().unwrap_or(0.0))
-                .fold(0.0, f64::max);
-        let n = qp.dofs();
-        let mut eye = sprs::TriMat::new((n, n));
-        for j in 0..n {
-            eye.add_triplet(j, j, shift);
-        }
-        let eye: crate::qp::CscMatrix = eye.to_csc();
-        let shifted = &qp.stiffness + &eye;
-        SparseCholesky::factor(&shifted)?.solve_in_place(&mut x);
-    }
+    let pattern = CholeskyPattern::analyse(a)?;
+    pattern.factor(a)?.solve_in_place(&mut x);
+    let time = start.elapsed();
+    Ok(Floor {
+        time,
+        info: pattern.info(a)?,
+    })
+}
+
+/// [`floor`]'s time alone (without counting nnz(L), which [`floor`] does after its clock
+/// stops).
+pub fn floor_time(qp: &QpProblem) -> Result<Duration, LinalgError> {
+    let shifted = floor_matrix(qp);
+    let a = shifted.as_ref().unwrap_or(&qp.stiffness);
+    let start = Instant::now();
+    let mut x = qp.load.clone();
+    CholeskyPattern::analyse(a)?
+        .factor(a)?
+        .solve_in_place(&mut x);
     Ok(start.elapsed())
 }
 
@@ -290,4 +326,48 @@ pub fn contact_forces(model: &Model, multipliers: &[f64]) -> Vec<f64> {
         .into_iter()
         .map(|v| -v)
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::fill_reducing_order;
+    use crate::linalg::tests::{eliminated_nnz, two_dof_grid};
+
+    fn qp_of(a: CscMatrix) -> QpProblem {
+        let n = a.rows();
+        let b: CscMatrix = sprs::TriMat::new((0, n)).to_csc();
+        QpProblem::try_new(a, vec![1.0; n], b, vec![]).unwrap()
+    }
+
+    #[test]
+    fn the_floor_reports_the_rules_ordering_and_the_exact_nnz_of_l() {
+        let qp = qp_of(two_dof_grid(10));
+        let floor = floor(&qp).unwrap();
+        let ordering = fill_reducing_order(&qp.stiffness).unwrap();
+        assert_eq!(floor.info.ordering, ordering.method);
+        assert_eq!(floor.info.n, qp.dofs());
+        assert_eq!(
+            floor.info.nnz_l,
+            eliminated_nnz(&qp.stiffness, &ordering.inverse)
+        );
+        assert!(floor.time > Duration::ZERO);
+    }
+
+    #[test]
+    fn a_floating_floor_factors_the_shifted_matrix_and_an_empty_one_nothing() {
+        let mut qp = qp_of(two_dof_grid(4));
+        qp.kernel = vec![vec![1.0; qp.dofs()]];
+        let shifted = floor_matrix(&qp).unwrap();
+        // ε = 1e-8 · max Aⱼⱼ = 2e-7 on every diagonal entry, nothing else changed.
+        for j in 0..qp.dofs() {
+            let d = shifted.get(j, j).unwrap() - qp.stiffness.get(j, j).unwrap();
+            // (20 + 2e-7) − 20 is exact to an ulp of 20 (3.6e-15); allow a few.
+            assert!((d - 20.0 * 1e-8).abs() < 2e-14, "{d}");
+        }
+        assert_eq!(shifted.nnz(), qp.stiffness.nnz());
+        assert!(floor(&qp).is_ok());
+        let empty = qp_of(sprs::TriMat::new((0, 0)).to_csc());
+        assert_eq!(floor(&empty).unwrap().info.nnz_l, 0);
+    }
 }

@@ -158,7 +158,10 @@ fn three_bodies_just_under_the_limit_each_are_refused_in_total() {
     let PreflightError::TooManyElements {
         limit,
         preflight: p,
-    } = &err;
+    } = &err
+    else {
+        panic!("{err}");
+    };
     assert_eq!(*limit, 5_000_000);
     assert_eq!(p.elements, 3 * one);
     assert_eq!(p.bodies.len(), 3);
@@ -192,7 +195,9 @@ fn an_overflowing_body_is_not_hidden_by_wrapping_the_total() {
     );
     let scene = Scene::from_toml(&text).unwrap();
     let err = preflight(&scene, &MeshLimits::default()).unwrap_err();
-    let PreflightError::TooManyElements { preflight: p, .. } = &err;
+    let PreflightError::TooManyElements { preflight: p, .. } = &err else {
+        panic!("{err}");
+    };
     assert_eq!(p.elements, usize::MAX);
     assert_eq!(p.dofs, usize::MAX);
     assert_eq!(p.bytes, u64::MAX);

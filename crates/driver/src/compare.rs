@@ -1,6 +1,8 @@
 //! `signorini compare`: mesh and assemble once, then the same QP through several backends, each
 //! timed against the floor (one unconstrained sparse factorisation + solve of the same A, timed
-//! in the same run) and compared with the most accurate answer.
+//! in the same run, on the factor path every backend that factors A uses: the project's
+//! fill-reducing ordering, forced-supernodal LLᵀ; see [`signorini_core::solve::floor`]) and
+//! compared with the most accurate answer.
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -61,6 +63,10 @@ pub struct CompareReport {
     pub assemble_s: f64,
     /// One unconstrained factorisation + solve of A, seconds (median of three).
     pub floor_s: f64,
+    /// Fill-reducing ordering of the floor's factor (`amd` or `metis`).
+    pub floor_ordering: String,
+    /// Nonzeros of the floor's Cholesky factor L (lower triangle, diagonal included).
+    pub floor_nnz_l: usize,
     /// The backend `max_du` is measured against: the solved one with the smallest residuals.
     pub reference: Option<String>,
     /// One row per backend.
@@ -89,7 +95,9 @@ pub fn compare(
     let qp = solve::ScaledQp::new(prepared.qp);
     let model = &prepared.model;
     // Warm-up first (page faults of the first large allocation), then the median of three.
-    solve::floor_time(&qp.problem).map_err(solve::SolveError::from)?;
+    let floor_info = solve::floor(&qp.problem)
+        .map_err(solve::SolveError::from)?
+        .info;
     let mut floors: Vec<Duration> = (0..3)
         .map(|_| solve::floor_time(&qp.problem))
         .collect::<Result<_, _>>()
@@ -150,6 +158,8 @@ pub fn compare(
         mesh_s: prepared.mesh_s,
         assemble_s: prepared.assemble_s,
         floor_s,
+        floor_ordering: floor_info.ordering.as_str().to_string(),
+        floor_nnz_l: floor_info.nnz_l,
         reference: reference.map(|r| solutions[r].backend.clone()),
         backends,
     })
@@ -158,10 +168,12 @@ pub fn compare(
 /// The comparison as a fixed-width text table.
 pub fn table(report: &CompareReport) -> String {
     let mut t = format!(
-        "{}\n  {} DOFs, {} contact rows; floor (factor + solve of A) {:.3} ms; reference: {}\n",
+        "{}\n  {} DOFs, {} contact rows; floor (factor + solve of A, {} ordering, nnz(L) {}) {:.3} ms; reference: {}\n",
         report.scene,
         report.dofs,
         report.constraints,
+        report.floor_ordering,
+        report.floor_nnz_l,
         report.floor_s * 1e3,
         report.reference.as_deref().unwrap_or("none solved")
     );

@@ -4,9 +4,10 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use signorini_core::memory;
 use signorini_core::mesh::MeshLimits;
 use signorini_core::model::{self, Model, ModelError};
-use signorini_core::preflight::{preflight, PreflightError};
+use signorini_core::preflight::{check_factor_memory, preflight, PreflightError};
 use signorini_core::qp::{QpBackend, QpProblem, QpStatus, SolveOptions};
 use signorini_core::report::{self, BodyFields, RunReport, Timings};
 use signorini_core::scene::{Scene, SceneError};
@@ -63,19 +64,48 @@ pub struct Prepared {
 }
 
 /// Estimates the cost (refusing a scene whose total element count exceeds the limit), then
-/// meshes and assembles.  Every command goes through here, `check` included, so they agree.
+/// meshes and assembles, then checks the memory of the factor of A against the machine's
+/// available memory ([`prepare_with_budget`] with [`memory::available_bytes`]).  Every command
+/// goes through here, `check` included, so they agree.
 pub fn prepare(scene: &Scene, limits: &MeshLimits) -> Result<Prepared, RunError> {
+    prepare_with_budget(scene, limits, memory::available_bytes())
+}
+
+/// The scene-based estimate must reach this fraction of the budget for the factor-based check
+/// to run: the scene-based model over-estimates the measured peaks, so a run estimated below an
+/// eighth of the budget fits, and its symbolic analysis (an ordering of A, 10–40 % of a
+/// factorisation's time) is not worth doing twice.
+const CHECK_FROM_FRACTION: u64 = 8;
+
+/// [`prepare`] with a memory budget in bytes (`None`: no memory check).  After assembly and
+/// before any numeric factorisation, A is ordered and analysed symbolically and the run's peak
+/// ([`signorini_core::memory::FactorEstimate`]: factor, its scratch, A, B, vectors) is compared
+/// with `budget`; a run that would not fit is refused with
+/// [`PreflightError::FactorTooLarge`] (exit 3).  The check is skipped when the scene-based
+/// estimate ([`signorini_core::preflight::Preflight::bytes_dual`]) is below an eighth of the
+/// budget.
+pub fn prepare_with_budget(
+    scene: &Scene,
+    limits: &MeshLimits,
+    budget: Option<u64>,
+) -> Result<Prepared, RunError> {
     let t0 = Instant::now();
-    preflight(scene, limits)?;
+    let estimate = preflight(scene, limits)?;
     let meshes = model::mesh_scene(scene, limits)?;
     let mesh_s = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
     let model::Assembly { model, qp } = model::assemble(scene, meshes)?;
+    let assemble_s = t1.elapsed().as_secs_f64();
+    if let Some(budget) = budget {
+        if estimate.bytes_dual >= budget / CHECK_FROM_FRACTION {
+            check_factor_memory(&qp, budget)?;
+        }
+    }
     Ok(Prepared {
         model,
         qp,
         mesh_s,
-        assemble_s: t1.elapsed().as_secs_f64(),
+        assemble_s,
     })
 }
 
@@ -230,4 +260,35 @@ pub fn write_outputs(
     let svg = output::render_deformed_svg(&scene.title, &bodies)?;
     set.write(SOLVE_FILES[2], |w| w.write_all(svg.as_bytes()))?;
     set.commit()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_run_whose_factor_exceeds_the_budget_is_refused_with_exit_3() {
+        let scene = load_scene(None).unwrap();
+        let limits = MeshLimits::default();
+        // Unlimited: the default scene prepares.
+        let prepared = prepare_with_budget(&scene, &limits, Some(u64::MAX)).unwrap();
+        let n = prepared.qp.dofs();
+        // The factor alone holds at least n diagonal values of 8 B: a budget of 8·n bytes
+        // cannot hold the run, whatever the ordering.
+        let err = prepare_with_budget(&scene, &limits, Some(8 * n as u64)).unwrap_err();
+        let RunError::Preflight(PreflightError::FactorTooLarge {
+            needed, available, ..
+        }) = &err
+        else {
+            panic!("expected FactorTooLarge, got {err}");
+        };
+        assert_eq!(*available, 8 * n as u64);
+        assert!(*needed > *available);
+        let text = err.to_string();
+        assert!(text.contains("GiB") && text.contains("nnz(L)"), "{text}");
+        assert_eq!(
+            crate::exit::classify(&anyhow::Error::new(err)),
+            crate::exit::Exit::Resource
+        );
+    }
 }

@@ -168,10 +168,14 @@ pub struct Point {
     pub probes: String,
     /// [`scene_hash`] of the scene the point was solved for.
     pub scene_hash: String,
+    /// Fill-reducing ordering of the floor's factor (`amd` or `metis`).
+    pub floor_ordering: String,
+    /// Nonzeros of the floor's Cholesky factor L (lower triangle, diagonal included).
+    pub floor_nnz_l: usize,
 }
 
 /// The header of `sweep.csv`: [`Point`]'s fields in order.
-pub const COLUMNS: [&str; 22] = [
+pub const COLUMNS: [&str; 24] = [
     "hmax",
     "dofs",
     "constraints",
@@ -194,6 +198,8 @@ pub const COLUMNS: [&str; 22] = [
     "backend_status",
     "probes",
     "scene_hash",
+    "floor_ordering",
+    "floor_nnz_l",
 ];
 
 impl Point {
@@ -522,6 +528,16 @@ pub fn read_for_resume(
                 .into(),
         ));
     }
+    let columns: Vec<&str> = header.iter().collect();
+    if columns.len() < COLUMNS.len() && COLUMNS.starts_with(&columns) {
+        return Err(refuse(
+            1,
+            format!(
+                "the file was written by an older version of signorini's sweep: its header lacks the last column(s) {}",
+                COLUMNS[columns.len()..].join(",")
+            ),
+        ));
+    }
     if !header.iter().eq(COLUMNS.iter().copied()) {
         return Err(refuse(
             1,
@@ -691,7 +707,9 @@ pub fn sweep(
         // One untimed factorisation first: the first touch of a large factor's memory costs page
         // faults that later solves (the backends') do not pay; timing it cold inflated the floor
         // twofold at 10⁶ DOFs.
-        solve::floor_time(&qp.problem).map_err(|e| RunError::from(solve::SolveError::from(e)))?;
+        let floor_info = solve::floor(&qp.problem)
+            .map_err(|e| RunError::from(solve::SolveError::from(e)))?
+            .info;
         let floors: Vec<f64> = (0..repeat)
             .map(|_| solve::floor_time(&qp.problem).map(|d| d.as_secs_f64()))
             .collect::<Result<_, _>>()
@@ -788,6 +806,8 @@ pub fn sweep(
                 complementarity: sol.residuals.complementarity,
                 probes: probes_text(&s, model, &sol.displacement),
                 scene_hash: hash.clone(),
+                floor_ordering: floor_info.ordering.as_str().to_string(),
+                floor_nnz_l: floor_info.nnz_l,
             };
             points.push(point);
             checkpoint(&lock, &points)?;
@@ -914,6 +934,8 @@ mod tests {
             complementarity: 0.0,
             probes: String::new(),
             scene_hash: String::new(),
+            floor_ordering: "amd".into(),
+            floor_nnz_l: 1,
         })
         .unwrap();
         let text = String::from_utf8(w.into_inner().unwrap()).unwrap();

@@ -102,6 +102,18 @@ fn compare_runs_every_backend_on_one_problem() {
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("c/compare.json")).unwrap())
             .unwrap();
     assert!(json["floor_s"].as_f64().unwrap() > 0.0);
+    // The floor's factor: the project's ordering, and at least one nonzero of L per column of A
+    // (its diagonal), at most the dense lower triangle.
+    assert_eq!(json["floor_ordering"], "amd");
+    let (nnz_l, dofs) = (
+        json["floor_nnz_l"].as_u64().unwrap(),
+        json["dofs"].as_u64().unwrap(),
+    );
+    assert!(nnz_l >= dofs && nnz_l <= dofs * (dofs + 1) / 2, "{nnz_l}");
+    assert!(
+        stdout.contains(&format!("amd ordering, nnz(L) {nnz_l}")),
+        "{stdout}"
+    );
     let rows = json["backends"].as_array().unwrap();
     assert_eq!(rows.len(), defaults.len());
     let scale = 0.4; // exp2b's largest displacement is about 0.39

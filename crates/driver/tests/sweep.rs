@@ -51,6 +51,9 @@ fn sweep_writes_every_point_and_resume_skips_them() {
         assert_eq!(p.status, "solved", "{p:?}");
         assert!(p.floor_s > 0.0 && p.solve_s > 0.0);
         assert!((p.ratio_to_floor - p.solve_s / p.floor_s).abs() <= 1e-12 * p.ratio_to_floor);
+        // L has its diagonal at least, the dense lower triangle at most.
+        assert_eq!(p.floor_ordering, "amd");
+        assert!(p.floor_nnz_l >= p.dofs && p.floor_nnz_l <= p.dofs * (p.dofs + 1) / 2);
         let err = p.error_vs_reference.expect("reference known");
         // Each point meets its tolerance, so it is that close to the tightest answer (with a
         // margin: the tolerance bounds residuals, not the error itself).
@@ -250,6 +253,9 @@ fn resume_refuses_a_foreign_or_corrupt_file_naming_the_line() {
     assert_eq!(lines.len(), 3, "{text}");
     let join = |ls: &[&str]| ls.join("\n") + "\n";
     let without_last_column = |l: &str| l.rsplit_once(',').unwrap().0.to_string();
+    // scene_hash is followed by the floor's two columns (floor_ordering, floor_nnz_l).
+    let without_last_columns =
+        |l: &str, k: usize| (0..k).fold(l.to_string(), |l, _| without_last_column(&l));
     let exp2b = fixture("exp2b");
     let exp2c = fixture("exp2c");
     let base = ["--hmax", "0.3,0.2", "--backends", "clarabel"];
@@ -285,13 +291,24 @@ fn resume_refuses_a_foreign_or_corrupt_file_naming_the_line() {
         (
             "a file without scene_hash",
             join(&[
-                &without_last_column(lines[0]),
-                &without_last_column(lines[1]),
-                &without_last_column(lines[2]),
+                &without_last_columns(lines[0], 3),
+                &without_last_columns(lines[1], 3),
+                &without_last_columns(lines[2], 3),
             ]),
             vec![exp2b.to_str().unwrap()],
             "line 1",
             "scene_hash",
+        ),
+        (
+            "a file without the floor's columns",
+            join(&[
+                &without_last_columns(lines[0], 2),
+                &without_last_columns(lines[1], 2),
+                &without_last_columns(lines[2], 2),
+            ]),
+            vec![exp2b.to_str().unwrap()],
+            "line 1",
+            "older version",
         ),
         (
             "an hmax outside the plan",

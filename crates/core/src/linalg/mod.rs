@@ -1,19 +1,31 @@
 //! Sparse Cholesky factorisation of the stiffness (faer), shared by the unconstrained solve, the
 //! timing floor and the dual backend.
 //!
-//! The symbolic analysis (fill-reducing ordering, elimination tree) is kept apart from the numeric
-//! factorisation so that one analysis serves many refactorisations of the same pattern.
+//! Every factorisation of A takes one path: [`fill_reducing_order`] (AMD or METIS nested
+//! dissection, by the rule in [`ordering`]), faer's symbolic Cholesky with that ordering
+//! (`SymmetricOrdering::Custom`) forced supernodal, and the numeric LLᵀ on one thread
+//! (`Par::Seq`).  The symbolic analysis is kept apart from the numeric factorisation so that one
+//! analysis serves many refactorisations of the same pattern, and so that the memory a factor
+//! will take ([`FactorInfo::factor_bytes`]) is known before it is allocated.
 
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use std::sync::Arc;
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, simplicial, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    SymbolicCholeskyRaw, SymmetricOrdering,
+};
+use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{MatMut, Side};
+use faer::{Conj, MatMut, Par, Side};
 
 use crate::qp::CscMatrix;
 
-mod ordering;
+mod measure;
+pub mod ordering;
 
-pub use ordering::{fill_reducing_order, FillOrdering, OrderingMethod};
+pub use ordering::{fill_reducing_order, order_with, FillOrdering, OrderingMethod};
 
 /// Why a factorisation failed.
 #[derive(Debug, thiserror::Error)]
@@ -34,6 +46,9 @@ pub enum LinalgError {
         /// Size of the matrix.
         n: usize,
     },
+    /// The fill-reducing ordering failed (METIS refused the graph or ran out of memory).
+    #[error("fill-reducing ordering failed: {0}")]
+    Ordering(String),
     /// Memory or another failure inside faer.
     #[error("sparse Cholesky failed: {0}")]
     Faer(String),
@@ -57,62 +72,259 @@ pub fn faer_view(m: &CscMatrix) -> Result<SparseColMatRef<'_, usize, f64>, Linal
     Ok(SparseColMatRef::new(symbolic, values))
 }
 
-/// The symbolic analysis of a sparsity pattern, reusable for every matrix with that pattern.
+/// What the symbolic analysis found out about a factor, before any number is computed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FactorInfo {
+    /// The fill-reducing ordering used.
+    pub ordering: OrderingMethod,
+    /// Size n of the matrix.
+    pub n: usize,
+    /// Nonzeros of the lower triangle of L, diagonal included (the exact count from the
+    /// elimination tree).
+    pub nnz_l: usize,
+    /// Values the supernodal factor stores: its dense diagonal blocks hold their upper
+    /// triangles too, and relaxed supernodes hold explicit zeros, so `nnz_l` ≤ `stored_values`.
+    pub stored_values: usize,
+    /// Supernodes of the factor.
+    pub supernodes: usize,
+    /// Floating-point operations of the numeric factorisation, Σⱼ cⱼ² over the column counts
+    /// cⱼ of L (the usual count; multiply-adds counted as two).
+    pub flops: f64,
+}
+
+impl FactorInfo {
+    /// Bytes of the factor's values (8 per stored value).
+    pub fn factor_bytes(&self) -> f64 {
+        8.0 * self.stored_values as f64
+    }
+
+    fn of(
+        symbolic: &SymbolicCholesky<usize>,
+        method: OrderingMethod,
+        a: &CscMatrix,
+    ) -> Result<Self, LinalgError> {
+        let n = symbolic.nrows();
+        if a.rows() != n || a.cols() != n {
+            return Err(LinalgError::Shape {
+                rows: a.rows(),
+                cols: a.cols(),
+            });
+        }
+        let inverse: Vec<usize> = match symbolic.perm() {
+            Some(perm) => perm.arrays().1.to_vec(),
+            None => (0..n).collect(),
+        };
+        let counts = column_counts(a, &inverse)?;
+        let supernodes = match symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(s) => s.n_supernodes(),
+            SymbolicCholeskyRaw::Simplicial(_) => 0,
+        };
+        Ok(Self {
+            ordering: method,
+            n,
+            nnz_l: counts.iter().sum(),
+            stored_values: symbolic.len_val(),
+            supernodes,
+            flops: counts.iter().map(|&c| (c as f64) * (c as f64)).sum(),
+        })
+    }
+}
+
+/// The column counts of L (diagonal included) for P A Pᵀ, `inverse[old] = new`: the exact
+/// nonzero pattern, without the explicit zeros a relaxed supernodal factor stores.
+fn column_counts(a: &CscMatrix, inverse: &[usize]) -> Result<Vec<usize>, LinalgError> {
+    let n = a.rows();
+    let view = faer_view(a)?;
+    let sym = view.symbolic();
+    // The upper triangle of P A Pᵀ (what faer's elimination-tree routine reads), from either
+    // stored triangle of A; duplicates and unsorted rows are harmless there.
+    let mut col_ptr = vec![0usize; n + 1];
+    for j in 0..n {
+        for i in sym.row_idx_of_col(j) {
+            let (p, q) = (inverse[i], inverse[j]);
+            col_ptr[p.max(q) + 1] += 1;
+        }
+    }
+    for j in 0..n {
+        col_ptr[j + 1] += col_ptr[j];
+    }
+    let mut fill = col_ptr.clone();
+    let mut row_idx = vec![0usize; col_ptr[n]];
+    for j in 0..n {
+        for i in sym.row_idx_of_col(j) {
+            let (p, q) = (inverse[i], inverse[j]);
+            row_idx[fill[p.max(q)]] = p.min(q);
+            fill[p.max(q)] += 1;
+        }
+    }
+    let upper = SymbolicSparseColMatRef::new_unsorted_checked(n, n, &col_ptr, None, &row_idx);
+    let mut etree = vec![0isize; n];
+    let mut counts = vec![0usize; n];
+    let mut buffer = MemBuffer::try_new(
+        simplicial::prefactorize_symbolic_cholesky_scratch::<usize>(n, 0),
+    )
+    .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
+    simplicial::prefactorize_symbolic_cholesky(
+        &mut etree,
+        &mut counts,
+        upper,
+        MemStack::new(&mut buffer),
+    );
+    Ok(counts)
+}
+
+/// The symbolic analysis of a sparsity pattern (ordering, elimination tree, supernodes),
+/// reusable for every matrix with that pattern.
 #[derive(Debug, Clone)]
 pub struct CholeskyPattern {
-    symbolic: SymbolicLlt<usize>,
-    n: usize,
+    symbolic: Arc<SymbolicCholesky<usize>>,
+    method: OrderingMethod,
 }
 
 impl CholeskyPattern {
-    /// Analyses the pattern of the symmetric matrix `a` (its lower triangle is read).
+    /// Orders the pattern of the symmetric matrix `a` by [`fill_reducing_order`] and analyses it
+    /// (its lower triangle is read).
     pub fn analyse(a: &CscMatrix) -> Result<Self, LinalgError> {
-        if a.rows() != a.cols() {
+        let ordering = fill_reducing_order(a)?;
+        Self::analyse_with(a, &ordering)
+    }
+
+    /// Analyses the pattern of `a` under a given ordering (e.g. [`fill_reducing_order`]'s with
+    /// some DOFs moved last), forced supernodal as every factor of A in the project.
+    pub fn analyse_with(a: &CscMatrix, ordering: &FillOrdering) -> Result<Self, LinalgError> {
+        let n = a.rows();
+        if a.cols() != n {
             return Err(LinalgError::Shape {
-                rows: a.rows(),
+                rows: n,
                 cols: a.cols(),
             });
         }
+        if ordering.forward.len() != n || ordering.inverse.len() != n {
+            return Err(LinalgError::Ordering(format!(
+                "the ordering has {} entries for a matrix of size {n}",
+                ordering.forward.len()
+            )));
+        }
         let view = faer_view(a)?;
-        let symbolic = SymbolicLlt::try_new(view.symbolic(), Side::Lower)
-            .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
+        // inverse ∘ forward = id makes `forward` injective, hence a permutation with inverse
+        // `inverse`: what `PermRef::new_checked` asserts, checked here so it cannot panic.
+        let is_permutation = ordering
+            .forward
+            .iter()
+            .enumerate()
+            .all(|(new, &old)| old < n && ordering.inverse[old] == new);
+        if !is_permutation {
+            return Err(LinalgError::Ordering(
+                "the ordering is not a permutation".into(),
+            ));
+        }
+        let perm = PermRef::new_checked(&ordering.forward, &ordering.inverse, n);
+        let symbolic = factorize_symbolic_cholesky(
+            view.symbolic(),
+            Side::Lower,
+            SymmetricOrdering::Custom(perm),
+            CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                ..Default::default()
+            },
+        )
+        .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
         Ok(Self {
-            symbolic,
-            n: a.rows(),
+            symbolic: Arc::new(symbolic),
+            method: ordering.method,
         })
     }
 
-    /// Numeric factorisation of `a`, which must have the analysed pattern.
+    /// What the analysis found: ordering, nnz(L), flops, for the matrix `a` it analysed.  The
+    /// exact nnz(L) costs one more elimination-tree pass over A (≈ 8 % of a factorisation at
+    /// 10⁵ DOFs), which is why it is asked for apart, outside the timed floor.
+    pub fn info(&self, a: &CscMatrix) -> Result<FactorInfo, LinalgError> {
+        FactorInfo::of(&self.symbolic, self.method, a)
+    }
+
+    /// The ordering used.
+    pub fn ordering(&self) -> OrderingMethod {
+        self.method
+    }
+
+    /// Size n of the analysed matrix.
+    pub fn dim(&self) -> usize {
+        self.symbolic.nrows()
+    }
+
+    /// faer's symbolic factor (supernodal), for callers that read the factor's blocks (the dual
+    /// backend's trailing block) through faer's `SupernodalLltRef`.
+    pub fn symbolic(&self) -> &SymbolicCholesky<usize> {
+        &self.symbolic
+    }
+
+    /// Values the supernodal factor will store (8 B each), known before it is computed.
+    pub fn stored_values(&self) -> usize {
+        self.symbolic.len_val()
+    }
+
+    /// Bytes of the scratch space the numeric factorisation allocates besides the factor (the
+    /// largest frontal update), from the symbolic analysis.
+    pub fn numeric_scratch_bytes(&self) -> f64 {
+        self.symbolic
+            .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
+            .size_bytes() as f64
+    }
+
+    /// Numeric factorisation of `a`, which must have the analysed pattern (one thread).
     pub fn factor(&self, a: &CscMatrix) -> Result<SparseCholesky, LinalgError> {
-        if a.rows() != self.n || a.cols() != self.n {
+        let n = self.dim();
+        if a.rows() != n || a.cols() != n {
             return Err(LinalgError::Shape {
                 rows: a.rows(),
                 cols: a.cols(),
             });
         }
         let view = faer_view(a)?;
-        let llt =
-            Llt::try_new_with_symbolic(self.symbolic.clone(), view, Side::Lower).map_err(|e| {
-                match e {
-                    faer::sparse::linalg::LltError::Numeric(
-                        faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index },
-                    ) => LinalgError::NotPositiveDefinite { index, n: self.n },
-                    other => LinalgError::Faer(format!("{other:?}")),
+        let oom = |e: faer::dyn_stack::mem::AllocError| LinalgError::Faer(format!("{e:?}"));
+        let mut values = Vec::new();
+        values
+            .try_reserve_exact(self.symbolic.len_val())
+            .map_err(|e| LinalgError::Faer(format!("cannot allocate the factor: {e}")))?;
+        values.resize(self.symbolic.len_val(), 0.0);
+        let mut buffer = MemBuffer::try_new(
+            self.symbolic
+                .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+        )
+        .map_err(oom)?;
+        self.symbolic
+            .factorize_numeric_llt(
+                &mut values,
+                view,
+                Side::Lower,
+                Default::default(),
+                Par::Seq,
+                MemStack::new(&mut buffer),
+                Default::default(),
+            )
+            .map_err(|e| match e {
+                faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => {
+                    LinalgError::NotPositiveDefinite { index, n }
                 }
             })?;
-        Ok(SparseCholesky { llt, n: self.n })
+        Ok(SparseCholesky {
+            symbolic: Arc::clone(&self.symbolic),
+            values,
+            method: self.method,
+        })
     }
 }
 
-/// A numeric Cholesky factorisation L Lᵀ = A.
+/// A numeric Cholesky factorisation P A Pᵀ = L Lᵀ.
 #[derive(Debug, Clone)]
 pub struct SparseCholesky {
-    llt: Llt<usize, f64>,
-    n: usize,
+    symbolic: Arc<SymbolicCholesky<usize>>,
+    values: Vec<f64>,
+    method: OrderingMethod,
 }
 
 impl SparseCholesky {
-    /// Analyses and factors the symmetric positive definite `a` in one go.
+    /// Orders, analyses and factors the symmetric positive definite `a` in one go.
     ///
     /// ```
     /// use signorini_core::linalg::SparseCholesky;
@@ -125,6 +337,7 @@ impl SparseCholesky {
     /// let mut x = vec![5.0, 4.0];
     /// chol.solve_in_place(&mut x);
     /// assert!((x[0] - 1.0).abs() < 1e-14 && (x[1] - 1.0).abs() < 1e-14);
+    /// assert_eq!(chol.info(&a.to_csc()).unwrap().nnz_l, 3);
     /// ```
     pub fn factor(a: &CscMatrix) -> Result<Self, LinalgError> {
         CholeskyPattern::analyse(a)?.factor(a)
@@ -132,30 +345,47 @@ impl SparseCholesky {
 
     /// Size n of the factored matrix.
     pub fn dim(&self) -> usize {
-        self.n
+        self.symbolic.nrows()
+    }
+
+    /// Ordering and size of the factor of `a` (the matrix factored), see
+    /// [`CholeskyPattern::info`].
+    pub fn info(&self, a: &CscMatrix) -> Result<FactorInfo, LinalgError> {
+        FactorInfo::of(&self.symbolic, self.method, a)
+    }
+
+    /// faer's symbolic factor and the numeric values, for callers that read L's blocks through
+    /// faer (`LltRef::new(symbolic, values)`, or `SupernodalLltRef` on its supernodal part).
+    pub fn raw(&self) -> (&SymbolicCholesky<usize>, &[f64]) {
+        (&self.symbolic, &self.values)
     }
 
     /// Overwrites `rhs` (length n) with A⁻¹ rhs.
     pub fn solve_in_place(&self, rhs: &mut [f64]) {
-        debug_assert_eq!(rhs.len(), self.n);
-        let mat = MatMut::from_column_major_slice_mut(rhs, self.n, 1);
-        self.llt.solve_in_place(mat);
+        debug_assert_eq!(rhs.len(), self.dim());
+        self.solve_many_in_place(rhs);
     }
 
     /// Overwrites the column-major n×k block `rhs` with A⁻¹ rhs (k = rhs.len() / n).
     pub fn solve_many_in_place(&self, rhs: &mut [f64]) {
-        if self.n == 0 {
+        let n = self.dim();
+        if n == 0 {
             return;
         }
-        let k = rhs.len() / self.n;
-        debug_assert_eq!(rhs.len(), k * self.n);
-        let mat = MatMut::from_column_major_slice_mut(rhs, self.n, k);
-        self.llt.solve_in_place(mat);
+        let k = rhs.len() / n;
+        debug_assert_eq!(rhs.len(), k * n);
+        let mut buffer = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, Par::Seq));
+        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(rhs, n, k),
+            Par::Seq,
+            MemStack::new(&mut buffer),
+        );
     }
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use sprs::TriMat;
 
@@ -185,6 +415,111 @@ mod tests {
                 assert!((x - y).abs() < 1e-10, "{x} vs {y} at scale {scale}");
             }
         }
+    }
+
+    /// An SPD matrix with a 2D-elasticity-like pattern: a side × side grid of nodes with two
+    /// DOFs each, coupled to the 8 neighbouring nodes (both DOFs), diagonally dominant.
+    pub(crate) fn two_dof_grid(side: usize) -> CscMatrix {
+        let nodes = side * side;
+        let mut t = TriMat::new((2 * nodes, 2 * nodes));
+        let id = |i: usize, j: usize| j * side + i;
+        for j in 0..side {
+            for i in 0..side {
+                let a = id(i, j);
+                for (di, dj) in [(1i64, 0i64), (0, 1), (1, 1), (1, -1)] {
+                    let (ii, jj) = (i as i64 + di, j as i64 + dj);
+                    if ii < 0 || jj < 0 || ii >= side as i64 || jj >= side as i64 {
+                        continue;
+                    }
+                    let b = id(ii as usize, jj as usize);
+                    for (p, q) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                        let v = -0.5 - 0.1 * ((a + b + p + q) % 3) as f64;
+                        t.add_triplet(2 * a + p, 2 * b + q, v);
+                        t.add_triplet(2 * b + q, 2 * a + p, v);
+                    }
+                }
+                t.add_triplet(2 * a, 2 * a + 1, 0.3);
+                t.add_triplet(2 * a + 1, 2 * a, 0.3);
+                t.add_triplet(2 * a, 2 * a, 20.0);
+                t.add_triplet(2 * a + 1, 2 * a + 1, 20.0);
+            }
+        }
+        t.to_csc()
+    }
+
+    /// nnz of the lower triangle of L, diagonal included, counted by eliminating the graph of
+    /// P A Pᵀ vertex by vertex (each eliminated vertex joins its later neighbours into a
+    /// clique): independent of faer's elimination tree and column counts.
+    pub(crate) fn eliminated_nnz(a: &CscMatrix, forward_inverse: &[usize]) -> usize {
+        use std::collections::BTreeSet;
+        let n = a.rows();
+        let mut adj: Vec<BTreeSet<usize>> = vec![BTreeSet::new(); n];
+        for (_, (i, j)) in a.iter() {
+            let (p, q) = (forward_inverse[i], forward_inverse[j]);
+            if p != q {
+                adj[p].insert(q);
+                adj[q].insert(p);
+            }
+        }
+        let mut nnz = 0;
+        for k in 0..n {
+            let later: Vec<usize> = adj[k].range(k + 1..).copied().collect();
+            nnz += 1 + later.len();
+            for &u in &later {
+                for &v in &later {
+                    if u != v {
+                        adj[u].insert(v);
+                    }
+                }
+            }
+        }
+        nnz
+    }
+
+    #[test]
+    fn amd_and_metis_factors_solve_to_1e10_and_count_l_exactly() {
+        let a = two_dof_grid(14);
+        let n = a.rows();
+        let x_true: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin() + 0.1).collect();
+        let b = crate::qp::mat_vec(&a, &x_true);
+        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        for method in [OrderingMethod::Amd, OrderingMethod::Metis] {
+            let ordering = order_with(&a, method).unwrap();
+            let pattern = CholeskyPattern::analyse_with(&a, &ordering).unwrap();
+            let info = pattern.info(&a).unwrap();
+            assert_eq!(info.ordering, method);
+            assert_eq!(
+                info.nnz_l,
+                eliminated_nnz(&a, &ordering.inverse),
+                "{method}"
+            );
+            assert!(info.stored_values >= info.nnz_l);
+            let chol = pattern.factor(&a).unwrap();
+            let mut x = b.clone();
+            chol.solve_in_place(&mut x);
+            let err: Vec<f64> = x.iter().zip(&x_true).map(|(p, q)| p - q).collect();
+            // The matrix is diagonally dominant (condition number < 10), so a backward-stable
+            // Cholesky gives a relative error of a few ulps × n; 1e-10 is the task's bound.
+            assert!(
+                norm(&err) / norm(&x_true) < 1e-10,
+                "{method}: {}",
+                norm(&err)
+            );
+        }
+    }
+
+    #[test]
+    fn a_permuted_ordering_that_is_not_one_is_refused() {
+        let a = laplacian(4);
+        let bad = FillOrdering {
+            forward: vec![0, 1, 1, 3],
+            inverse: vec![0, 1, 2, 3],
+            method: OrderingMethod::Amd,
+        };
+        assert!(matches!(
+            CholeskyPattern::analyse_with(&a, &bad),
+            Err(LinalgError::Ordering(_))
+        ));
     }
 
     #[test]
