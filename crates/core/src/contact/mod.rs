@@ -32,10 +32,12 @@
 //! silently dropped.
 
 mod overlap;
+mod search;
 
 pub use overlap::{overlap_limit, Overlap};
 
 use crate::geometry::{self, Point};
+use search::SegmentIndex;
 use crate::mesh::Mesh;
 use crate::scene::Scene;
 use overlap::{deepest, depths_inside, strictly_inside};
@@ -175,6 +177,10 @@ fn boundary_node_mask(mesh: &Mesh) -> Vec<bool> {
 
 /// Candidate mask of `mesh`'s boundary nodes for a pair: in the region, or (no region) near
 /// `other`'s boundary or inside `other` (`inside`, from [`depths_inside`]).
+///
+/// "Near" is: some boundary edge of `other` at distance ≤ `reach` (by
+/// [`geometry::project_on_segment`]).  [`Search::Indexed`] tests only the edges an R-tree finds
+/// within `reach` plus a rounding margin — every edge that can pass — so the mask is the scan's.
 fn candidates(
     mesh: &Mesh,
     other: &Mesh,
@@ -182,8 +188,17 @@ fn candidates(
     reach: f64,
     tol: f64,
     inside: &[Option<f64>],
+    search: Search,
 ) -> Vec<bool> {
     let on = boundary_node_mask(mesh);
+    let index = match (region, search) {
+        (None, Search::Indexed) => Some(SegmentIndex::new(&other.nodes, &other.boundary)),
+        _ => None,
+    };
+    let near = |p: Point, e: usize| {
+        let [a, b] = other.boundary[e];
+        geometry::project_on_segment(p, other.nodes[a], other.nodes[b]).1 <= reach
+    };
     mesh.nodes
         .iter()
         .enumerate()
@@ -193,10 +208,10 @@ fn candidates(
                     Some(r) => geometry::in_box(p, r, tol),
                     None => {
                         strictly_inside(inside[i], tol)
-                            || other.boundary.iter().any(|&[a, b]| {
-                                geometry::project_on_segment(p, other.nodes[a], other.nodes[b]).1
-                                    <= reach
-                            })
+                            || match &index {
+                                Some(index) => index.within(p, reach).any(|e| near(p, e)),
+                                None => (0..other.boundary.len()).any(|e| near(p, e)),
+                            }
                     }
                 }
         })
@@ -212,16 +227,38 @@ fn outward_normal(a: Point, b: Point) -> Point {
     [dy / len, -dx / len]
 }
 
+/// How the closest segments are found: through an R-tree, or (test-only oracle) by scanning
+/// every segment, as the search was first written.  Both give bit-identical results.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Search {
+    /// R-tree queries narrowing the scan (O(log n) per node).
+    Indexed,
+    /// Every segment for every node (O(n) per node): the reference the index is tested against.
+    #[cfg(test)]
+    BruteForce,
+}
+
 /// Builds every pair's rows.
 pub fn contact_rows(scene: &Scene, meshes: &[Mesh]) -> Result<Vec<PairRows>, ContactError> {
+    contact_rows_with(scene, meshes, Search::Indexed)
+}
+
+/// [`contact_rows`] with a chosen search.
+fn contact_rows_with(
+    scene: &Scene,
+    meshes: &[Mesh],
+    search: Search,
+) -> Result<Vec<PairRows>, ContactError> {
     let tol = scene.tolerance();
     let mut all = Vec::with_capacity(scene.contacts.len());
     for (p, pair) in scene.contacts.iter().enumerate() {
         let [k, l] = pair.bodies;
         let reach = scene.bodies[k].hmax.max(scene.bodies[l].hmax);
         let limit = overlap_limit(scene, pair);
-        let inside_k = depths_inside(&meshes[k], &meshes[l], &scene.bodies[l].polygon, tol);
-        let inside_l = depths_inside(&meshes[l], &meshes[k], &scene.bodies[k].polygon, tol);
+        let inside_k =
+            depths_inside(&meshes[k], &meshes[l], &scene.bodies[l].polygon, tol, search);
+        let inside_l =
+            depths_inside(&meshes[l], &meshes[k], &scene.bodies[k].polygon, tol, search);
         let deepest_k = deepest(&inside_k, tol).map(|(i, d)| (k, l, i, d));
         let deepest_l = deepest(&inside_l, tol).map(|(i, d)| (l, k, i, d));
         let deepest_all = match (deepest_k, deepest_l) {
@@ -241,8 +278,8 @@ pub fn contact_rows(scene: &Scene, meshes: &[Mesh]) -> Result<Vec<PairRows>, Con
             }
         }
         let region = pair.region.as_ref();
-        let cand_k = candidates(&meshes[k], &meshes[l], region, reach, tol, &inside_k);
-        let cand_l = candidates(&meshes[l], &meshes[k], region, reach, tol, &inside_l);
+        let cand_k = candidates(&meshes[k], &meshes[l], region, reach, tol, &inside_k, search);
+        let cand_l = candidates(&meshes[l], &meshes[k], region, reach, tol, &inside_l, search);
         let count = |c: &[bool]| c.iter().filter(|x| **x).count();
         let (nk, nl) = (count(&cand_k), count(&cand_l));
         if let Some(r) = region {
@@ -293,6 +330,7 @@ pub fn contact_rows(scene: &Scene, meshes: &[Mesh]) -> Result<Vec<PairRows>, Con
             inside_s,
             tol,
             limit,
+            search,
         );
         let rows = built.rows;
         // Conforming: every slave node on the interface (zero gap) sits on a master node.
@@ -371,6 +409,165 @@ struct Built {
 /// facing, segment, t).
 type Choice = (f64, bool, bool, [usize; 2], f64);
 
+/// One slave node's search for its master segment.
+struct Probe {
+    /// The node X.
+    x: Point,
+    /// The slave's outward normal at X (unnormalised; zero when unknown).
+    ns: Point,
+    /// |ns|.
+    ns_len: f64,
+    /// X starts strictly inside the master.
+    inside: bool,
+    /// How far behind a segment's line X may lie (outside only).
+    behind_limit: f64,
+    /// Length tolerance of the scene.
+    tol: f64,
+}
+
+impl Probe {
+    /// Segment a–b (master nodes) seen from X: `None` when not admissible, otherwise
+    /// (distance, interior projection, facing, t).
+    ///
+    /// Outside the master: the segment must face X, its span (within tolerance) contain the
+    /// projection of X and X not lie behind its line.  Inside: any segment of positive length,
+    /// projection clamped to it.
+    fn evaluate(&self, pa: Point, pb: Point) -> Option<(f64, bool, bool, f64)> {
+        let (x, ns, tol) = (self.x, self.ns, self.tol);
+        let nm = outward_normal(pa, pb);
+        let facing =
+            self.ns_len == 0.0 || (nm[0] * ns[0] + nm[1] * ns[1]) / self.ns_len <= -FACING;
+        if !self.inside && !facing {
+            return None;
+        }
+        let d = [pb[0] - pa[0], pb[1] - pa[1]];
+        let len2 = d[0] * d[0] + d[1] * d[1];
+        if len2 == 0.0 {
+            return None;
+        }
+        let len = len2.sqrt();
+        let t_raw = ((x[0] - pa[0]) * d[0] + (x[1] - pa[1]) * d[1]) / len2;
+        let eps = tol / len;
+        if !self.inside && (t_raw < -eps || t_raw > 1.0 + eps) {
+            return None;
+        }
+        let t = if t_raw <= eps {
+            0.0
+        } else if t_raw >= 1.0 - eps {
+            1.0
+        } else {
+            t_raw
+        };
+        let y = [pa[0] + t * d[0], pa[1] + t * d[1]];
+        if !self.inside && (x[0] - y[0]) * nm[0] + (x[1] - y[1]) * nm[1] < -self.behind_limit {
+            // Behind the segment's line yet outside the master (or deeper than the overlap
+            // limit while on its boundary): the projection runs through the body to its far
+            // side.
+            return None;
+        }
+        let dist = geometry::distance(x, y);
+        Some((dist, t > 0.0 && t < 1.0, facing, t))
+    }
+
+    /// The choice among `segments` (master node pairs) visited in the order `order`: each
+    /// admissible segment replaces the running best when it is closer by more than the
+    /// tolerance, or as close within the tolerance and better placed (an interior projection
+    /// over an end, then a facing segment over a non-facing one).
+    fn select(
+        &self,
+        master: &Mesh,
+        segments: &[[usize; 2]],
+        order: impl IntoIterator<Item = usize>,
+    ) -> Option<Choice> {
+        let tol = self.tol;
+        let mut best: Option<Choice> = None;
+        for s in order {
+            let [a, b] = segments[s];
+            let Some((dist, interior, facing, t)) =
+                self.evaluate(master.nodes[a], master.nodes[b])
+            else {
+                continue;
+            };
+            let better = match best {
+                None => true,
+                Some((bd, bi, bf, _, _)) => {
+                    dist < bd - tol
+                        || (dist <= bd + tol
+                            && ((interior && !bi) || (interior == bi && facing && !bf)))
+                }
+            };
+            if better {
+                best = Some((dist, interior, facing, [a, b], t));
+            }
+        }
+        best
+    }
+
+    /// [`Probe::select`] over every segment in list order, through the R-tree `index` of
+    /// `segments`: the same choice, from the few segments near X.
+    ///
+    /// Why it is the same: let D be the distance of the closest admissible segment and T ≥ D a
+    /// threshold such that no admissible segment lies at a distance in (T, T + tol].  Visit, in
+    /// list order, only the admissible segments at distance ≤ T (the set S).  In the full scan,
+    /// once the first member of S has been visited the running best is a member of S: it
+    /// replaces any earlier best (which is beyond T + tol, so farther by more than tol), and no
+    /// segment beyond T + tol can replace a member of S (it is neither closer by tol nor within
+    /// tol).  Between members of S the comparisons are the scan's own.  So the scan ends on the
+    /// choice the visit of S alone makes.  The index finds an admissible segment by walking
+    /// outwards from X (an upper bound on D), then every segment within a radius by a box
+    /// query with a rounding margin; T starts at D and is raised over any admissible distance
+    /// within tol above it, widening the query when needed.
+    ///
+    /// Cost: O(log n) per node with a nearby admissible segment; a node without any admissible
+    /// segment (counted in [`PairRows::unmatched`]) walks the whole tree, as the scan would.
+    fn select_indexed(
+        &self,
+        master: &Mesh,
+        segments: &[[usize; 2]],
+        index: &SegmentIndex,
+    ) -> Option<Choice> {
+        let distance_of = |s: usize| {
+            let [a, b] = segments[s];
+            self.evaluate(master.nodes[a], master.nodes[b])
+                .map(|(d, _, _, _)| d)
+        };
+        let bound = index.nearest(self.x).find_map(distance_of)?;
+        let tol = self.tol;
+        let mut radius = bound + 2.0 * tol;
+        loop {
+            let mut near: Vec<(f64, usize)> = index
+                .within(self.x, radius)
+                .filter_map(|s| distance_of(s).map(|d| (d, s)))
+                .collect();
+            near.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
+            // `near` holds the segment at `bound`, so it is not empty and starts at D.
+            let mut threshold = near.first().map_or(bound, |n| n.0);
+            for &(d, _) in &near {
+                if d <= threshold {
+                    continue;
+                }
+                if d <= threshold + tol {
+                    threshold = d;
+                } else {
+                    break;
+                }
+            }
+            if threshold + tol < radius {
+                // Every admissible segment within threshold + tol is in `near`.
+                let mut set: Vec<usize> = near
+                    .iter()
+                    .filter(|n| n.0 <= threshold)
+                    .map(|n| n.1)
+                    .collect();
+                set.sort_unstable();
+                return self.select(master, segments, set);
+            }
+            radius = 2.0 * radius + 2.0 * tol;
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
 fn pair_rows(
     slave: &Mesh,
     master: &Mesh,
@@ -379,6 +576,7 @@ fn pair_rows(
     inside_s: &[Option<f64>],
     tol: f64,
     limit: f64,
+    search: Search,
 ) -> Built {
     // Master segments: boundary edges with both ends candidates.
     let segments: Vec<[usize; 2]> = master
@@ -393,6 +591,20 @@ fn pair_rows(
         unmatched: 0,
         tributary_fallbacks: 0,
         unit_tributaries: 0,
+    };
+    // The R-trees: of the candidate segments (nodes outside the master) and, only when some
+    // slave node starts inside, of the whole master boundary.
+    let (outside_index, inside_index) = match search {
+        Search::Indexed => {
+            let any_inside = (0..slave.nodes.len())
+                .any(|i| cand_s[i] && strictly_inside(inside_s[i], tol));
+            (
+                Some(SegmentIndex::new(&master.nodes, &segments)),
+                any_inside.then(|| SegmentIndex::new(&master.nodes, &master.boundary)),
+            )
+        }
+        #[cfg(test)]
+        Search::BruteForce => (None, None),
     };
     for (x_node, &x) in slave.nodes.iter().enumerate() {
         if !cand_s[x_node] {
@@ -422,59 +634,27 @@ fn pair_rows(
                 break;
             }
         }
-        let ns_len = ns[0].hypot(ns[1]);
+        let probe = Probe {
+            x,
+            ns,
+            ns_len: ns[0].hypot(ns[1]),
+            inside,
+            behind_limit,
+            tol,
+        };
         // Outside the master: the closest facing candidate segment whose span (within
         // tolerance) contains the projection of X and whose line X is not behind.  Inside: the
         // closest boundary segment of the master, candidate or not, of any orientation (the
         // shortest way out), projection clamped to the segment.
-        let mut best: Option<Choice> = None;
-        let admissible = if inside { &master.boundary } else { &segments };
-        for &[a, b] in admissible {
-            let (pa, pb) = (master.nodes[a], master.nodes[b]);
-            let nm = outward_normal(pa, pb);
-            let facing = ns_len == 0.0 || (nm[0] * ns[0] + nm[1] * ns[1]) / ns_len <= -FACING;
-            if !inside && !facing {
-                continue;
-            }
-            let d = [pb[0] - pa[0], pb[1] - pa[1]];
-            let len2 = d[0] * d[0] + d[1] * d[1];
-            if len2 == 0.0 {
-                continue;
-            }
-            let len = len2.sqrt();
-            let t_raw = ((x[0] - pa[0]) * d[0] + (x[1] - pa[1]) * d[1]) / len2;
-            let eps = tol / len;
-            if !inside && (t_raw < -eps || t_raw > 1.0 + eps) {
-                continue;
-            }
-            let t = if t_raw <= eps {
-                0.0
-            } else if t_raw >= 1.0 - eps {
-                1.0
-            } else {
-                t_raw
-            };
-            let y = [pa[0] + t * d[0], pa[1] + t * d[1]];
-            if !inside && (x[0] - y[0]) * nm[0] + (x[1] - y[1]) * nm[1] < -behind_limit {
-                // Behind the segment's line yet outside the master (or deeper than the overlap
-                // limit while on its boundary): the projection runs through the body to its
-                // far side.
-                continue;
-            }
-            let dist = geometry::distance(x, y);
-            let interior = t > 0.0 && t < 1.0;
-            let better = match best {
-                None => true,
-                Some((bd, bi, bf, _, _)) => {
-                    dist < bd - tol
-                        || (dist <= bd + tol
-                            && ((interior && !bi) || (interior == bi && facing && !bf)))
-                }
-            };
-            if better {
-                best = Some((dist, interior, facing, [a, b], t));
-            }
-        }
+        let (admissible, index) = if inside {
+            (&master.boundary, inside_index.as_ref())
+        } else {
+            (&segments, outside_index.as_ref())
+        };
+        let best = match index {
+            Some(index) if !index.is_empty() => probe.select_indexed(master, admissible, index),
+            _ => probe.select(master, admissible, 0..admissible.len()),
+        };
         let Some((_, _, _, [a, b], t)) = best else {
             built.unmatched += 1;
             continue;
