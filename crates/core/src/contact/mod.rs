@@ -33,14 +33,16 @@
 
 mod overlap;
 mod search;
+#[cfg(test)]
+mod tests;
 
 pub use overlap::{overlap_limit, Overlap};
 
 use crate::geometry::{self, Point};
-use search::SegmentIndex;
 use crate::mesh::Mesh;
 use crate::scene::Scene;
 use overlap::{deepest, depths_inside, strictly_inside};
+use search::SegmentIndex;
 
 /// One constraint row.
 #[derive(Debug, Clone, PartialEq)]
@@ -255,10 +257,20 @@ fn contact_rows_with(
         let [k, l] = pair.bodies;
         let reach = scene.bodies[k].hmax.max(scene.bodies[l].hmax);
         let limit = overlap_limit(scene, pair);
-        let inside_k =
-            depths_inside(&meshes[k], &meshes[l], &scene.bodies[l].polygon, tol, search);
-        let inside_l =
-            depths_inside(&meshes[l], &meshes[k], &scene.bodies[k].polygon, tol, search);
+        let inside_k = depths_inside(
+            &meshes[k],
+            &meshes[l],
+            &scene.bodies[l].polygon,
+            tol,
+            search,
+        );
+        let inside_l = depths_inside(
+            &meshes[l],
+            &meshes[k],
+            &scene.bodies[k].polygon,
+            tol,
+            search,
+        );
         let deepest_k = deepest(&inside_k, tol).map(|(i, d)| (k, l, i, d));
         let deepest_l = deepest(&inside_l, tol).map(|(i, d)| (l, k, i, d));
         let deepest_all = match (deepest_k, deepest_l) {
@@ -278,8 +290,12 @@ fn contact_rows_with(
             }
         }
         let region = pair.region.as_ref();
-        let cand_k = candidates(&meshes[k], &meshes[l], region, reach, tol, &inside_k, search);
-        let cand_l = candidates(&meshes[l], &meshes[k], region, reach, tol, &inside_l, search);
+        let cand_k = candidates(
+            &meshes[k], &meshes[l], region, reach, tol, &inside_k, search,
+        );
+        let cand_l = candidates(
+            &meshes[l], &meshes[k], region, reach, tol, &inside_l, search,
+        );
         let count = |c: &[bool]| c.iter().filter(|x| **x).count();
         let (nk, nl) = (count(&cand_k), count(&cand_l));
         if let Some(r) = region {
@@ -433,10 +449,11 @@ impl Probe {
     /// projection of X and X not lie behind its line.  Inside: any segment of positive length,
     /// projection clamped to it.
     fn evaluate(&self, pa: Point, pb: Point) -> Option<(f64, bool, bool, f64)> {
+        #[cfg(test)]
+        tests::EVALUATIONS.with(|c| c.set(c.get() + 1));
         let (x, ns, tol) = (self.x, self.ns, self.tol);
         let nm = outward_normal(pa, pb);
-        let facing =
-            self.ns_len == 0.0 || (nm[0] * ns[0] + nm[1] * ns[1]) / self.ns_len <= -FACING;
+        let facing = self.ns_len == 0.0 || (nm[0] * ns[0] + nm[1] * ns[1]) / self.ns_len <= -FACING;
         if !self.inside && !facing {
             return None;
         }
@@ -483,8 +500,7 @@ impl Probe {
         let mut best: Option<Choice> = None;
         for s in order {
             let [a, b] = segments[s];
-            let Some((dist, interior, facing, t)) =
-                self.evaluate(master.nodes[a], master.nodes[b])
+            let Some((dist, interior, facing, t)) = self.evaluate(master.nodes[a], master.nodes[b])
             else {
                 continue;
             };
@@ -552,7 +568,7 @@ impl Probe {
                     break;
                 }
             }
-            if threshold + tol < radius {
+            if threshold + tol <= radius {
                 // Every admissible segment within threshold + tol is in `near`.
                 let mut set: Vec<usize> = near
                     .iter()
@@ -562,7 +578,8 @@ impl Probe {
                 set.sort_unstable();
                 return self.select(master, segments, set);
             }
-            radius = 2.0 * radius + 2.0 * tol;
+            // threshold + tol > radius ≥ 0: the new radius exceeds the old one.
+            radius = 2.0 * (threshold + tol);
         }
     }
 }
@@ -596,8 +613,8 @@ fn pair_rows(
     // slave node starts inside, of the whole master boundary.
     let (outside_index, inside_index) = match search {
         Search::Indexed => {
-            let any_inside = (0..slave.nodes.len())
-                .any(|i| cand_s[i] && strictly_inside(inside_s[i], tol));
+            let any_inside =
+                (0..slave.nodes.len()).any(|i| cand_s[i] && strictly_inside(inside_s[i], tol));
             (
                 Some(SegmentIndex::new(&master.nodes, &segments)),
                 any_inside.then(|| SegmentIndex::new(&master.nodes, &master.boundary)),
