@@ -73,7 +73,7 @@ use crate::geometry::{self, Point};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
 use overlap::{deepest, depths_inside, strictly_inside};
-use search::SegmentIndex;
+use search::{Cone, SegmentIndex};
 
 /// One constraint row.
 #[derive(Debug, Clone, PartialEq)]
@@ -253,6 +253,10 @@ fn candidates(
 
 /// A master segment faces a slave node when cos(angle between their outward normals) < −FACING.
 const FACING: f64 = 0.3;
+
+/// Segments the indexed search visits outwards from a slave node before it restricts the search
+/// to where an admissible segment can lie.
+const WALK: usize = 32;
 
 fn outward_normal(a: Point, b: Point) -> Point {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
@@ -565,8 +569,71 @@ impl Probe {
     /// query with a rounding margin; T starts at D and is raised over any admissible distance
     /// within tol above it, widening the query when needed.
     ///
-    /// Cost: O(log n) per node with a nearby admissible segment; a node without any admissible
-    /// segment (counted in [`PairRows::unmatched`]) walks the whole tree, as the scan would.
+    /// Cost: O(log n) per node with a nearby admissible segment.  A node without one, outside
+    /// the master, searches only the cone where a facing segment it is not behind can lie
+    /// ([`Probe::cone`]), so a node whose cone holds no segment (the top of a strip inside a
+    /// region box that covers the whole strip) costs O(log n) too.
+    /// The distance of some admissible segment (an upper bound of the closest one's), or `None`
+    /// when there is none.  Walks outwards from X over the first [`WALK`] segments; past them
+    /// (outside the master, slave normal known) searches the cone of [`Probe::cone`] in discs
+    /// of doubling radius until the disc holds every segment.
+    fn first_admissible(
+        &self,
+        index: &SegmentIndex,
+        distance_of: impl Fn(usize) -> Option<f64>,
+    ) -> Option<f64> {
+        let mut walked = 0;
+        let mut reached = 0.0;
+        let mut nearest = index.nearest(self.x);
+        for (s, d) in nearest.by_ref() {
+            if let Some(d) = distance_of(s) {
+                return Some(d);
+            }
+            walked += 1;
+            reached = d;
+            if walked == WALK {
+                break;
+            }
+        }
+        if walked < WALK {
+            return None;
+        }
+        if self.inside || self.ns_len == 0.0 {
+            // Any direction may hold the segment: walk on.
+            return nearest.find_map(|(s, _)| distance_of(s));
+        }
+        let farthest = index.farthest(self.x);
+        let mut radius = reached.max(self.tol).max(f64::MIN_POSITIVE);
+        loop {
+            let cone = self.cone(radius, index.margin(self.x, radius));
+            let found = index
+                .in_cone(&cone)
+                .filter_map(&distance_of)
+                .fold(None, |m: Option<f64>, d| Some(m.map_or(d, |m| m.min(d))));
+            if found.is_some() || radius > farthest {
+                return found;
+            }
+            radius *= 2.0;
+        }
+    }
+
+    /// Where an admissible segment can lie when X is outside the master: some point y of it
+    /// has x − y = s n_m + w with n_m its unit normal, s ≥ −b (b = `behind_limit`, X not behind
+    /// its line), |w| ≤ tol (the projection snapped to an end within tol) and
+    /// n_m·u ≤ −FACING (u = n_s / |n_s|, facing).  Then (y − x)·u ≥ FACING |y − x| − 1.3 (b + tol)
+    /// whatever the sign of s: y lies in the cone around u of half-angle acos(FACING), its apex
+    /// pulled back by 1.3 (b + tol) (1.5 here, for the rounding of u and n_m).
+    fn cone(&self, radius: f64, margin: f64) -> Cone {
+        Cone {
+            apex: self.x,
+            axis: [self.ns[0] / self.ns_len, self.ns[1] / self.ns_len],
+            cos: FACING * (1.0 - 1e-9),
+            slack: 1.5 * (self.behind_limit + self.tol),
+            radius,
+            margin,
+        }
+    }
+
     fn select_indexed(
         &self,
         master: &Mesh,
@@ -578,7 +645,7 @@ impl Probe {
             self.evaluate(master.nodes[a], master.nodes[b])
                 .map(|(d, _, _, _)| d)
         };
-        let bound = index.nearest(self.x).find_map(distance_of)?;
+        let bound = self.first_admissible(index, distance_of)?;
         let tol = self.tol;
         let mut radius = bound + 2.0 * tol;
         loop {

@@ -75,7 +75,7 @@ pub(super) fn depths_inside(
             }
             let depth = match &index {
                 Some(index) => match index.nearest(p).next() {
-                    Some(e) => index
+                    Some((e, _)) => index
                         .within(p, distance(p, e))
                         .map(|e| distance(p, e))
                         .fold(f64::INFINITY, f64::min),

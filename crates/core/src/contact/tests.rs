@@ -450,3 +450,105 @@ fn long_interface_costs_a_bounded_number_of_evaluations_per_node() {
         assert!((r.tributary - expected).abs() <= 1e-13, "{}", r.tributary);
     }
 }
+
+/// A strip (slave) on a foundation (master), both boundaries discretised all round with
+/// segments of length `h`: `n` along the interface, 2 up the strip's ends, 4 down the
+/// foundation's.
+fn strip_on_foundation(n: usize, h: f64) -> (Mesh, Mesh) {
+    let x = |i: usize| i as f64 * h;
+    let y = |j: usize| j as f64 * h;
+    let mut strip: Vec<Point> = (0..=n).map(|i| [x(i), 0.0]).collect();
+    strip.push([x(n), y(1)]);
+    strip.extend((0..=n).rev().map(|i| [x(i), y(2)]));
+    strip.push([0.0, y(1)]);
+    let mut foundation: Vec<Point> = (0..=n).rev().map(|i| [x(i), 0.0]).collect();
+    foundation.extend((1..=3).map(|j| [0.0, -y(j)]));
+    foundation.extend((0..=n).map(|i| [x(i), -y(4)]));
+    foundation.extend((1..=3).rev().map(|j| [x(n), -y(j)]));
+    (loop_mesh(strip), loop_mesh(foundation))
+}
+
+#[test]
+fn a_region_box_over_whole_bodies_stays_cheap_and_matches_the_scan() {
+    // Every boundary node a candidate (a region box covering both bodies): the strip's top
+    // nodes face away from the foundation's top and lie in front of none of its bottom
+    // segments, so they get no row.  The scan evaluates every segment for each of them; the
+    // indexed search walks 32 segments outwards, then finds its cone (above the strip) empty.
+    let n = 4000;
+    let (strip, foundation) = strip_on_foundation(n, 0.01);
+    for (slave, master, name) in [
+        (&strip, &foundation, "strip slave"),
+        (&foundation, &strip, "foundation slave"),
+    ] {
+        let cand_s = vec![true; slave.nodes.len()];
+        let cand_m = vec![true; master.nodes.len()];
+        let inside_s = vec![None; slave.nodes.len()];
+        EVALUATIONS.with(|c| c.set(0));
+        let built = pair_rows(
+            slave,
+            master,
+            &cand_s,
+            &cand_m,
+            &inside_s,
+            1e-9,
+            0.01,
+            Search::Indexed,
+        );
+        let evaluations = EVALUATIONS.with(Cell::get);
+        // The interface's n + 1 nodes get rows; the far side's nodes and the end nodes do not.
+        assert_eq!(built.rows.len(), n + 1, "{name}");
+        assert_eq!(
+            built.rows.len() + built.unmatched,
+            slave.nodes.len(),
+            "{name}"
+        );
+        // WALK (32) evaluations for each unmatched node, a few for each matched one.
+        assert!(
+            evaluations <= 50 * slave.nodes.len(),
+            "{name}: {evaluations} evaluations for {} nodes",
+            slave.nodes.len()
+        );
+        same_rows(slave, master, &cand_s, &cand_m, &inside_s, 1e-9, 0.01, name);
+    }
+}
+
+#[test]
+fn a_node_slightly_behind_its_segment_is_found_past_the_walk() {
+    // A slave node on the master's boundary (depth 0, so it may lie up to `limit` behind a
+    // segment's line) whose only admissible segment lies 0.5 behind it, below 40 closer
+    // decoys that do not face it: the search must go past its outward walk (32 segments) and
+    // its cone must reach behind the node (apex pulled back by 1.5 (limit + tol)).
+    let mut nodes: Vec<Point> = vec![[-1.0, -0.5], [1.0, -0.5]];
+    let mut segments: Vec<[usize; 2]> = vec![[0, 1]];
+    for k in 0..40 {
+        let a = std::f64::consts::TAU * k as f64 / 40.0;
+        let r = 0.1 + 0.3 * k as f64 / 40.0;
+        let c = [r * a.cos(), r * a.sin()];
+        // Along −x: outward normal +y, the same way as the slave's, so not facing it.
+        nodes.push([c[0] + 0.01, c[1]]);
+        nodes.push([c[0] - 0.01, c[1]]);
+        segments.push([nodes.len() - 2, nodes.len() - 1]);
+    }
+    let master = Mesh {
+        nodes,
+        cells: Cells::Triangles(Vec::new()),
+        boundary: segments,
+    };
+    let slave = Mesh {
+        nodes: vec![[0.0, 0.0], [-0.5, -0.5], [0.5, -0.5]],
+        cells: Cells::Triangles(Vec::new()),
+        boundary: vec![[1, 2], [2, 0], [0, 1]],
+    };
+    let cand_s = vec![true, false, false];
+    let cand_m = vec![true; master.nodes.len()];
+    let inside_s = vec![Some(0.0), None, None];
+    let built = same_rows(
+        &slave, &master, &cand_s, &cand_m, &inside_s, 1e-9, 1.0, "behind",
+    );
+    // Independently: the row is on segment 0 at its middle (t = 1/2), gap −0.5.
+    assert_eq!(built.rows.len(), 1);
+    let row = &built.rows[0];
+    assert_eq!(row.master_nodes, [0, 1]);
+    assert_eq!(row.alpha, 0.5);
+    assert_eq!(row.gap, -0.5);
+}
