@@ -1,7 +1,8 @@
 //! Initial overlap of the two bodies of a pair: which boundary nodes start inside the other
 //! body, how deep, and the deepest overlap accepted as contact (see the parent module).
 
-use super::boundary_node_mask;
+use super::search::SegmentIndex;
+use super::{boundary_node_mask, Search};
 use crate::geometry::{self, Point};
 use crate::mesh::Mesh;
 use crate::scene::{ContactPair, Scene};
@@ -32,26 +33,58 @@ pub fn overlap_limit(scene: &Scene, pair: &ContactPair) -> f64 {
 /// For every node of `mesh`: `Some(depth)` when it is a boundary node lying in the closed body
 /// `other` (polygon `polygon`, within `tol`), with `depth` its distance to `other`'s boundary
 /// (≤ `tol` on it); `None` when it is outside or not a boundary node.
+///
+/// The depth is the minimum over `other`'s boundary edges of the distance from
+/// [`geometry::project_on_segment`].  [`Search::Indexed`] takes that minimum over the edges an
+/// R-tree finds within the distance of the nearest one (plus a rounding margin), which holds
+/// every edge that attains it: the same value as the scan over every edge, in O(log n) per node
+/// instead of O(n).
 pub(super) fn depths_inside(
     mesh: &Mesh,
     other: &Mesh,
     polygon: &[Point],
     tol: f64,
+    search: Search,
 ) -> Vec<Option<f64>> {
     let on = boundary_node_mask(mesh);
     let bbox = geometry::bounding_box(polygon);
-    mesh.nodes
+    let inside: Vec<bool> = mesh
+        .nodes
         .iter()
         .enumerate()
         .map(|(i, &p)| {
-            if !on[i] || !geometry::in_box(p, &bbox, tol) || !geometry::contains(polygon, p, tol) {
+            on[i] && geometry::in_box(p, &bbox, tol) && geometry::contains(polygon, p, tol)
+        })
+        .collect();
+    let distance = |p: Point, e: usize| {
+        let [a, b] = other.boundary[e];
+        geometry::project_on_segment(p, other.nodes[a], other.nodes[b]).1
+    };
+    let index = match search {
+        Search::Indexed if inside.iter().any(|x| *x) => {
+            Some(SegmentIndex::new(&other.nodes, &other.boundary))
+        }
+        _ => None,
+    };
+    mesh.nodes
+        .iter()
+        .zip(&inside)
+        .map(|(&p, &inside)| {
+            if !inside {
                 return None;
             }
-            let depth = other
-                .boundary
-                .iter()
-                .map(|&[a, b]| geometry::project_on_segment(p, other.nodes[a], other.nodes[b]).1)
-                .fold(f64::INFINITY, f64::min);
+            let depth = match &index {
+                Some(index) => match index.nearest(p).next() {
+                    Some((e, _)) => index
+                        .within(p, distance(p, e))
+                        .map(|e| distance(p, e))
+                        .fold(f64::INFINITY, f64::min),
+                    None => f64::INFINITY,
+                },
+                None => (0..other.boundary.len())
+                    .map(|e| distance(p, e))
+                    .fold(f64::INFINITY, f64::min),
+            };
             Some(depth)
         })
         .collect()

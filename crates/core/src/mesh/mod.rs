@@ -24,6 +24,21 @@
 //!
 //! **Q1.**  Structured grid on an axis-aligned rectangle: x from the split points of the bottom
 //! and top sides, y from those of the left and right sides.
+//!
+//! **Cost on long thin bodies.**  The boundary split, the seed lattice (through a cell grid)
+//! and the refinement rounds are near-linear in the node count; spade's bulk loader
+//! (`bulk_load_cdt`) is not on elongated point sets: its hull lookup buckets the hull by
+//! pseudo-angle around the points' centre, so on a long strip the hull's long sides fall into
+//! a few buckets and every insertion walks O(hull) nodes — quadratic overall.  Measured (perf,
+//! `signorini check` on `sh scripts/strip-scene.sh --length L --foundation-layers 4`, bodies
+//! L × 0.02 and L × 0.04): spade's `Hull::insert` + `Hull::get` take 25 % of the preparation at
+//! L = 100 (258 k DOFs, 0.6 s) and 61 % at L = 400 (1.03 M DOFs, 6.8 s); the rest grows 5.9×
+//! for 4× the nodes (one run on a loaded machine).  It is not changed here because the mesh
+//! must stay bit-identical, and another triangulation route numbers vertices and faces
+//! differently and so refines in another order.  The hull lookup itself has a unique answer
+//! (the hull edge whose angular span covers a given angle), so a faster index inside spade
+//! (re-bucketing the crowded range, or an ordered map by angle) would keep every triangulation
+//! identical.
 
 use serde::{Deserialize, Serialize};
 
