@@ -40,7 +40,18 @@ use signorini::backends::BackendKind;
 /// report), as (property, text the failure's detail contains — "" for any).  They are still
 /// evaluated and counted by the survey, but do not fail `fuzz_scenes` or `fuzz_cases_replay`.
 /// Remove an entry to turn it on once its fix is merged; every other failure is enforced now.
-const KNOWN_GAPS: &[(&str, &str)] = &[];
+///
+/// * A slave corner of a 10³⁰-stiff body with a prescribed displacement, against a soft one-cell
+///   q1 body: every backend (measured: clarabel, osqp, pdas, dual-*) ends 2–5e-2 inside the
+///   master and the core calls it `solved`, because the row's length scale ‖f‖₁/kᵢ counts the
+///   stiff body's Dirichlet-lifting forces (~10²⁸) against a harmonic-mean stiffness of ~2: the
+///   residual scale, not a backend, is loose there.  Found when pdas joined `BackendKind::ALL`
+///   and this scene of the fixed seed went to dual-uzawa.  Open (issue 9's notes): a
+///   compliance-weighted length scale Σⱼ|fⱼ|/Aⱼⱼ over the row's DOFs.
+const KNOWN_GAPS: &[(&str, &str)] = &[(
+    "solved-no-interpenetration",
+    "a prescribed displacement on a body 1e20× stiffer than its partner",
+)];
 
 /// True when a finding is one of the [`KNOWN_GAPS`].
 fn known_gap(f: &Finding) -> bool {
