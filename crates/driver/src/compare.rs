@@ -105,7 +105,9 @@ pub fn compare(
     floors.sort();
     let floor_s = floors[1].as_secs_f64();
 
-    let mut solutions: Vec<Solution> = Vec::with_capacity(kinds.len());
+    // A backend that cannot run on this problem (the dual form on a floating body, a dense
+    // matrix that does not fit) becomes a row with status "error"; the others still run.
+    let mut outcomes: Vec<Result<Solution, (String, String)>> = Vec::with_capacity(kinds.len());
     for &kind in kinds {
         progress(kind.name());
         let mut backend = make_backend(kind).map_err(|e| {
@@ -116,8 +118,15 @@ pub fn compare(
                 },
             ))
         })?;
-        solutions.push(solve::solve_scaled(model, &qp, backend.as_mut(), options)?);
+        match solve::solve_scaled(model, &qp, backend.as_mut(), options) {
+            Ok(solution) => outcomes.push(Ok(solution)),
+            Err(solve::SolveError::Qp(e)) => {
+                outcomes.push(Err((kind.name().to_string(), e.to_string())))
+            }
+            Err(e) => return Err(e.into()),
+        }
     }
+    let solutions: Vec<&Solution> = outcomes.iter().filter_map(|o| o.as_ref().ok()).collect();
     let reference = solutions
         .iter()
         .enumerate()
@@ -125,9 +134,13 @@ pub fn compare(
         .min_by(|(_, a), (_, b)| a.residuals.worst().total_cmp(&b.residuals.worst()))
         .map(|(i, _)| i);
     let force_scale = model.load.iter().map(|f| f.abs()).sum::<f64>();
-    let backends = solutions
+    let backends = outcomes
         .iter()
-        .map(|s| {
+        .map(|o| {
+            let s = match o {
+                Ok(s) => s,
+                Err((backend, message)) => return error_row(backend, message),
+            };
             let largest = s.multipliers.iter().copied().fold(force_scale, f64::max);
             CompareRow {
                 backend: s.backend.clone(),
@@ -193,6 +206,11 @@ pub fn table(report: &CompareReport) -> String {
         "min λ"
     ));
     for r in &report.backends {
+        if r.status == "error" {
+            let message = r.message.as_deref().unwrap_or("");
+            t.push_str(&format!("  {:<11} error: {message}\n", r.backend));
+            continue;
+        }
         t.push_str(&format!(
             "  {:<11} {:<17} {:>6} {:>10.3} {:>8.2} {:>13.6e} {:>9.1e} {:>6} {:>9.1e} {:>9.1e} {:>9.1e} {:>9.1e}\n",
             r.backend,
@@ -268,4 +286,22 @@ pub fn write(dir: &Path, report: &CompareReport) -> Result<Vec<PathBuf>, OutputE
         csv.flush()
     })?;
     set.commit()
+}
+
+/// The row of a backend that could not run: status `"error"`, the error as its message, every
+/// number unmeasured (NaN, written as null in JSON).
+fn error_row(backend: &str, message: &str) -> CompareRow {
+    CompareRow {
+        backend: backend.to_string(),
+        status: "error".to_string(),
+        backend_status: "error".to_string(),
+        iterations: 0,
+        solve_s: f64::NAN,
+        ratio_to_floor: f64::NAN,
+        objective: f64::NAN,
+        max_du: f64::NAN,
+        active: 0,
+        residuals: signorini_core::qp::KktResiduals::UNMEASURABLE,
+        message: Some(message.to_string()),
+    }
 }

@@ -165,3 +165,40 @@ fn compare_refuses_a_scene_without_contact_rows() {
         assert!(!dir.path().join("c/sweep.csv").exists());
     }
 }
+
+/// A backend that cannot run on the problem (the condensed dual form on a body held by contact
+/// alone) is a row with status "error" and its reason; the other backends still run, and the
+/// exit code says "not solved" (2).  Before, the whole comparison stopped at that backend.
+#[test]
+fn a_backend_that_cannot_run_is_an_error_row() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/hard/floating.toml");
+    let o = signorini(
+        &[
+            "compare",
+            scene.to_str().unwrap(),
+            "--backends",
+            "clarabel/dual,pdas",
+            "--out",
+            "c",
+        ],
+        dir.path(),
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("c/compare.json")).unwrap())
+            .unwrap();
+    let rows = json["backends"].as_array().unwrap();
+    assert_eq!(rows.len(), 2);
+    assert_eq!(rows[0]["backend"], "clarabel/dual");
+    assert_eq!(rows[0]["status"], "error");
+    assert!(rows[0]["message"].as_str().unwrap().contains("rigid-body"));
+    assert_eq!(rows[1]["backend"], "pdas");
+    assert_eq!(rows[1]["status"], "solved");
+    assert!(String::from_utf8_lossy(&o.stdout).contains("error: backend `clarabel/dual`"));
+}
