@@ -272,6 +272,11 @@ pub fn floor_matrix(qp: &QpProblem) -> Option<CscMatrix> {
     if qp.kernel.is_empty() || qp.dofs() == 0 {
         return None;
     }
+    Some(shifted_stiffness(qp))
+}
+
+/// A + εI, ε = 1e-8 · maxⱼ Aⱼⱼ.
+fn shifted_stiffness(qp: &QpProblem) -> CscMatrix {
     let n = qp.dofs();
     let shift = 1e-8
         * (0..n)
@@ -282,22 +287,46 @@ pub fn floor_matrix(qp: &QpProblem) -> Option<CscMatrix> {
         eye.add_triplet(j, j, shift);
     }
     let eye: CscMatrix = eye.to_csc();
-    Some(&qp.stiffness + &eye)
+    &qp.stiffness + &eye
+}
+
+/// One timed ordering + factorisation + solve of `a`; the analysed pattern is returned for
+/// [`floor`]'s count of nnz(L).
+fn timed_factor(a: &CscMatrix, load: &[f64]) -> Result<(Duration, CholeskyPattern), LinalgError> {
+    let start = Instant::now();
+    let mut x = load.to_vec();
+    let pattern = CholeskyPattern::analyse(a)?;
+    pattern.factor(a)?.solve_in_place(&mut x);
+    Ok((start.elapsed(), pattern))
+}
+
+/// The floor's factorisation of A, or of [`floor_matrix`]; when A has no declared null space
+/// but its Cholesky breaks down all the same (a very slender clamped body: a 10⁴-long strip
+/// loses its last pivots to round-off), the shifted A + εI is timed instead — the floor is a
+/// timing reference, and the shift changes neither the pattern nor the work.
+fn floor_factor(
+    qp: &QpProblem,
+) -> Result<(Duration, CholeskyPattern, Option<CscMatrix>), LinalgError> {
+    let shifted = floor_matrix(qp);
+    let a = shifted.as_ref().unwrap_or(&qp.stiffness);
+    match timed_factor(a, &qp.load) {
+        Err(LinalgError::NotPositiveDefinite { .. }) if shifted.is_none() && qp.dofs() > 0 => {
+            let shifted = shifted_stiffness(qp);
+            let (time, pattern) = timed_factor(&shifted, &qp.load)?;
+            Ok((time, pattern, Some(shifted)))
+        }
+        other => other.map(|(time, pattern)| (time, pattern, shifted)),
+    }
 }
 
 /// The timing floor: one unconstrained sparse factorisation + solve of the same A, on the path
 /// every factor of A in the project takes ([`CholeskyPattern::analyse`]: the rule's ordering,
 /// forced-supernodal symbolic analysis, numeric LLᵀ on one thread), timed from the ordering to
 /// the end of the solve.  With a known null space (floating bodies) [`floor_matrix`] is factored
-/// instead (built before the clock starts).
+/// instead (built before the clock starts), and so is A + εI when A's own Cholesky breaks down.
 pub fn floor(qp: &QpProblem) -> Result<Floor, LinalgError> {
-    let shifted = floor_matrix(qp);
+    let (time, pattern, shifted) = floor_factor(qp)?;
     let a = shifted.as_ref().unwrap_or(&qp.stiffness);
-    let start = Instant::now();
-    let mut x = qp.load.clone();
-    let pattern = CholeskyPattern::analyse(a)?;
-    pattern.factor(a)?.solve_in_place(&mut x);
-    let time = start.elapsed();
     Ok(Floor {
         time,
         info: pattern.info(a)?,
@@ -307,14 +336,7 @@ pub fn floor(qp: &QpProblem) -> Result<Floor, LinalgError> {
 /// [`floor`]'s time alone (without counting nnz(L), which [`floor`] does after its clock
 /// stops).
 pub fn floor_time(qp: &QpProblem) -> Result<Duration, LinalgError> {
-    let shifted = floor_matrix(qp);
-    let a = shifted.as_ref().unwrap_or(&qp.stiffness);
-    let start = Instant::now();
-    let mut x = qp.load.clone();
-    CholeskyPattern::analyse(a)?
-        .factor(a)?
-        .solve_in_place(&mut x);
-    Ok(start.elapsed())
+    Ok(floor_factor(qp)?.0)
 }
 
 /// Contact forces on every DOF: −B_fullᵀ λ (the force the contact exerts on the nodes).
@@ -369,5 +391,21 @@ mod tests {
         assert!(floor(&qp).is_ok());
         let empty = qp_of(sprs::TriMat::new((0, 0)).to_csc());
         assert_eq!(floor(&empty).unwrap().info.nnz_l, 0);
+    }
+
+    /// A matrix whose Cholesky breaks down by round-off (exactly singular in f64, no declared
+    /// kernel) still has a floor: the shifted matrix is timed.  Before, compare stopped with
+    /// "pivot vanished" on a 200-long clamped strip.
+    #[test]
+    fn floor_survives_a_numerically_singular_stiffness() {
+        let mut t = sprs::TriMat::new((2, 2));
+        for (i, j, v) in [(0, 0, 1.0), (0, 1, 1.0), (1, 0, 1.0), (1, 1, 1.0 + 1e-17)] {
+            t.add_triplet(i, j, v);
+        }
+        let qp = qp_of(t.to_csc());
+        assert!(crate::linalg::SparseCholesky::factor(&qp.stiffness).is_err());
+        let floor = floor(&qp).unwrap();
+        assert_eq!(floor.info.n, 2);
+        assert!(floor_time(&qp).is_ok());
     }
 }
