@@ -92,8 +92,10 @@ pub fn solve(
     let mut lambda = vec![0.0; m];
     let mut iter = 0;
     let mut refinements = 0;
-    // Cheap steps (plain sparse solves in the refinement) while the set moves; once it settles,
-    // the same set is solved again with the mixed-precision solves and decided anew.
+    // Cheap steps while the set moves (dense: the dense step alone, no sparse solve;
+    // matrix-free: plain sparse solves in the refinement); once it settles, the same set is
+    // solved again, refined with the mixed-precision solves, and decided anew.
+    let mut dense_phase = hessian.is_some();
     let mut accurate = false;
     let mut redo = false;
     loop {
@@ -110,6 +112,12 @@ pub fn solve(
         seen.insert(active.clone());
         let out_of_time = || monitor.out_of_time();
         let step = match &hessian {
+            Some(h) if dense_phase => {
+                // While the set moves: the dense step alone, its gradient from the dense H (no
+                // sparse solve); the settled set is solved again, refined.
+                let block = DenseBlock::factor(h, &data.modes, &active);
+                dense_step(h, &block, data, &load)
+            }
             Some(h) => {
                 let block = DenseBlock::factor(h, &data.modes, &active);
                 refined_step(
@@ -156,10 +164,26 @@ pub fn solve(
         let next_active: Vec<bool> = (0..m)
             .map(|i| lambda[i] - step.gradient[i] / diagonal[i] > 0.0)
             .collect();
-        if next_active == active && !accurate {
-            accurate = true;
+        if next_active == active && dense_phase {
+            // Settled on the dense steps: solve the set again against the sparse residual.
+            dense_phase = false;
             redo = true;
             continue;
+        }
+        if next_active == active && !accurate {
+            // Plain refinement is enough for a well-conditioned dual (one or two sparse
+            // solves); only when it misses the tolerance is the set solved with the
+            // mixed-precision solves (five sparse solves per evaluation).
+            let solved = !lambda.iter().any(|l| *l < 0.0)
+                && matches!(
+                    monitor.check(data, iter, &lambda, &step.x),
+                    Next::Stop(QpStatus::Solved, _)
+                );
+            if !solved {
+                accurate = true;
+                redo = true;
+                continue;
+            }
         }
         if next_active == active {
             let clipped = lambda.iter().any(|l| *l < 0.0);
@@ -202,6 +226,36 @@ pub fn solve(
         }
         active = next_active;
     }
+}
+
+/// The unrefined dense Newton step: (λ_F, μ) from the factored block, and the gradient
+/// H λ − d + Gᵀ μ from the dense H (x is left empty: the step only decides the next set).
+fn dense_step(
+    hessian: &crate::hessian::DenseSym,
+    block: &DenseBlock,
+    data: &DualData<'_>,
+    load: &[f64],
+) -> Option<Step> {
+    let rhs: Vec<f64> = block.rows.iter().map(|&i| load[i]).collect();
+    let (lambda_f, mu) = block.solve(&rhs, &data.modes.load)?;
+    let mut lambda = vec![0.0; data.rows()];
+    for (&i, l) in block.rows.iter().zip(&lambda_f) {
+        lambda[i] = *l;
+    }
+    let mut gradient = hessian.mul(&lambda);
+    gradient.iter_mut().zip(load).for_each(|(w, d)| *w -= d);
+    crate::kernel::add_coupling_t(&data.modes, &mu, &mut gradient);
+    if gradient.iter().chain(&lambda).any(|v| !v.is_finite()) {
+        return None;
+    }
+    Some(Step {
+        lambda,
+        mu,
+        x: Vec::new(),
+        gradient,
+        residual: f64::NAN,
+        refinements: 0,
+    })
 }
 
 /// A finite answer (x = A⁺f) with a verdict and no iterations.
