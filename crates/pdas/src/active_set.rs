@@ -7,8 +7,9 @@
 //!
 //! stopping when the set reproduces itself and (x, max(λ, 0)) meets the core's KKT residuals,
 //! and honestly otherwise:
-//! a set that repeats without meeting them, a cycle of sets, the iteration or time limit, or a
-//! certificate of primal or dual infeasibility.
+//! a set that repeats without meeting them, the iteration or time limit, or a certificate of
+//! primal or dual infeasibility.  When the sets flip (a set comes back, or the changes stop
+//! falling) the iteration continues with the interior-point method of [`interior`].
 
 use std::collections::HashSet;
 use std::time::{Duration, Instant};

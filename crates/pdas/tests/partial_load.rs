@@ -72,8 +72,15 @@ fn strip_loaded_on_part_of_its_length_is_solved() {
     assert_eq!(sol.status, QpStatus::Solved, "{:?}", sol.message);
     let r = kkt_residuals(&p, &sol.x, &sol.multipliers);
     assert!(r.meet(1e-9), "{r:?}");
-    let active: Vec<usize> = (0..p.rows()).filter(|&i| sol.multipliers[i] > 0.0).collect();
-    assert_eq!(active, (799..=1201).collect::<Vec<_>>(), "{:?}", sol.message);
+    let active: Vec<usize> = (0..p.rows())
+        .filter(|&i| sol.multipliers[i] > 0.0)
+        .collect();
+    assert_eq!(
+        active,
+        (799..=1201).collect::<Vec<_>>(),
+        "{:?}",
+        sol.message
+    );
 }
 
 /// The same strip clamped at its left end (A positive definite, no kernel; plain steps flip

@@ -133,7 +133,7 @@ impl ActiveSet<'_> {
                 .collect();
             let (dx, dl, ds) = solve(self, &tail);
             let alpha = (TO_BOUNDARY * max_step(&s, &ds).min(max_step(&lambda, &dl))).min(1.0);
-            if !(alpha > 0.0) || dx.iter().chain(&dl).any(|v| !v.is_finite()) {
+            if alpha.is_nan() || alpha <= 0.0 || dx.iter().chain(&dl).any(|v| !v.is_finite()) {
                 let message = format!(
                     "the interior-point step failed (step length {alpha:.1e}) after {steps} interior steps; best KKT residuals {best_worst:.1e}"
                 );
