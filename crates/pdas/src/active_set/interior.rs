@@ -165,7 +165,7 @@ impl ActiveSet<'_> {
             let mut last_changes = usize::MAX;
             loop {
                 tried.push(set.clone());
-                if iteration >= max_iter {
+                if iteration >= max_iter || self.out_of_time() {
                     break;
                 }
                 iteration += 1;
