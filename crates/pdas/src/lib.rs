@@ -148,21 +148,28 @@
 //! because the strip's bending mode is itself ~10⁻⁹ s soft; the set then holds every rigid
 //! mode, and a set that does not is caught by the dynamic regularisation and fails the test.
 //!
+//! The interior-point start is pushed well inside the interior (10³ times Mehrotra's centring
+//! shift, measured in `active_set::interior`), which takes the interior phase of strip-partial
+//! from 15 steps to 5.
+//!
 //! Measured (release, `signorini compare SCENE --backends clarabel,pdas --time-limit 60`,
-//! three runs, other helpers' builds running, load average 1.4–1.8, 14:10 UTC):
+//! three runs each, other helpers' builds running, load average 1.4–2.2, 14:10–14:15 UTC;
+//! "strip-partial clamped" is strip-partial without `components = ["x"]`):
 //!
 //! | scene | pdas ÷floor | pdas work | clarabel |
 //! |---|---|---|---|
-//! | strip-partial (51 575 DOFs, m 2001, 403 active) | 18.6, 16.8, 14.9 | 23 factorisations: 7 plain steps, 15 interior-point steps, 1 exact solve of the set found | inaccurate, 38–48× |
-//! | strip-floating | 1.82, 1.69, 1.95 | 1 factorisation (unchanged) | |
-//! | strip-clamped | 1.69, 1.85, 1.88 | 1 factorisation + rank-1 update (unchanged) | |
+//! | strip-partial (51 575 DOFs, m 2001, 403 active) | 10.5, 11.5, 10.1 | 14 factorisations: 7 plain steps, 5 interior-point steps, 2 exact solves | inaccurate, 45–50× |
+//! | strip-partial clamped (51 572 DOFs) | 19.4, 30.3, 21.3 | 28 factorisations | – |
+//! | strip-floating | 1.82, 1.69, 1.95 | 1 factorisation (unchanged) | 15.6× |
+//! | strip-clamped | 1.69, 1.85, 1.88 | 1 factorisation + rank-1 update (unchanged) | 21.1× |
 //! | seed/exp2b | 2.21, 2.47, 2.40 | 4 steps (unchanged) | 10.3–10.9× |
 //! | seed/exp3-both-h0.08 | 2.47, 2.42, 2.45 | 5 steps (unchanged) | 14.7–15.1× |
 //!
 //! dual-ssn solves strip-partial in 789 dense active-set steps (27 s, ~800× the floor) and
-//! finds the same 403 rows.  The strip clamped at its left end and loaded on [8, 12] takes
-//! 7 plain steps, 39 interior-point steps and 10 exact solves (54 factorisations, ~1.1 s in
-//! the test of `tests/partial_load.rs`): its interior steps are short (α ≈ 0.2).
+//! finds the same 403 rows.  Before this continuation pdas ended strip-partial at
+//! `max-iterations` (100 steps, 44× the floor).  Most of what remains is the 7 plain steps
+//! before the hand-over (a rule that hands over sooner would also hand over on seed scenes
+//! that the plain steps solve in 4–7) and one numeric factorisation per interior step.
 //!
 //! Tried first and measured on strip-partial, then removed: (a) a semismooth Newton method on
 //! the augmented Lagrangian ½xᵀAx − fᵀx + (1/2c) Σ max(0, λ̄ + c(Bx − g))² with an exact line
