@@ -29,6 +29,13 @@ use crate::update::{ColumnCache, SetSolver, SetUpdate};
 
 mod interior;
 
+/// Plain active-set steps before a step that does not reduce the changes hands over to the
+/// interior-point iteration (a set that comes back hands over at once).  Measured: handing
+/// over from the third step on turned exp6a, exp6b, exp3-body2-h0.15, hard/near-coincident
+/// and hard/slave-on-master-nodes from 5 plain steps into 12–16; from the sixth, no fixture
+/// hands over, and strip-partial hands over after its seventh.
+const MIN_PLAIN_STEPS: usize = 6;
+
 /// Where the plain iteration handed over to the globalised one.
 struct Phase1 {
     /// Iterations used so far.
@@ -435,11 +442,14 @@ impl<'p> ActiveSet<'p> {
                     return self.finish(candidate, status, iteration, message);
                 }
             }
-            // Flipping: as many rows change as two steps before (or more).
-            let flipping = changes_history
-                .len()
-                .checked_sub(2)
-                .is_some_and(|k| changes >= changes_history[k]);
+            // Flipping: as many rows change as two steps before (or more), once the plain
+            // steps have had their chance (the seed and hard fixtures settle within 4–7 steps,
+            // some of them with a step that changes as many rows as the one two before).
+            let flipping = iteration >= MIN_PLAIN_STEPS
+                && changes_history
+                    .len()
+                    .checked_sub(2)
+                    .is_some_and(|k| changes >= changes_history[k]);
             let restart = ((cycling || flipping) && iteration < max_iter)
                 .then(|| (candidate.x.clone(), solution.multipliers.clone()));
             if worst < best_worst {
