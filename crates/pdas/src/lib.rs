@@ -133,7 +133,8 @@
 //! around ~650 active rows, with far-away patches of rows that carry no force but keep the
 //! strip from lifting, and end at `max-iterations` after 100 steps (KKT residuals ~1e-2).
 //!
-//! The iteration therefore watches itself: when a set comes back, or a step changes at least
+//! The iteration therefore watches itself: when a set comes back, or (from the sixth step on,
+//! `MIN_PLAIN_STEPS`, so that no seed or hard fixture is handed over) a step changes at least
 //! as many rows as the step two before, it hands over (`active_set::interior`) to a
 //! primal–dual interior-point method (Mehrotra's predictor–corrector) on the **same** KKT
 //! pattern — every row present with −D, D = diag(s/λ), one numeric LDLᵀ of the one symbolic
@@ -153,13 +154,14 @@
 //! from 15 steps to 5.
 //!
 //! Measured (release, `signorini compare SCENE --backends clarabel,pdas --time-limit 60`,
-//! three runs each, other helpers' builds running, load average 1.4–2.2, 14:10–14:15 UTC;
+//! three runs each (strip-partial: twice three, before and after `MIN_PLAIN_STEPS`), other
+//! helpers' builds running, load average 1.4–2.2, 14:10–14:17 UTC;
 //! "strip-partial clamped" is strip-partial without `components = ["x"]`):
 //!
 //! | scene | pdas ÷floor | pdas work | clarabel |
 //! |---|---|---|---|
-//! | strip-partial (51 575 DOFs, m 2001, 403 active) | 10.5, 11.5, 10.1 | 14 factorisations: 7 plain steps, 5 interior-point steps, 2 exact solves | inaccurate, 45–50× |
-//! | strip-partial clamped (51 572 DOFs) | 19.4, 30.3, 21.3 | 28 factorisations | – |
+//! | strip-partial (51 575 DOFs, m 2001, 403 active) | 10.5, 11.5, 10.1; 11.2, 9.1, 10.1 | 14 factorisations: 7 plain steps, 5 interior-point steps, 2 exact solves | inaccurate, 45–50× |
+//! | strip-partial clamped (51 572 DOFs) | 25.7, 26.9, 22.9 | 33 factorisations: 9 plain, 16 interior-point, 8 exact | – |
 //! | strip-floating | 1.82, 1.69, 1.95 | 1 factorisation (unchanged) | 15.6× |
 //! | strip-clamped | 1.69, 1.85, 1.88 | 1 factorisation + rank-1 update (unchanged) | 21.1× |
 //! | seed/exp2b | 2.21, 2.47, 2.40 | 4 steps (unchanged) | 10.3–10.9× |
@@ -168,8 +170,10 @@
 //! dual-ssn solves strip-partial in 789 dense active-set steps (27 s, ~800× the floor) and
 //! finds the same 403 rows.  Before this continuation pdas ended strip-partial at
 //! `max-iterations` (100 steps, 44× the floor).  Most of what remains is the 7 plain steps
-//! before the hand-over (a rule that hands over sooner would also hand over on seed scenes
-//! that the plain steps solve in 4–7) and one numeric factorisation per interior step.
+//! before the hand-over (measured: handing over as soon as a step fails to halve the changes
+//! cuts strip-partial to 11 factorisations but turns 15 fixtures' 4–5 plain steps into 10–12)
+//! and one numeric factorisation per interior step.  Every seed and hard fixture takes the
+//! same number of steps as before the continuation.
 //!
 //! Tried first and measured on strip-partial, then removed: (a) a semismooth Newton method on
 //! the augmented Lagrangian ½xᵀAx − fᵀx + (1/2c) Σ max(0, λ̄ + c(Bx − g))² with an exact line
