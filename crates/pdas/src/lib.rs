@@ -171,7 +171,7 @@
 //! finds the same 403 rows.  Before this continuation pdas ended strip-partial at
 //! `max-iterations` (100 steps, 44× the floor).  Most of what remains is the 7 plain steps
 //! before the hand-over (measured: handing over as soon as a step fails to halve the changes
-//! cuts strip-partial to 11 factorisations but turns 15 fixtures' 4–5 plain steps into 10–12)
+//! cuts strip-partial to 11 factorisations but turns 15 fixtures' 4–7 plain steps into 7–13)
 //! and one numeric factorisation per interior step.  Every seed and hard fixture takes the
 //! same number of steps as before the continuation.
 //!
