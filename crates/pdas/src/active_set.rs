@@ -7,8 +7,9 @@
 //!
 //! stopping when the set reproduces itself and (x, max(λ, 0)) meets the core's KKT residuals,
 //! and honestly otherwise:
-//! a set that repeats without meeting them, a cycle of sets, the iteration or time limit, or a
-//! certificate of primal or dual infeasibility.
+//! a set that repeats without meeting them, the iteration or time limit, or a certificate of
+//! primal or dual infeasibility.  When the sets flip (a set comes back, or the changes stop
+//! falling) the iteration continues with the interior-point method of [`interior`].
 
 use std::collections::HashSet;
 use std::time::{Duration, Instant};
@@ -25,6 +26,25 @@ use crate::kkt::KktMatrix;
 use crate::refine::{first_solve, refine, Limits, SetSolution};
 use crate::settings::{PdasSettings, StartSet};
 use crate::update::{ColumnCache, SetSolver, SetUpdate};
+
+mod interior;
+
+/// Plain active-set steps before a step that does not reduce the changes hands over to the
+/// interior-point iteration (a set that comes back hands over at once).  Measured: handing
+/// over from the third step on turned exp6a, exp6b, exp3-body2-h0.15, hard/near-coincident
+/// and hard/slave-on-master-nodes from 5 plain steps into 12–16; from the sixth, no fixture
+/// hands over, and strip-partial hands over after its seventh.
+const MIN_PLAIN_STEPS: usize = 6;
+
+/// Where the plain iteration handed over to the globalised one.
+struct Phase1 {
+    /// Iterations used so far.
+    iteration: usize,
+    /// The best iterate so far (smallest KKT residuals).
+    best: Outcome,
+    /// Its worst scaled KKT residual.
+    best_worst: f64,
+}
 
 /// What the iteration hands back to the backend.
 #[derive(Debug, Clone)]
@@ -152,16 +172,37 @@ impl<'p> ActiveSet<'p> {
         self.deadline().is_some_and(|d| Instant::now() >= d)
     }
 
-    /// Numeric factorisation of K for `active`; returns its duration.
-    fn factorise(&mut self, active: &[bool]) -> Result<Duration, PdasError> {
+    /// Numeric factorisation of K for `active` with −`delta` on the active multiplier rows;
+    /// returns its duration.
+    fn factorise(&mut self, active: &[bool], delta: f64) -> Result<Duration, PdasError> {
+        self.factorise_with(active, delta, self.rho())
+    }
+
+    /// As [`Self::factorise`] with the primal regularisation `rho`.
+    fn factorise_with(
+        &mut self,
+        active: &[bool],
+        delta: f64,
+        rho: f64,
+    ) -> Result<Duration, PdasError> {
         let clock = Instant::now();
-        let s = self.stiffness;
-        let rho = if self.problem.kernel.is_empty() {
+        self.kkt
+            .set_values(active, rho, delta, 1.0 / self.stiffness);
+        self.factor_values(clock)
+    }
+
+    /// ρ: the primal regularisation, only when A has a kernel.
+    fn rho(&self) -> f64 {
+        if self.problem.kernel.is_empty() {
             0.0
         } else {
-            self.settings.primal_regularization * s
-        };
-        self.kkt.set_values(active, rho, self.delta(), 1.0 / s);
+            self.settings.primal_regularization * self.stiffness
+        }
+    }
+
+    /// Numeric factorisation of K with the values it holds; returns the time since `clock`.
+    fn factor_values(&mut self, clock: Instant) -> Result<Duration, PdasError> {
+        let s = self.stiffness;
         // Dynamic regularisation is a safety net below every static pivot: a primal pivot
         // under 1e-3 ρ (relative), or a multiplier pivot under 1e-3 δ, is replaced.
         let floor = 1e-3
@@ -237,6 +278,7 @@ impl<'p> ActiveSet<'p> {
         let mut factored: Option<Vec<bool>> = None;
         let mut timing = Timing::default();
         let mut force_factor = false;
+        let mut changes_history: Vec<usize> = Vec::new();
         let mut iteration = 0;
         while iteration < max_iter {
             iteration += 1;
@@ -275,7 +317,7 @@ impl<'p> ActiveSet<'p> {
             let fresh = update.is_none() && factored.as_ref() != Some(&active);
             force_factor = false;
             if fresh {
-                match self.factorise(&active) {
+                match self.factorise(&active, delta) {
                     Ok(t) => {
                         timing.factor = t;
                         self.cache.clear();
@@ -400,6 +442,16 @@ impl<'p> ActiveSet<'p> {
                     return self.finish(candidate, status, iteration, message);
                 }
             }
+            // Flipping: as many rows change as two steps before (or more), once the plain
+            // steps have had their chance (the seed and hard fixtures settle within 4–7 steps,
+            // some of them with a step that changes as many rows as the one two before).
+            let flipping = iteration >= MIN_PLAIN_STEPS
+                && changes_history
+                    .len()
+                    .checked_sub(2)
+                    .is_some_and(|k| changes >= changes_history[k]);
+            let restart = ((cycling || flipping) && iteration < max_iter)
+                .then(|| (candidate.x.clone(), solution.multipliers.clone()));
             if worst < best_worst {
                 best_worst = worst;
                 best = candidate;
@@ -420,13 +472,17 @@ impl<'p> ActiveSet<'p> {
                 );
                 return self.finish(best, QpStatus::Inaccurate, iteration, message);
             }
-            if cycling {
-                let message = format!(
-                    "active sets cycle (a set of {} rows came back); best KKT residuals {best_worst:.1e}",
-                    count(&next)
-                );
-                return self.finish(best, QpStatus::Inaccurate, iteration, message);
+            if let Some((x, multipliers)) = restart {
+                // A set came back, or the changes stopped falling: plain active-set steps are
+                // not converging here; continue with the globalised iteration from this point.
+                let state = Phase1 {
+                    iteration,
+                    best,
+                    best_worst,
+                };
+                return self.interior(x, &multipliers, state, max_iter);
             }
+            changes_history.push(changes);
             seen.insert(std::mem::replace(&mut active, next));
         }
         let message = format!(

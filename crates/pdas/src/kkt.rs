@@ -144,6 +144,23 @@ impl KktMatrix {
     }
 }
 
+impl KktMatrix {
+    /// Fills the values with every row's B entries and −`diagonal[i]` on the diagonal of
+    /// multiplier row i (the interior-point system), A + ρI on the primal block.
+    pub fn set_diagonal(&mut self, rho: f64, diagonal: &[f64]) {
+        let data = self.matrix.data_mut();
+        for (&slot, &a) in self.primal_diagonal.iter().zip(&self.a_diagonal) {
+            data[slot] = a + rho;
+        }
+        for &(slot, v) in &self.b_slots {
+            data[slot] = v;
+        }
+        for (&slot, &d) in self.dual_diagonal.iter().zip(diagonal) {
+            data[slot] = -d;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

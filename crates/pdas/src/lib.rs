@@ -18,10 +18,11 @@
 //!           F ← { i : λᵢ + c (Bx − g)ᵢ > 0 }
 //! ```
 //!
-//! until the set reproduces itself and (x, max(λ, 0)) meets the core's KKT residuals
+//! (continued by an interior-point method when the sets flip, see below) until the set
+//! reproduces itself and (x, max(λ, 0)) meets the core's KKT residuals
 //! ([`signorini_core::qp::kkt_residuals`]) at the requested tolerance (an answer that meets
 //! them while rows still want to change is taken only at a cycle or at the iteration cap).  The status is honest otherwise: a set that repeats without
-//! meeting them (`inaccurate`), a cycle of sets (`inaccurate`), the iteration or time limit,
+//! meeting them (`inaccurate`), an interior-point step that cannot move (`inaccurate`), the iteration or time limit,
 //! `primal-infeasible` only with a Farkas certificate y ≥ 0, Bᵀy ≈ 0, gᵀy < 0 (any feasible x
 //! would need ‖x‖∞ ≥ −gᵀy / ‖Bᵀy‖₁, more than 10⁸ times the problem's length scale), and
 //! `dual-infeasible` only with a rigid motion r = R α that the load drives (fᵀr > 0) and that
@@ -124,23 +125,72 @@
 //! and agrees with clarabel (max |Δu| ≤ 3e-10 at displacements ~0.2); hard/floating-free is
 //! `dual-infeasible`, as for every backend.
 //!
-//! # Known limitation
-//! A thin strip loaded on part of its length only (the 51 575-DOF strip with its traction on
-//! [8, 12]) bends and leaves hundreds of rows barely touching: there the active set chatters
-//! (tens of rows per step around ~650 active) and the iteration ends at its cap with KKT
-//! residuals ~3e-3, `max-iterations` — honestly, and within `--time-limit`; clarabel ends
-//! `inaccurate` on it as well.  Two cures were tried and removed: a backtracking line search
-//! on the complementarity residual (no change), and, after eight plain steps, changing only
-//! the rows whose scaled violation is within a factor θ of the worst (θ = 0.5–0.99: residuals
-//! fall to ~5e-5 after 200 steps, still short of 1e-9).  `cargo test -p signorini-pdas --release --lib
-//! strip_loaded -- --ignored --nocapture` reproduces it.
+//! # When the sets flip: interior-point continuation and crossover
+//! Plain PDAS converges for M-matrix-like problems; the contact Schur complement of a thin
+//! strip loaded on part of its length is not one (releasing a row at the edge of the contact
+//! zone lifts the strip far away).  On strip-partial (the 51 575-DOF strip, traction on
+//! [8, 12] only, 403 rows active at the solution) the plain steps flip 40–60 rows a step
+//! around ~650 active rows, with far-away patches of rows that carry no force but keep the
+//! strip from lifting, and end at `max-iterations` after 100 steps (KKT residuals ~1e-2).
+//!
+//! The iteration therefore watches itself: when a set comes back, or (from the sixth step on,
+//! `MIN_PLAIN_STEPS`, so that no seed or hard fixture is handed over) a step changes at least
+//! as many rows as the step two before, it hands over (`active_set::interior`) to a
+//! primal–dual interior-point method (Mehrotra's predictor–corrector) on the **same** KKT
+//! pattern — every row present with −D, D = diag(s/λ), one numeric LDLᵀ of the one symbolic
+//! factor per step — whose iterate moves every row's status a little at a time, so a non-local
+//! change cannot make it flip.  Once μ has fallen tenfold and the set the iterate predicts,
+//! { i : λᵢ Xᵢ > sᵢ F } (force and gap in the units of the KKT residuals), is the same twice
+//! in a row, that set is solved exactly (factorised, refined against the unregularised system)
+//! and plain active-set steps follow from it while their changes do not grow; the answer is
+//! accepted only on a set that reproduces itself and meets the tolerance, as before.  These
+//! exact solves use ρ = 0 even for a floating body: with ρ = 10⁻¹⁰ s the crossover solve of
+//! the right set on strip-partial stalled in refinement at a penetration of 0.17 (relative),
+//! because the strip's bending mode is itself ~10⁻⁹ s soft; the set then holds every rigid
+//! mode, and a set that does not is caught by the dynamic regularisation and fails the test.
+//!
+//! The interior-point start is pushed well inside the interior (10³ times Mehrotra's centring
+//! shift, measured in `active_set::interior`), which takes the interior phase of strip-partial
+//! from 15 steps to 5.
+//!
+//! Measured (release, `signorini compare SCENE --backends clarabel,pdas --time-limit 60`,
+//! three runs each (strip-partial: twice three, before and after `MIN_PLAIN_STEPS`), other
+//! helpers' builds running, load average 1.4–2.2, 14:10–14:17 UTC;
+//! "strip-partial clamped" is strip-partial without `components = ["x"]`):
+//!
+//! | scene | pdas ÷floor | pdas work | clarabel |
+//! |---|---|---|---|
+//! | strip-partial (51 575 DOFs, m 2001, 403 active) | 10.5, 11.5, 10.1; 11.2, 9.1, 10.1 | 14 factorisations: 7 plain steps, 5 interior-point steps, 2 exact solves | inaccurate, 45–50× |
+//! | strip-partial clamped (51 572 DOFs) | 25.7, 26.9, 22.9 | 33 factorisations: 9 plain, 16 interior-point, 8 exact | – |
+//! | strip-floating | 1.82, 1.69, 1.95 | 1 factorisation (unchanged) | 15.6× |
+//! | strip-clamped | 1.69, 1.85, 1.88 | 1 factorisation + rank-1 update (unchanged) | 21.1× |
+//! | seed/exp2b | 2.21, 2.47, 2.40 | 4 steps (unchanged) | 10.3–10.9× |
+//! | seed/exp3-both-h0.08 | 2.47, 2.42, 2.45 | 5 steps (unchanged) | 14.7–15.1× |
+//!
+//! dual-ssn solves strip-partial in 789 dense active-set steps (27 s, ~800× the floor) and
+//! finds the same 403 rows.  Before this continuation pdas ended strip-partial at
+//! `max-iterations` (100 steps, 44× the floor).  Most of what remains is the 7 plain steps
+//! before the hand-over (measured: handing over as soon as a step fails to halve the changes
+//! cuts strip-partial to 11 factorisations but turns 15 fixtures' 4–7 plain steps into 7–13)
+//! and one numeric factorisation per interior step.  Every seed and hard fixture takes the
+//! same number of steps as before the continuation.
+//!
+//! Tried first and measured on strip-partial, then removed: (a) a semismooth Newton method on
+//! the augmented Lagrangian ½xᵀAx − fᵀx + (1/2c) Σ max(0, λ̄ + c(Bx − g))² with an exact line
+//! search (the merit decreased at every step, for c = 10⁻², 1 and 10³ times s, but the sets
+//! still changed 20–100 rows a step and 190 steps did not converge); (b) a primal feasible
+//! active-set method with the PDAS sets, an exact line search on the energy over feasible points
+//! and a ratio test (monotone, cannot cycle, but the edge of the contact zone moves one or
+//! two rows per few steps: 1000 steps did not converge).  Earlier, a backtracking line search
+//! on the complementarity residual and a "worst rows only" rule had not helped either.
 //!
 //! # Layout
 //! `settings` — [`PdasSettings`]; `kkt` — K's fixed pattern and its values for a set;
 //! `factor` — ordering, symbolic analysis, numeric LDLᵀ, solves; `update` — solves for a set
 //! near the factored one; `refine` — one set's refined solution; `kernel` — rigid modes and the
 //! dual-infeasibility certificate; `dense` — a small LU; `active_set` — the iteration and its
-//! stopping tests; `backend` — the [`QpBackend`](signorini_core::qp::QpBackend).
+//! stopping tests; `active_set::interior` — the interior-point continuation and the crossover;
+//! `backend` — the [`QpBackend`](signorini_core::qp::QpBackend).
 //! The memory of the factor (its values and faer's workspace, from the symbolic factor) is
 //! checked with [`signorini_core::memory::check_fits`] before the numeric factorisation; a
 //! factor that does not fit gives `QpError::TooLarge`.

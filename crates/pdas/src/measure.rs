@@ -141,28 +141,3 @@ fn where_the_time_goes_on_the_strip() {
         );
     }
 }
-
-#[test]
-#[ignore = "measurement, run by hand"]
-fn strip_loaded_in_its_middle() {
-    // Loaded on [8, 12] only: the strip bends, its unloaded parts lift off or rest on the
-    // foundation with next to no force.  Measured: the active set chatters (tens of rows per
-    // step, ~650 active) and 200 steps end at KKT residuals ~3e-3 (max-iterations); a
-    // backtracking line search on the complementarity residual did not help (tried, removed);
-    // clarabel ends `inaccurate` here too.
-    for clamped in [false, true] {
-        let p = strip_loaded(20.0, clamped, (8.0, 12.0));
-        let options = SolveOptions {
-            max_iter: Some(200),
-            ..SolveOptions::default()
-        };
-        let clock = Instant::now();
-        let s = PdasBackend::default().solve(&p, &options).unwrap();
-        println!(
-            "clamped {clamped}: {} in {:.0} ms: {:?}",
-            s.status,
-            clock.elapsed().as_secs_f64() * 1e3,
-            s.message
-        );
-    }
-}

@@ -22,7 +22,8 @@ pub enum StartSet {
 /// the same for a scaled and an unscaled problem.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PdasSettings {
-    /// Cap on active-set iterations (one numeric factorisation each) used when
+    /// Cap on iterations — active-set steps, interior-point steps and exact solves after
+    /// them, one numeric factorisation or low-rank update each — used when
     /// `SolveOptions::max_iter` is `None`.  Default `100`.
     pub max_iter: usize,
     /// c in the active-set rule λᵢ + c (Bx − g)ᵢ > 0, relative to the mean diagonal of A.
