@@ -12,8 +12,9 @@
 //! # Refinement against the primal residual
 //! The dense H of a thin body is very ill-conditioned (a strip fixed at one point has the
 //! compliance of a cantilever), and forming it by condensation loses digits, so the solution of
-//! the dense system alone can miss the tolerance by orders of magnitude.  Every step is
-//! therefore refined against the exact residual computed with the sparse A and B: with
+//! the dense system alone can miss the tolerance by orders of magnitude.  The settled set's step
+//! is therefore refined against the exact residual computed with the sparse A and B (while the
+//! set still moves, the dense step alone decides the next set — no sparse solve): with
 //! x = A⁺(f − Bᵀλ) − R μ (one sparse solve),
 //!
 //! ```text
@@ -21,7 +22,8 @@
 //! ```
 //!
 //! and (λ_F, μ) is corrected by the already factored dense system applied to (r_F, r_e), until
-//! the (scaled) residual stops decreasing.  The dense factor only has to be a good
+//! the (scaled) residual stops decreasing: first with plain sparse solves, and only when those
+//! miss the tolerance again with solves corrected in double-double arithmetic.  The dense factor only has to be a good
 //! preconditioner; the accuracy comes from the sparse residual.  The next active set is decided
 //! from the refined λ and the exact dual gradient ν = g − B x.
 
