@@ -132,7 +132,7 @@ impl QpBackend for DualBackend {
                 backend,
                 reason: e.to_string(),
             })?;
-        check_dimensions(problem)?;
+        problem.validate()?;
         let outcome = finite(self.run(problem, options, start)?);
         if options.verbose {
             eprintln!(
@@ -218,51 +218,4 @@ fn failure(problem: &QpProblem, status: QpStatus, message: String) -> Outcome {
         iterations: 0,
         message,
     }
-}
-
-/// The checks of `QpProblem::try_new`, for problems built field by field.
-fn check_dimensions(problem: &QpProblem) -> Result<(), QpError> {
-    let n = problem.stiffness.rows();
-    let fail = |what: String| Err(QpError::Dimensions(what));
-    if problem.stiffness.cols() != n {
-        return fail(format!("A is {}×{}", n, problem.stiffness.cols()));
-    }
-    if problem.load.len() != n || problem.constraints.cols() != n {
-        return fail(format!(
-            "A is {n}×{n}, f has length {}, B has {} columns",
-            problem.load.len(),
-            problem.constraints.cols()
-        ));
-    }
-    if problem.gap.len() != problem.constraints.rows() {
-        return fail(format!(
-            "g has length {} but B has {} rows",
-            problem.gap.len(),
-            problem.constraints.rows()
-        ));
-    }
-    if problem.kernel.iter().any(|r| r.len() != n) {
-        return fail("a kernel vector's length differs from n".to_string());
-    }
-    if !problem.stiffness.is_csc() {
-        return Err(QpError::NotCsc("A"));
-    }
-    if !problem.constraints.is_csc() {
-        return Err(QpError::NotCsc("B"));
-    }
-    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
-    for (name, values) in [
-        ("A", problem.stiffness.data()),
-        ("f", &problem.load[..]),
-        ("B", problem.constraints.data()),
-        ("g", &problem.gap[..]),
-    ] {
-        if !finite(values) {
-            return Err(QpError::NotFinite(name));
-        }
-    }
-    if !problem.kernel.iter().all(|r| finite(r)) {
-        return Err(QpError::NotFinite("kernel"));
-    }
-    Ok(())
 }
