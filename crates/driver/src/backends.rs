@@ -166,7 +166,7 @@ impl fmt::Display for BackendKind {
 pub enum BackendError {
     /// Unknown name.
     #[error(
-        "unknown backend \"{0}\" (known: auto, clarabel, osqp, dual-pgs, dual-uzawa, dual-ssn, clarabel/dual, osqp/dual)"
+        "unknown backend \"{0}\" (known: auto, clarabel, osqp, dual-pgs, dual-uzawa, pdas, dual-ssn, clarabel/dual, osqp/dual)"
     )]
     Unknown(String),
     /// Unknown formulation.
@@ -241,5 +241,24 @@ pub fn make_backend(kind: BackendKind) -> Result<Box<dyn QpBackend>, BackendErro
         #[cfg(not(feature = "osqp"))]
         BackendKind::OsqpDual => Err(BackendError::NotCompiled("osqp")),
         BackendKind::Auto => Ok(Box::new(crate::auto::AutoBackend::default())),
+    }
+}
+
+#[cfg(test)]
+mod names_tests {
+    use super::*;
+
+    /// The "known" list of the unknown-backend message names every backend the parser accepts
+    /// (pdas was missing from it when it joined `ALL`).
+    #[test]
+    fn the_unknown_backend_message_lists_every_name() {
+        let message = BackendError::Unknown("x".into()).to_string();
+        for kind in BackendKind::ALL.iter().chain(BackendKind::EXTRA.iter()) {
+            assert!(
+                message.contains(kind.name()),
+                "{} missing in {message}",
+                kind.name()
+            );
+        }
     }
 }
