@@ -133,21 +133,25 @@ impl QpBackend for DualBackend {
                 reason: e.to_string(),
             })?;
         problem.validate()?;
-        let outcome = finite(self.run(problem, options, start)?);
-        if options.verbose {
-            eprintln!(
-                "{backend}: {} after {} iterations ({})",
-                outcome.status, outcome.iterations, outcome.message
-            );
-        }
-        Ok(QpSolution {
+        let outcome = self.run(problem, options, start)?;
+        let solution = QpSolution {
             x: outcome.x,
             multipliers: outcome.multipliers,
             status: outcome.status,
             iterations: outcome.iterations,
             solve_time: start.elapsed(),
             message: Some(outcome.message),
-        })
+        }
+        .finite_or_numerical_error();
+        if options.verbose {
+            eprintln!(
+                "{backend}: {} after {} iterations ({})",
+                solution.status,
+                solution.iterations,
+                solution.message.as_deref().unwrap_or("")
+            );
+        }
+        Ok(solution)
     }
 }
 
@@ -172,26 +176,6 @@ fn plain_solve(data: &DualData<'_>, tol: f64) -> Outcome {
         status,
         iterations: 0,
         message,
-    }
-}
-
-/// Never hand out NaN: a non-finite iterate becomes the all-zero answer with
-/// `numerical-error`.
-fn finite(outcome: Outcome) -> Outcome {
-    if outcome
-        .x
-        .iter()
-        .chain(&outcome.multipliers)
-        .all(|v| v.is_finite())
-    {
-        return outcome;
-    }
-    Outcome {
-        x: vec![0.0; outcome.x.len()],
-        multipliers: vec![0.0; outcome.multipliers.len()],
-        status: QpStatus::NumericalError,
-        iterations: outcome.iterations,
-        message: format!("non-finite iterate: {}", outcome.message),
     }
 }
 

@@ -280,39 +280,50 @@ impl CholeskyPattern {
                 cols: a.cols(),
             });
         }
-        let view = faer_view(a)?;
-        let oom = |e: faer::dyn_stack::mem::AllocError| LinalgError::Faer(format!("{e:?}"));
-        let mut values = Vec::new();
-        values
-            .try_reserve_exact(self.symbolic.len_val())
-            .map_err(|e| LinalgError::Faer(format!("cannot allocate the factor: {e}")))?;
-        values.resize(self.symbolic.len_val(), 0.0);
-        let mut buffer = MemBuffer::try_new(
-            self.symbolic
-                .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
-        )
-        .map_err(oom)?;
-        self.symbolic
-            .factorize_numeric_llt(
-                &mut values,
-                view,
-                Side::Lower,
-                Default::default(),
-                Par::Seq,
-                MemStack::new(&mut buffer),
-                Default::default(),
-            )
-            .map_err(|e| match e {
-                faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => {
-                    LinalgError::NotPositiveDefinite { index, n }
-                }
-            })?;
+        let values = numeric_llt(&self.symbolic, a)?;
         Ok(SparseCholesky {
             symbolic: Arc::clone(&self.symbolic),
             values,
             method: self.method,
         })
     }
+}
+
+/// The numeric LLᵀ (one thread) of `a` on the supernodal or simplicial `symbolic` analysis of its
+/// pattern: the factor's values.  The one numeric factorisation of A in the project — the floor,
+/// the no-contact solve and the dual backends' contact-last factor all come through here.
+pub fn numeric_llt(
+    symbolic: &SymbolicCholesky<usize>,
+    a: &CscMatrix,
+) -> Result<Vec<f64>, LinalgError> {
+    let n = symbolic.nrows();
+    let view = faer_view(a)?;
+    let oom = |e: faer::dyn_stack::mem::AllocError| LinalgError::Faer(format!("{e:?}"));
+    let mut values = Vec::new();
+    values
+        .try_reserve_exact(symbolic.len_val())
+        .map_err(|e| LinalgError::Faer(format!("cannot allocate the factor: {e}")))?;
+    values.resize(symbolic.len_val(), 0.0);
+    let mut buffer = MemBuffer::try_new(
+        symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+    )
+    .map_err(oom)?;
+    symbolic
+        .factorize_numeric_llt(
+            &mut values,
+            view,
+            Side::Lower,
+            Default::default(),
+            Par::Seq,
+            MemStack::new(&mut buffer),
+            Default::default(),
+        )
+        .map_err(|e| match e {
+            faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => {
+                LinalgError::NotPositiveDefinite { index, n }
+            }
+        })?;
+    Ok(values)
 }
 
 /// A numeric Cholesky factorisation P A Pᵀ = L Lᵀ.

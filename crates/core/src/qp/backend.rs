@@ -47,6 +47,31 @@ pub struct QpSolution {
     pub message: Option<String>,
 }
 
+impl QpSolution {
+    /// Never hand out NaN: an answer with a non-finite entry becomes the all-zero answer (same
+    /// lengths) with `numerical-error`, its message kept behind "non-finite answer: ".
+    pub fn finite_or_numerical_error(self) -> Self {
+        if self
+            .x
+            .iter()
+            .chain(&self.multipliers)
+            .all(|v| v.is_finite())
+        {
+            return self;
+        }
+        Self {
+            x: vec![0.0; self.x.len()],
+            multipliers: vec![0.0; self.multipliers.len()],
+            status: QpStatus::NumericalError,
+            message: Some(format!(
+                "non-finite answer: {}",
+                self.message.as_deref().unwrap_or("")
+            )),
+            ..self
+        }
+    }
+}
+
 /// A QP algorithm.
 ///
 /// ```

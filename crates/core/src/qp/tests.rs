@@ -197,3 +197,24 @@ fn a_soft_dof_elsewhere_does_not_loosen_a_stiff_row() {
     let r = kkt_residuals(&p, &[0.501, 0.0], &[0.499]);
     assert!((r.relative_penetration - 1e-3).abs() < 1e-12, "{r:?}");
 }
+
+#[test]
+fn a_non_finite_answer_becomes_numerical_error_with_zeros() {
+    let answer = |x: f64| QpSolution {
+        x: vec![1.0, x],
+        multipliers: vec![2.0],
+        status: QpStatus::Solved,
+        iterations: 3,
+        solve_time: Duration::ZERO,
+        message: Some("done".into()),
+    };
+    let kept = answer(4.0).finite_or_numerical_error();
+    assert_eq!(kept.status, QpStatus::Solved);
+    assert_eq!(kept.x, vec![1.0, 4.0]);
+    let zeroed = answer(f64::NAN).finite_or_numerical_error();
+    assert_eq!(zeroed.status, QpStatus::NumericalError);
+    assert_eq!(zeroed.x, vec![0.0, 0.0]);
+    assert_eq!(zeroed.multipliers, vec![0.0]);
+    assert_eq!(zeroed.iterations, 3);
+    assert_eq!(zeroed.message.as_deref(), Some("non-finite answer: done"));
+}

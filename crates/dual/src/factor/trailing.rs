@@ -20,7 +20,7 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
-use signorini_core::linalg::{faer_view, LinalgError};
+use signorini_core::linalg::{faer_view, numeric_llt, LinalgError};
 use signorini_core::linalg::{fill_reducing_order, OrderingMethod};
 use signorini_core::qp::CscMatrix;
 
@@ -118,26 +118,7 @@ impl TrailingCholesky {
             (order.forward, plain, &[][..])
         };
         admit(symbolic.len_val())?;
-        let mut values = vec![0.0; symbolic.len_val()];
-        let mut buffer = MemBuffer::try_new(
-            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
-        )
-        .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
-        symbolic
-            .factorize_numeric_llt(
-                &mut values,
-                view,
-                Side::Lower,
-                Default::default(),
-                Par::Seq,
-                MemStack::new(&mut buffer),
-                Default::default(),
-            )
-            .map_err(|e| match e {
-                faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => {
-                    LinalgError::NotPositiveDefinite { index, n }
-                }
-            })?;
+        let values = numeric_llt(&symbolic, a)?;
         let SymbolicCholeskyRaw::Supernodal(supernodal) = symbolic.raw() else {
             return Err(LinalgError::Faer("expected a supernodal factorisation".into()).into());
         };
