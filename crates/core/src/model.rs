@@ -370,6 +370,7 @@ pub fn mesh_scene(scene: &Scene, limits: &MeshLimits) -> Result<Vec<Mesh>, Model
             hmax: body.hmax,
             element: body.element,
             breakpoints: &breaks,
+            refine: &body.refine,
             tol,
         };
         let m = mesh::mesh_body(&geometry, limits).map_err(|source| ModelError::Mesh {
@@ -570,18 +571,15 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError
 }
 
 /// The entries (DOF, coefficient) of a contact row of B, in the order B stores them: for each
-/// component c, the slave node's −n_c, then α n_c on master node A and (1 − α) n_c on B when
-/// non-zero weights.
+/// component c, the slave node's −n_c, then w_k n_c on each master node k with a non-zero weight.
 fn row_entries(dofs: &Dofs, pair: &PairRows, r: &ContactRow) -> Vec<(usize, f64)> {
-    let [ma, mb] = r.master_nodes;
-    let mut entries = Vec::with_capacity(6);
+    let mut entries = Vec::with_capacity(2 + 2 * r.masters.len());
     for (c, &nc) in r.normal.iter().enumerate() {
         entries.push((dofs.dof(pair.slave, r.slave_node, c), -nc));
-        if r.alpha != 0.0 {
-            entries.push((dofs.dof(pair.master, ma, c), r.alpha * nc));
-        }
-        if r.alpha != 1.0 {
-            entries.push((dofs.dof(pair.master, mb, c), (1.0 - r.alpha) * nc));
+        for &(k, w) in &r.masters {
+            if w != 0.0 {
+                entries.push((dofs.dof(pair.master, k, c), w * nc));
+            }
         }
     }
     entries

@@ -16,6 +16,7 @@ fn mesh(polygon: &[[f64; 2]], hmax: f64, element: ElementKind) -> Mesh {
             hmax,
             element,
             breakpoints: &[],
+            refine: &[],
             tol: 1e-10,
         },
         &MeshLimits::default(),

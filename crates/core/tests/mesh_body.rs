@@ -37,6 +37,7 @@ fn body<'a>(polygon: &'a [Point], hmax: f64, breakpoints: &'a [Point]) -> BodyGe
         hmax,
         element: ElementKind::P1,
         breakpoints,
+        refine: &[],
         tol: 1e-9,
     }
 }

@@ -28,6 +28,7 @@ fn p1_timings() {
                 hmax,
                 element: ElementKind::P1,
                 breakpoints: &[[1.0, 1.0], [1.0, 2.0]],
+                refine: &[],
                 tol: 1e-9,
             };
             let start = Instant::now();
@@ -57,6 +58,7 @@ fn contact_box_breakpoints() {
             hmax,
             element: ElementKind::P1,
             breakpoints: &breaks,
+            refine: &[],
             tol: 1e-9,
         };
         let mesh = mesh_body(&body, &MeshLimits::default()).unwrap();
@@ -103,6 +105,7 @@ fn nasty_polygons() {
                 hmax,
                 element: ElementKind::P1,
                 breakpoints: &[],
+                refine: &[],
                 tol: 1e-9,
             };
             let start = Instant::now();

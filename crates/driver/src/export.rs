@@ -92,7 +92,7 @@ pub fn export(
             "slave_node",
             "x",
             "y",
-            "alpha",
+            "masters",
             "nx",
             "ny",
             "gap",
@@ -107,7 +107,11 @@ pub fn export(
                     r.slave_node.to_string(),
                     format!("{:e}", r.position[0]),
                     format!("{:e}", r.position[1]),
-                    format!("{:e}", r.alpha),
+                    r.masters
+                        .iter()
+                        .map(|(k, w)| format!("{k}:{w:e}"))
+                        .collect::<Vec<_>>()
+                        .join(";"),
                     format!("{:e}", r.normal[0]),
                     format!("{:e}", r.normal[1]),
                     format!("{:e}", qp.gap[row]),

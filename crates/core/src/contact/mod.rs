@@ -68,6 +68,7 @@
 //! What remains superlinear is the P1 mesher's Delaunay bulk load (see [`crate::mesh`]): 25 %
 //! of the new time at L = 100, 61 % at L = 400.
 
+mod mortar;
 mod overlap;
 mod search;
 #[cfg(test)]
@@ -77,7 +78,7 @@ pub use overlap::{overlap_limit, Overlap};
 
 use crate::geometry::{self, Point};
 use crate::mesh::Mesh;
-use crate::scene::Scene;
+use crate::scene::{Formulation, Scene};
 use overlap::{deepest, depths_inside, strictly_inside};
 use search::{Cone, SegmentIndex};
 
@@ -86,15 +87,21 @@ use search::{Cone, SegmentIndex};
 pub struct ContactRow {
     /// Slave node (body-local index).
     pub slave_node: usize,
-    /// The master segment's end nodes `[A, B]` (body-local indices).
-    pub master_nodes: [usize; 2],
-    /// Weight α of A (B gets 1 − α).
-    pub alpha: f64,
-    /// Master outward unit normal n.
+    /// The master nodes the row couples the slave node to, with their weights (body-local
+    /// indices; the weights sum to one, so a rigid translation of both bodies leaves the row
+    /// unchanged).  Node-to-segment: the segment's ends `[(A, α), (B, 1 − α)]`; mortar: every
+    /// master node whose segments the slave node's dual basis function meets, weight
+    /// M_jk / D_jj.  Zero weights may appear and give no entry of B.
+    pub masters: Vec<(usize, f64)>,
+    /// Unit normal n of the row, pointing out of the master towards the slave: the row is
+    /// −n·u_X + Σₖ wₖ n·u_k ≤ g.  Node-to-segment: the master segment's outward normal; mortar:
+    /// minus the slave's averaged nodal normal.
     pub normal: Point,
-    /// Initial normal gap g = (X − Y)·n.
+    /// Initial normal gap g (node-to-segment: (X − Y)·n; mortar: the weighted gap g̃_j / D_jj).
     pub gap: f64,
-    /// Slave node's tributary length on the interface (for pressure = λ / length).
+    /// The length that turns the row's multiplier (a force per unit thickness) into a pressure:
+    /// node-to-segment, the slave node's tributary length on the interface; mortar, D_jj = ∫N_j
+    /// over the part of the slave interface the master covers.
     pub tributary: f64,
     /// Slave node position X.
     pub position: Point,
@@ -109,6 +116,8 @@ pub struct PairRows {
     pub slave: usize,
     /// Master body index.
     pub master: usize,
+    /// How the rows were built.
+    pub formulation: Formulation,
     /// Constraint rows, ordered by slave node.
     pub rows: Vec<ContactRow>,
     /// True when every slave node on the interface (zero initial gap) coincides with a master node.
@@ -379,21 +388,34 @@ fn contact_rows_with(
                 });
             }
         }
-        let built = pair_rows(
-            &meshes[slave],
-            &meshes[master],
-            cand_s,
-            cand_m,
-            inside_s,
-            tol,
-            limit,
-            search,
-        );
+        let built = match pair.formulation {
+            Formulation::NodeToSegment => pair_rows(
+                &meshes[slave],
+                &meshes[master],
+                cand_s,
+                cand_m,
+                inside_s,
+                tol,
+                limit,
+                search,
+            ),
+            Formulation::Mortar => mortar::pair_rows(
+                &meshes[slave],
+                &meshes[master],
+                cand_s,
+                cand_m,
+                inside_s,
+                tol,
+                limit,
+            ),
+        };
         let rows = built.rows;
         // Conforming: every slave node on the interface (zero gap) sits on a master node.
         let touching: Vec<&ContactRow> = rows.iter().filter(|r| r.gap == 0.0).collect();
-        let conforming =
-            !touching.is_empty() && touching.iter().all(|r| r.alpha == 0.0 || r.alpha == 1.0);
+        let conforming = !touching.is_empty()
+            && touching
+                .iter()
+                .all(|r| r.masters.iter().any(|&(_, w)| w == 1.0));
         let mut with_row = vec![false; meshes[slave].nodes.len()];
         for r in &rows {
             with_row[r.slave_node] = true;
@@ -442,6 +464,7 @@ fn contact_rows_with(
             pair: p,
             slave,
             master,
+            formulation: pair.formulation,
             rows,
             conforming,
             candidates: count(cand_s),
@@ -814,8 +837,7 @@ fn pair_rows(
         }
         built.rows.push(ContactRow {
             slave_node: x_node,
-            master_nodes: [a, b],
-            alpha: 1.0 - t,
+            masters: vec![(a, 1.0 - t), (b, t)],
             normal,
             gap: if gap.abs() <= tol { 0.0 } else { gap },
             tributary,

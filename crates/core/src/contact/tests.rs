@@ -75,13 +75,12 @@ fn star(rng: &mut Rng, center: Point, r: f64, n: usize, snap: Option<f64>) -> Ve
 }
 
 /// A row as bits.
-type RowBits = (usize, [usize; 2], u64, [u64; 2], u64, u64, [u64; 2]);
+type RowBits = (usize, Vec<(usize, u64)>, [u64; 2], u64, u64, [u64; 2]);
 
 fn row_bits(r: &ContactRow) -> RowBits {
     (
         r.slave_node,
-        r.master_nodes,
-        r.alpha.to_bits(),
+        r.masters.iter().map(|&(k, w)| (k, w.to_bits())).collect(),
         r.normal.map(f64::to_bits),
         r.gap.to_bits(),
         r.tributary.to_bits(),
@@ -439,7 +438,7 @@ fn long_interface_costs_a_bounded_number_of_evaluations_per_node() {
     // Conforming: every row on a master node (t ∈ {0, 1}) with gap 0 and tributary h (h/2 at
     // the two ends), which the geometry gives independently of the search.
     for r in &built.rows {
-        assert!(r.alpha == 0.0 || r.alpha == 1.0);
+        assert!(r.masters.iter().any(|&(_, w)| w == 1.0));
         assert_eq!(r.gap, 0.0);
         let end = r.slave_node == 0 || r.slave_node == n;
         let h = 0.01_f64;
@@ -548,7 +547,6 @@ fn a_node_slightly_behind_its_segment_is_found_past_the_walk() {
     // Independently: the row is on segment 0 at its middle (t = 1/2), gap −0.5.
     assert_eq!(built.rows.len(), 1);
     let row = &built.rows[0];
-    assert_eq!(row.master_nodes, [0, 1]);
-    assert_eq!(row.alpha, 0.5);
+    assert_eq!(row.masters, vec![(0, 0.5), (1, 0.5)]);
     assert_eq!(row.gap, -0.5);
 }

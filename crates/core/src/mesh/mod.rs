@@ -106,6 +106,15 @@ pub struct Mesh {
     pub boundary: Vec<[usize; 2]>,
 }
 
+/// A region of a body meshed finer than the body's `hmax` (`[[body.refine]]`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Refinement {
+    /// Box `[x1, x2, y1, y2]`.
+    pub region: [f64; 4],
+    /// Largest element edge inside the box.
+    pub hmax: f64,
+}
+
 /// One body to mesh.
 ///
 /// ```
@@ -116,6 +125,7 @@ pub struct Mesh {
 ///     hmax: 0.2,
 ///     element: ElementKind::P1,
 ///     breakpoints: &[[1.0, 1.0]],
+///     refine: &[],
 ///     tol: 1e-9,
 /// };
 /// let mesh = mesh_body(&body, &MeshLimits::default()).unwrap();
@@ -134,6 +144,8 @@ pub struct BodyGeometry<'a> {
     /// points off the boundary are ignored.  Typically other bodies' corners and the
     /// [`box_crossings`] of the regions that apply to this body.
     pub breakpoints: &'a [Point],
+    /// Regions meshed finer than `hmax`, with a smooth transition to `hmax` outside them.
+    pub refine: &'a [Refinement],
     /// Absolute length tolerance for "lies on" (≈ 1e-9 × scene size).
     pub tol: f64,
 }
@@ -336,7 +348,7 @@ pub fn estimate_nodes(polygon: &[Point], hmax: f64, element: ElementKind) -> usi
 /// let lower = [[1.0, 0.0], [3.0, 0.0], [3.0, 1.0], [1.0, 1.0]];
 /// let limits = MeshLimits::default();
 /// let mesh = |polygon, corner, element| {
-///     let body = BodyGeometry { polygon, hmax: 0.2, element, breakpoints: &[corner], tol: 1e-9 };
+///     let body = BodyGeometry { polygon, hmax: 0.2, element, breakpoints: &[corner], refine: &[], tol: 1e-9 };
 ///     mesh_body(&body, &limits)
 /// };
 /// let a = mesh(&upper[..], [1.0, 1.0], ElementKind::P1)?;
@@ -360,6 +372,7 @@ pub fn mesh_body(geometry: &BodyGeometry, limits: &MeshLimits) -> Result<Mesh, M
         hmax,
         element,
         breakpoints,
+        refine: _,
         tol,
     } = *geometry;
     if !(hmax.is_finite() && hmax > 0.0) {

@@ -19,6 +19,18 @@ pub enum Plane {
     Stress,
 }
 
+/// How a contact pair's constraint rows are built (`docs/scene.md`, "Contact formulations").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Formulation {
+    /// One row per slave node on the closest master segment (the seed's method, single pass).
+    #[default]
+    NodeToSegment,
+    /// Segment-to-segment mortar rows with a dual (biorthogonal) slave basis: one row per slave
+    /// node, weighted gaps, passes the contact patch test on non-matching meshes.
+    Mortar,
+}
+
 /// A displacement component.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -52,6 +64,8 @@ pub struct SceneFile {
     /// `[[probe]]` tables.
     #[serde(default)]
     pub probe: Vec<ProbeSection>,
+    /// `[reference]`: the scene's analytic answer, for accuracy studies.
+    pub reference: Option<ReferenceSection>,
 }
 
 /// `[model]`.
@@ -86,6 +100,19 @@ pub struct BodySection {
     pub poisson: f64,
     /// Mass density (only with `[model] gravity`).
     pub density: Option<f64>,
+    /// `[[body.refine]]` tables: finer meshes near regions.
+    #[serde(default)]
+    pub refine: Vec<RefineSection>,
+}
+
+/// `[[body.refine]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RefineSection {
+    /// Box `[x1, x2, y1, y2]` meshed with the finer size.
+    pub region: Vec<f64>,
+    /// Largest element edge inside the box.
+    pub hmax: f64,
 }
 
 /// `[[dirichlet]]`.
@@ -130,6 +157,9 @@ pub struct ContactSection {
     pub region: Option<Vec<f64>>,
     /// Optional slave side.
     pub slave: Option<String>,
+    /// `"node-to-segment"` (default) or `"mortar"`.
+    #[serde(default)]
+    pub formulation: Formulation,
 }
 
 /// `[[probe]]`.
@@ -142,4 +172,20 @@ pub struct ProbeSection {
     pub body: String,
     /// Point of the undeformed body.
     pub point: Vec<f64>,
+}
+
+/// `[reference]`: analytic values the computed contact pressure is compared with.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReferenceSection {
+    /// 1-based contact pair the values are about (default 1).
+    pub pair: Option<usize>,
+    /// Centre `[x, y]` of the contact zone (Hertz: the point of first contact).
+    pub centre: Option<Vec<f64>>,
+    /// Half-width a of the contact zone (Hertz).
+    pub half_width: Option<f64>,
+    /// Peak pressure p₀ (Hertz).
+    pub peak_pressure: Option<f64>,
+    /// Uniform pressure p (contact patch test).
+    pub pressure: Option<f64>,
 }

@@ -29,9 +29,9 @@ use std::path::Path;
 pub use error::SceneError;
 pub use file::{
     BodySection, Component, ContactSection, DirichletSection, ModelSection, NeumannSection, Plane,
-    ProbeSection, SceneFile,
+    ProbeSection, ReferenceSection, RefineSection, SceneFile,
 };
-pub use types::{Body, ContactPair, Dirichlet, Neumann, Probe, Traction};
+pub use types::{Body, ContactPair, Dirichlet, Formulation, Neumann, Probe, Reference, Traction};
 pub use validate::{name_forbidden, MAX_COEFFICIENT, MIN_COEFFICIENT};
 
 use crate::geometry;
@@ -60,6 +60,8 @@ pub struct Scene {
     pub contacts: Vec<ContactPair>,
     /// Probes.
     pub probes: Vec<Probe>,
+    /// The analytic answer, if the scene states one.
+    pub reference: Option<Reference>,
 }
 
 impl Scene {

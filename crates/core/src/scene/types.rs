@@ -1,7 +1,9 @@
 //! The validated values of a scene: bodies, supports, loads, contact pairs and probes.
 
 use crate::geometry::Point;
-use crate::mesh::ElementKind;
+use crate::mesh::{ElementKind, Refinement};
+
+pub use super::file::Formulation;
 
 /// One elastic body.
 #[derive(Debug, Clone, PartialEq)]
@@ -20,6 +22,8 @@ pub struct Body {
     pub poisson: f64,
     /// Mass density (only used with gravity).
     pub density: Option<f64>,
+    /// Regions meshed finer than `hmax` (`[[body.refine]]`).
+    pub refine: Vec<Refinement>,
 }
 
 /// A prescribed displacement on the boundary nodes in a box.
@@ -77,6 +81,8 @@ pub struct ContactPair {
     pub region: Option<[f64; 4]>,
     /// Slave body, when the scene names it.
     pub slave: Option<usize>,
+    /// How the pair's rows are built.
+    pub formulation: Formulation,
 }
 
 /// A point whose displacement is reported.
@@ -88,4 +94,21 @@ pub struct Probe {
     pub body: usize,
     /// Point of the undeformed body.
     pub point: Point,
+}
+
+/// The scene's analytic answer (`[reference]`), for accuracy studies: the values come from
+/// formulas (Johnson's Hertz line contact, the patch test's uniform pressure), never from a
+/// finer solve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reference {
+    /// Contact pair index (0-based).
+    pub pair: usize,
+    /// Centre of the contact zone.
+    pub centre: Option<Point>,
+    /// Hertz half-width a.
+    pub half_width: Option<f64>,
+    /// Hertz peak pressure p₀.
+    pub peak_pressure: Option<f64>,
+    /// Uniform pressure p.
+    pub pressure: Option<f64>,
 }

@@ -8,12 +8,12 @@
 
 use super::file::{
     BodySection, Component, ContactSection, DirichletSection, ModelSection, NeumannSection, Plane,
-    ProbeSection, SceneFile,
+    ProbeSection, ReferenceSection, SceneFile,
 };
-use super::types::{Body, ContactPair, Dirichlet, Neumann, Probe, Traction};
+use super::types::{Body, ContactPair, Dirichlet, Neumann, Probe, Reference, Traction};
 use super::{Scene, SceneError, REGION_TOLERANCE};
 use crate::geometry::{self, Point};
-use crate::mesh::ElementKind;
+use crate::mesh::{ElementKind, Refinement};
 
 /// Largest elastic stiffness coefficient, (λ + 2μ)·thickness in plane strain or
 /// E/(1 − ν²)·thickness in plane stress, and largest body force ρ·|g|·thickness·area of a body,
@@ -279,6 +279,44 @@ fn validate_body(b: BodySection, model: &ModelContext) -> Result<Body, SceneErro
         }
         (None, None) => {}
     }
+    let mut refine = Vec::with_capacity(b.refine.len());
+    for (i, r) in b.refine.iter().enumerate() {
+        let section = format!("{s}, refine #{}", i + 1);
+        let region = check_region(&section, &r.region)?;
+        if !(r.hmax.is_finite() && r.hmax > 0.0) {
+            return Err(SceneError::invalid(
+                &section,
+                "hmax",
+                format!("must be positive and finite, got {}", r.hmax),
+            ));
+        }
+        if r.hmax >= b.hmax {
+            return Err(SceneError::invalid(
+                &section,
+                "hmax",
+                format!(
+                    "= {} is not below the body's hmax {}: the region would not be refined",
+                    r.hmax, b.hmax
+                ),
+            ));
+        }
+        let tol = tol_rel * size;
+        if region[1] < bbox[0] - tol
+            || region[0] > bbox[1] + tol
+            || region[3] < bbox[2] - tol
+            || region[2] > bbox[3] + tol
+        {
+            return Err(SceneError::invalid(
+                &section,
+                "region",
+                format!("{region:?} lies outside the body's bounding box {bbox:?}"),
+            ));
+        }
+        refine.push(Refinement {
+            region,
+            hmax: r.hmax,
+        });
+    }
     let mut polygon = polygon;
     if area < 0.0 {
         polygon.reverse();
@@ -291,6 +329,7 @@ fn validate_body(b: BodySection, model: &ModelContext) -> Result<Body, SceneErro
         young: b.young,
         poisson: b.poisson,
         density: b.density,
+        refine,
     })
 }
 
@@ -589,6 +628,7 @@ fn validate_contact(
         bodies: [a, b],
         region,
         slave,
+        formulation: c.formulation,
     })
 }
 
@@ -817,6 +857,11 @@ pub(super) fn validate(file: SceneFile) -> Result<Scene, SceneError> {
         }
     }
 
+    let reference = file
+        .reference
+        .map(|r| validate_reference(r, &contacts))
+        .transpose()?;
+
     Ok(Scene {
         title: file.title.unwrap_or_else(|| "untitled".to_string()),
         plane: model.plane,
@@ -827,5 +872,69 @@ pub(super) fn validate(file: SceneFile) -> Result<Scene, SceneError> {
         neumann,
         contacts,
         probes,
+        reference,
+    })
+}
+
+fn validate_reference(
+    r: ReferenceSection,
+    contacts: &[ContactPair],
+) -> Result<Reference, SceneError> {
+    let s = "[reference]";
+    let pair = r.pair.unwrap_or(1);
+    if pair == 0 || pair > contacts.len() {
+        return Err(SceneError::invalid(
+            s,
+            "pair",
+            format!(
+                "= {pair} names no contact pair (the scene has {})",
+                plural(contacts.len(), "pair", "pairs")
+            ),
+        ));
+    }
+    let centre = match &r.centre {
+        None => None,
+        Some(c) => {
+            let c = exact::<2>(s, "centre", c)?;
+            check_finite(s, "centre", &c)?;
+            Some(c)
+        }
+    };
+    for (key, value) in [
+        ("half_width", r.half_width),
+        ("peak_pressure", r.peak_pressure),
+        ("pressure", r.pressure),
+    ] {
+        if let Some(v) = value {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(SceneError::invalid(
+                    s,
+                    key,
+                    format!("must be positive and finite, got {v}"),
+                ));
+            }
+        }
+    }
+    if r.half_width.is_none() && r.peak_pressure.is_none() && r.pressure.is_none() {
+        return Err(SceneError::invalid(
+            s,
+            "pressure",
+            "is missing: a reference states `pressure` (uniform) or `half_width` / \
+             `peak_pressure` (Hertz)",
+        ));
+    }
+    if r.half_width.is_some() && centre.is_none() {
+        return Err(SceneError::invalid(
+            s,
+            "centre",
+            "is required with `half_width`: the half-width is measured from it",
+        ));
+    }
+    Ok(Reference {
+        pair: pair - 1,
+        centre,
+        half_width: r.half_width,
+        peak_pressure: r.peak_pressure,
+        pressure: r.pressure,
     })
 }
