@@ -17,6 +17,7 @@
 //! with A the stiffness on the free degrees of freedom, f the loads, B the node-to-segment
 //! contact rows and g the initial gaps.  Backends implement [`qp::QpBackend`].
 
+pub mod accuracy;
 pub mod contact;
 pub mod examples;
 pub mod fem;
