@@ -13,4 +13,5 @@ pub mod outdir;
 pub mod output;
 pub mod plots;
 pub mod run;
+pub mod study;
 pub mod sweep;

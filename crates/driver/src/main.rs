@@ -165,6 +165,37 @@ enum Command {
         #[arg(long, default_value = "out")]
         out: PathBuf,
     },
+    /// Discretisation error against time for a scene with a [reference]: every formulation ×
+    /// mesh kind × element and mesh size; write study.csv and accuracy.svg.
+    Study {
+        #[command(flatten)]
+        common: Common,
+        /// Comma-separated sizes of the coarsest body, e.g. 0.04,0.02,0.01; every other size of
+        /// the scene (other bodies, [[body.refine]]) is scaled by the same factor.
+        #[arg(long, value_delimiter = ',', required = true)]
+        hmax: Vec<f64>,
+        /// Comma-separated contact formulations set on every pair.
+        #[arg(long, value_delimiter = ',', default_value = "node-to-segment,mortar", value_parser = signorini::study::parse_formulation)]
+        formulations: Vec<signorini_core::scene::Formulation>,
+        /// Comma-separated mesh kinds: uniform (every [[body.refine]] dropped), graded (kept).
+        #[arg(long, value_delimiter = ',', default_value = "uniform,graded", value_parser = clap::value_parser!(signorini::study::MeshKind))]
+        meshes: Vec<signorini::study::MeshKind>,
+        /// Comma-separated elements set on the bodies that are axis-aligned rectangles.
+        #[arg(long, value_delimiter = ',', default_value = "p1,q1", value_parser = signorini::study::parse_element)]
+        elements: Vec<signorini_core::mesh::ElementKind>,
+        /// QP backend every point is solved with (as for solve).
+        #[arg(long, default_value = "auto")]
+        backend: String,
+        /// Relative KKT tolerance every point must meet to count as solved.
+        #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
+        tol: f64,
+        /// Replace an existing DIR/study.csv (without it, an existing file is refused).
+        #[arg(long)]
+        overwrite: bool,
+        /// Output directory for study.csv and accuracy.svg (created if missing).
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+    },
     /// Write the scene's QP (A, f, B, g as Matrix Market) and its DOF and row maps.
     Export {
         #[command(flatten)]
@@ -473,6 +504,120 @@ fn sweep(
     }
 }
 
+/// What `study` was asked to run.
+struct StudyArgs<'a> {
+    hmax: &'a [f64],
+    formulations: &'a [signorini_core::scene::Formulation],
+    meshes: &'a [signorini::study::MeshKind],
+    elements: &'a [signorini_core::mesh::ElementKind],
+    backend: &'a str,
+    tol: f64,
+    overwrite: bool,
+}
+
+fn study(common: &Common, args: &StudyArgs, out: &std::path::Path) -> Result<Exit> {
+    let backend: BackendKind = args.backend.parse()?;
+    anyhow::ensure!(
+        backend.available(),
+        "backend \"{backend}\" is not compiled in; rebuild with `--features osqp`"
+    );
+    let scene = run::load_scene(common.scene.as_deref())?;
+    let plan = signorini::study::StudyPlan {
+        hmax: args.hmax.to_vec(),
+        formulations: args.formulations.to_vec(),
+        meshes: args.meshes.to_vec(),
+        elements: args.elements.to_vec(),
+        backend,
+        overwrite: args.overwrite,
+    };
+    let options = SolveOptions {
+        tol: args.tol,
+        ..SolveOptions::default()
+    };
+    let bar = indicatif::ProgressBar::new(0).with_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} [{elapsed}] {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let outcome = signorini::study::study(
+        &scene,
+        &plan,
+        &options,
+        &limits(common),
+        out,
+        |done, total, what| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+            bar.set_message(what.to_string());
+        },
+    )?;
+    bar.finish_and_clear();
+    let mut con = Console::new();
+    con.line(format_args!(
+        "{}: {} points",
+        scene.title,
+        outcome.points.len()
+    ))?;
+    for s in &outcome.skipped {
+        con.line(format_args!(
+            "  skipped {}: does not apply ({})",
+            s.combination, s.reason
+        ))?;
+    }
+    con.line(format_args!(
+        "  {:<32} {:>8} {:>9} {:<11} {:>9} {:>10} {:>10} {:>10} {:>10}",
+        "combination", "hmax", "dofs", "status", "total s", "err a", "err p0", "err pmax", "patch"
+    ))?;
+    let e = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:+.2e}"));
+    for p in &outcome.points {
+        con.line(format_args!(
+            "  {:<32} {:>8} {:>9} {:<11} {:>9.4} {:>10} {:>10} {:>10} {:>10}",
+            p.combination(),
+            p.hmax,
+            p.dofs,
+            p.status,
+            p.total_s,
+            e(p.error_half_width),
+            e(p.error_peak_pressure),
+            e(p.error_peak_nodal_pressure),
+            e(p.pressure_deviation)
+        ))?;
+    }
+    con.line("  convergence rates (|error| ~ h^rate, solved points):")?;
+    for r in &outcome.rates {
+        con.line(format_args!(
+            "    {:<32} {:<36} {}",
+            r.combination,
+            r.measure,
+            r.rate
+                .map_or("-".to_string(), |v| format!("{v:.2} ({} meshes)", r.points))
+        ))?;
+    }
+    con.line(format_args!("  wrote {}", outcome.csv.display()))?;
+    if let Some(p) = &outcome.plot {
+        con.line(format_args!("  wrote {}", p.display()))?;
+    }
+    con.finish()?;
+    if outcome.failed == 0 {
+        Ok(Exit::Success)
+    } else {
+        for p in outcome.points.iter().filter(|p| !p.solved()) {
+            warn(format_args!(
+                "not solved: {} hmax {}: {} {}",
+                p.combination(),
+                p.hmax,
+                p.status,
+                p.message
+            ));
+        }
+        warn(format_args!(
+            "error: study: {} of {} points not solved",
+            outcome.failed,
+            outcome.points.len()
+        ));
+        Ok(Exit::NotSolved)
+    }
+}
+
 /// The backends `compare` and `sweep` run when `--backends` is not given (osqp only when built
 /// with it).
 const DEFAULT_BACKENDS: [BackendKind; 4] = [
@@ -631,6 +776,29 @@ fn main() -> ExitCode {
             *time_limit,
             *resume,
             *overwrite,
+            out,
+        ),
+        Command::Study {
+            common,
+            hmax,
+            formulations,
+            meshes,
+            elements,
+            backend,
+            tol,
+            overwrite,
+            out,
+        } => study(
+            common,
+            &StudyArgs {
+                hmax,
+                formulations,
+                meshes,
+                elements,
+                backend,
+                tol: *tol,
+                overwrite: *overwrite,
+            },
             out,
         ),
         Command::Check { common } => check(common),

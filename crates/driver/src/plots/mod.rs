@@ -20,6 +20,7 @@ use serde::{Deserialize, Deserializer};
 
 use crate::output::OutputError;
 
+pub mod accuracy;
 mod render;
 
 use render::{Curve, Figure};
