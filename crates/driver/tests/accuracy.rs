@@ -1,0 +1,291 @@
+//! Discretisation accuracy against analytic answers (issue 10): the Hertz cylinder on a block
+//! with mortar contact and a graded mesh against Johnson's formulas (within 1 %, and converging
+//! as h falls), the patch test's uniform pressure through `signorini study`, and the `study`
+//! command's files and refusals.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use signorini::auto::AutoBackend;
+use signorini::run;
+use signorini::study::{derive_scene, read_points, Combination, MeshKind};
+use signorini_core::accuracy::{accuracy, Accuracy};
+use signorini_core::mesh::{ElementKind, MeshLimits};
+use signorini_core::qp::{QpStatus, SolveOptions};
+use signorini_core::scene::{Formulation, Scene};
+
+fn fixture(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../fixtures/accuracy/{name}"))
+}
+
+fn signorini(args: &[&str], cwd: &Path) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_signorini"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("run signorini")
+}
+
+/// Johnson's Hertz line contact for two equal cylinders' worth of material (the block is a
+/// cylinder of infinite radius): E* = E / (2(1 − ν²)), a = √(4PR/(πE*)), p₀ = 2P/(πa), computed
+/// here from the load the run actually applied (not from the fixture's [reference]).
+fn johnson(load: f64) -> (f64, f64) {
+    let (e, nu, r) = (1.0_f64, 0.3_f64, 1.0_f64);
+    let e_star = e / (2.0 * (1.0 - nu * nu));
+    let a = (4.0 * load * r / (std::f64::consts::PI * e_star)).sqrt();
+    (a, 2.0 * load / (std::f64::consts::PI * a))
+}
+
+const MORTAR_GRADED_P1: Combination = Combination {
+    formulation: Formulation::Mortar,
+    mesh: MeshKind::Graded,
+    element: ElementKind::P1,
+};
+
+/// Solves the graded Hertz fixture with mortar at body size `h` (refine boxes scaled alike) and
+/// returns its errors against Johnson's formulas, with the DOFs.
+fn hertz_mortar_graded(h: f64) -> (f64, f64, f64, usize) {
+    let scene = Scene::from_path(&fixture("hertz-graded.toml")).unwrap();
+    let s = derive_scene(&scene, &MORTAR_GRADED_P1, h);
+    let mut backend = AutoBackend::default();
+    let o = run::solve_scene(
+        &s,
+        &mut backend,
+        &SolveOptions::default(),
+        &MeshLimits::default(),
+    )
+    .unwrap();
+    assert_eq!(
+        o.solution.status,
+        QpStatus::Solved,
+        "{:?}",
+        o.report.residuals
+    );
+    let cap = o.report.bodies.iter().find(|b| b.name == "cap").unwrap();
+    let load = -cap.applied[1];
+    let (a, p0) = johnson(load);
+    // The fixture's [reference] holds the same figures (it was generated from them).
+    let reference = s.reference.clone().unwrap();
+    assert!((reference.half_width.unwrap() / a - 1.0).abs() < 1e-12);
+    assert!((reference.peak_pressure.unwrap() / p0 - 1.0).abs() < 1e-12);
+    // The total contact force is the load, by equilibrium (the cap is held by contact alone in
+    // y): to the solve's tolerance.
+    let force = o.report.contacts[0].normal_force;
+    assert!(
+        (force / load - 1.0).abs() < 1e-6,
+        "Σλ {force:e}, P {load:e}"
+    );
+    let Accuracy {
+        half_width,
+        peak_pressure,
+        peak_nodal_pressure,
+        ..
+    } = accuracy(&reference, &o.report).unwrap();
+    let ea = half_width.unwrap().computed / a - 1.0;
+    let ep = peak_pressure.unwrap().computed / p0 - 1.0;
+    let en = peak_nodal_pressure.unwrap().computed / p0 - 1.0;
+    eprintln!(
+        "h {h}: {} DOFs, a {ea:+.4e}, p0 (fit) {ep:+.4e}, p0 (max nodal) {en:+.4e}",
+        o.report.dofs
+    );
+    (ea, ep, en, o.report.dofs)
+}
+
+/// The fixture as written (bodies hmax 0.016, contact zone 0.002: a/h = 25).  The issue asks
+/// for 1 %.  Budget: the second-moment estimator's bias (h/a)²/3 = 0.05 % (see
+/// `signorini_core::accuracy`), the finite bodies (16a deep, 12a high) against Hertz's
+/// half-spaces, measured ≈ 0.4 % at half these sizes and expected ~4× smaller here, and the
+/// discretisation error, O((h/a)^{3/2}) ≈ 0.8 % × C for the mortar multiplier.
+#[test]
+#[ignore = "needs mortar/refine"]
+fn hertz_with_mortar_on_a_graded_mesh_is_within_one_percent_of_johnson() {
+    let (ea, ep, _, _) = hertz_mortar_graded(0.016);
+    assert!(ea.abs() <= 0.01, "half-width off by {:.3} %", 100.0 * ea);
+    assert!(ep.abs() <= 0.01, "peak pressure off by {:.3} %", 100.0 * ep);
+}
+
+/// Three meshes, each contact-zone size half the previous (a/h = 12.5, 25, 50).  The half-width
+/// is a smooth functional (∫ s² λ) of the multiplier, whose mortar error is O(h) in H^{-1/2} at
+/// the least (O(h^{3/2}) with the Hertz pressure's regularity: Hüeber & Wohlmuth 2005), so its
+/// error falls at least linearly: the observed rate over the three meshes must be ≥ 1, and each
+/// refinement must lower the error.  The finite bodies add an h-independent error (see the test
+/// above) that flattens the curve once the discretisation error reaches it; if this test fails
+/// with a rate below 1 while the errors are already below ~0.2 %, that floor is why.
+#[test]
+#[ignore = "needs mortar/refine"]
+fn hertz_errors_fall_as_the_graded_mesh_is_refined() {
+    let hs = [0.032, 0.016, 0.008];
+    let runs: Vec<(f64, f64, f64, usize)> = hs.iter().map(|&h| hertz_mortar_graded(h)).collect();
+    for w in runs.windows(2) {
+        assert!(w[1].3 > w[0].3, "DOFs grow as h falls");
+        assert!(
+            w[1].0.abs() < w[0].0.abs(),
+            "half-width error must fall: {:e} then {:e}",
+            w[0].0,
+            w[1].0
+        );
+    }
+    let first = runs[0].1.abs();
+    let last = runs[2].1.abs();
+    assert!(
+        last < first,
+        "peak pressure error must fall: {first:e} → {last:e}"
+    );
+    let pts: Vec<(f64, f64)> = hs.iter().zip(&runs).map(|(h, r)| (*h, r.0.abs())).collect();
+    let rate = signorini::plots::fit_slope(&pts).unwrap();
+    assert!(
+        rate >= 1.0,
+        "observed rate of the half-width error {rate:.2} < 1"
+    );
+}
+
+/// The patch test through `signorini study` with mortar: the exact pressure is uniform
+/// (p = 0.01, see the fixture), and mortar reproduces it at every slave node to round-off on
+/// non-matching meshes (issue 10 asks 1e-8).
+#[test]
+#[ignore = "needs mortar/refine"]
+fn the_patch_test_with_mortar_is_exact_at_every_size_and_element() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = fixture("patch.toml");
+    let args = [
+        "study",
+        scene.to_str().unwrap(),
+        "--hmax",
+        "0.2,0.1,0.05",
+        "--formulations",
+        "mortar",
+        "--meshes",
+        "uniform",
+        "--out",
+        "s",
+    ];
+    let o = signorini(&args, dir.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let points = read_points(&dir.path().join("s/study.csv")).unwrap();
+    assert_eq!(points.len(), 2 * 3, "p1 and q1 at three sizes");
+    for p in &points {
+        let dev = p.pressure_deviation.unwrap();
+        assert!(
+            dev <= 1e-8,
+            "{} at hmax {}: {dev:e}",
+            p.combination(),
+            p.hmax
+        );
+    }
+}
+
+#[test]
+fn study_writes_one_row_per_applicable_point_and_a_plot() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = fixture("patch.toml");
+    let args = [
+        "study",
+        scene.to_str().unwrap(),
+        "--hmax",
+        "0.2,0.1",
+        "--formulations",
+        "node-to-segment,mortar",
+        "--meshes",
+        "uniform,graded",
+        "--elements",
+        "p1",
+        "--backend",
+        "clarabel",
+        "--out",
+        "s",
+    ];
+    let o = signorini(&args, dir.path());
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // The patch scene has no refine box: graded does not apply, and the output says so.
+    assert!(
+        stdout.contains("skipped node-to-segment, graded, p1: does not apply")
+            && stdout.contains("skipped mortar, graded, p1: does not apply"),
+        "{stdout}"
+    );
+    let csv = dir.path().join("s/study.csv");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(
+        text.lines().next().unwrap(),
+        signorini::study::COLUMNS.join(",")
+    );
+    let points = read_points(&csv).unwrap();
+    let got: Vec<(String, f64)> = points.iter().map(|p| (p.combination(), p.hmax)).collect();
+    let want: Vec<(String, f64)> = [
+        ("node-to-segment, uniform, p1", 0.2),
+        ("node-to-segment, uniform, p1", 0.1),
+        ("mortar, uniform, p1", 0.2),
+        ("mortar, uniform, p1", 0.1),
+    ]
+    .iter()
+    .map(|(c, h)| (c.to_string(), *h))
+    .collect();
+    assert_eq!(got, want);
+    for p in &points {
+        assert_eq!(p.status, "solved");
+        assert_eq!(p.backend, "clarabel");
+        // The lower block's hmax is the coarsest: it takes --hmax, the upper keeps 0.07 : 0.1.
+        assert!((p.hmin / p.hmax - 0.7).abs() < 1e-12, "{p:?}");
+        assert!((p.total_s - (p.mesh_s + p.assemble_s + p.solve_s)).abs() <= 1e-12 * p.total_s);
+        assert!(p.pressure_deviation.is_some() && p.error_half_width.is_none());
+    }
+    // Node-to-segment on the non-matching 0.07 : 0.1 interface misses the uniform pressure by
+    // ~12.6 % (issue 10); the study must see it, so the column measures something.
+    let nts = points.iter().find(|p| p.hmax == 0.1).unwrap();
+    assert!(nts.pressure_deviation.unwrap() > 0.05, "{nts:?}");
+    let svg = std::fs::read_to_string(dir.path().join("s/accuracy.svg")).unwrap();
+    let doc = roxmltree::Document::parse(&svg).expect("well-formed SVG");
+    // One panel (only the patch measure has values): the root and one nested <svg>.
+    let panels = doc.descendants().filter(|n| n.has_tag_name("svg")).count();
+    assert_eq!(panels, 2, "root + 1 panel");
+    assert!(svg.contains("patch test"), "the panel names its measure");
+    assert!(svg.contains("rate "), "legend carries the fitted rate");
+
+    // An existing study.csv is not replaced without --overwrite (exit 1, file unchanged) ...
+    let before = std::fs::read(&csv).unwrap();
+    let o = signorini(&args, dir.path());
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--overwrite"));
+    assert_eq!(std::fs::read(&csv).unwrap(), before);
+    // ... and is with it.
+    let mut again = args.to_vec();
+    again.push("--overwrite");
+    let o = signorini(&again, dir.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn study_refuses_a_scene_without_reference_naming_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(fixture("patch.toml")).unwrap();
+    let cut = text.find("[reference]").unwrap();
+    std::fs::write(dir.path().join("plain.toml"), &text[..cut]).unwrap();
+    let o = signorini(
+        &["study", "plain.toml", "--hmax", "0.2", "--out", "s"],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(stderr.contains("[reference]"), "{stderr}");
+    assert!(!dir.path().join("s").exists(), "nothing written");
+}
+
+#[test]
+fn study_refuses_unknown_formulations_meshes_and_elements() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = fixture("patch.toml");
+    let scene = scene.to_str().unwrap();
+    for (flag, value, says) in [
+        ("--formulations", "penalty", "node-to-segment or mortar"),
+        ("--meshes", "adaptive", "uniform or graded"),
+        ("--elements", "p2", "p1 or q1"),
+    ] {
+        let o = signorini(
+            &["study", scene, "--hmax", "0.2", flag, value, "--out", "s"],
+            dir.path(),
+        );
+        assert_eq!(o.status.code(), Some(1), "{flag} {value}");
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(stderr.contains(says), "{stderr}");
+    }
+}
