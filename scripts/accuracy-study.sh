@@ -3,7 +3,7 @@
 # analytic [reference] (fixtures/accuracy/, Hertz from Johnson's formulas, the patch test's
 # uniform pressure), for {node-to-segment, mortar} x {uniform, graded} x {p1, q1}.
 #   * Hertz: --hmax sets both bodies' size; the graded scene's refine boxes (hmax 1/8 of the
-#     bodies') scale with it: contact-zone sizes a/12.5, a/25, a/50 (graded), bodies a/1.6 to
+#     bodies') scale with it: contact-zone sizes a/6.25 to a/50 (graded), bodies a/0.8 to
 #     a/6.25 (uniform).  Q1 applies to the block only (the cap is not a rectangle).
 #   * Patch test: non-matching 0.07 : 0.1 kept at every size; no refine box, so "graded" is
 #     skipped (the study says so).
@@ -18,11 +18,11 @@ status=0
 # A study exits 2 when some point is not solved (it is still written, with its status).
 study() { "$bin" study "$@" --overwrite || { rc=$?; [ $rc -eq 2 ] || exit $rc; status=2; }; }
 
-study fixtures/accuracy/hertz-graded.toml --hmax 0.032,0.016,0.008 \
+study fixtures/accuracy/hertz-graded.toml --hmax 0.064,0.032,0.016,0.008 \
   --formulations node-to-segment,mortar --meshes uniform,graded --elements p1,q1 \
   --out "$out/accuracy-hertz"
 
-study fixtures/accuracy/patch.toml --hmax 0.2,0.1,0.05,0.025 \
+study fixtures/accuracy/patch.toml --hmax 0.1,0.05,0.025,0.0125 \
   --formulations node-to-segment,mortar --meshes uniform,graded --elements p1,q1 \
   --out "$out/accuracy-patch"
 

@@ -92,10 +92,11 @@ fn hertz_mortar_graded(h: f64) -> (f64, f64, f64, usize) {
 }
 
 /// The fixture as written (bodies hmax 0.016, contact zone 0.002: a/h = 25).  The issue asks
-/// for 1 %.  Budget: the second-moment estimator's bias (h/a)²/3 = 0.05 % (see
-/// `signorini_core::accuracy`), the finite bodies (16a deep, 12a high) against Hertz's
-/// half-spaces, measured ≈ 0.4 % at half these sizes and expected ~4× smaller here, and the
-/// discretisation error, O((h/a)^{3/2}) ≈ 0.8 % × C for the mortar multiplier.
+/// for 1 %.  Budget, each part well below it: the second-moment estimator's bias
+/// (h/a)²/3 = 0.05 % (see `signorini_core::accuracy`); the finite bodies (16a deep, 12a high)
+/// against Hertz's half-spaces: bodies of half these sizes give an a 0.3–0.4 % larger, so
+/// ~0.1 % here; the terms of order (a/R)² = 0.25 % that Hertz's small-slope theory and the
+/// linearised contact conditions neglect; and the discretisation error at a/h = 25.
 #[test]
 #[ignore = "needs mortar/refine"]
 fn hertz_with_mortar_on_a_graded_mesh_is_within_one_percent_of_johnson() {
@@ -104,17 +105,21 @@ fn hertz_with_mortar_on_a_graded_mesh_is_within_one_percent_of_johnson() {
     assert!(ep.abs() <= 0.01, "peak pressure off by {:.3} %", 100.0 * ep);
 }
 
-/// Three meshes, each contact-zone size half the previous (a/h = 12.5, 25, 50).  The half-width
-/// is a smooth functional (∫ s² λ) of the multiplier, whose mortar error is O(h) in H^{-1/2} at
-/// the least (O(h^{3/2}) with the Hertz pressure's regularity: Hüeber & Wohlmuth 2005), so its
-/// error falls at least linearly: the observed rate over the three meshes must be ≥ 1, and each
-/// refinement must lower the error.  The finite bodies add an h-independent error (see the test
-/// above) that flattens the curve once the discretisation error reaches it; if this test fails
-/// with a rate below 1 while the errors are already below ~0.2 %, that floor is why.
+/// Three meshes, each half the size of the previous (contact zone a/6.25, a/12.5, a/25).
+///
+/// The half-width comes from ∫ s² λ, a smooth functional of the multiplier, so its error is
+/// bounded by the multiplier's H^{-1/2} error, which is bounded by the energy error (inf–sup);
+/// for Signorini problems with linear elements that is proven O(h^{3/4}) without assumptions on
+/// the contact set (Hild & Laborde 2002), O(h) with them (Hüeber & Wohlmuth 2005).  So the
+/// observed rate of the half-width error over the three meshes must be ≥ 3/4, and each
+/// refinement must lower it.  The peak pressure, pointwise, is only required to fall over the
+/// 4× refinement, by the fit and at the nodes.  An h-independent error (the finite bodies,
+/// the (a/R)² terms: ~0.1–0.25 %, see the test above) flattens the curves as the error
+/// approaches it, which is why the meshes stop at a/25.
 #[test]
 #[ignore = "needs mortar/refine"]
 fn hertz_errors_fall_as_the_graded_mesh_is_refined() {
-    let hs = [0.032, 0.016, 0.008];
+    let hs = [0.064, 0.032, 0.016];
     let runs: Vec<(f64, f64, f64, usize)> = hs.iter().map(|&h| hertz_mortar_graded(h)).collect();
     for w in runs.windows(2) {
         assert!(w[1].3 > w[0].3, "DOFs grow as h falls");
@@ -125,17 +130,21 @@ fn hertz_errors_fall_as_the_graded_mesh_is_refined() {
             w[1].0
         );
     }
-    let first = runs[0].1.abs();
-    let last = runs[2].1.abs();
-    assert!(
-        last < first,
-        "peak pressure error must fall: {first:e} → {last:e}"
-    );
+    for (what, first, last) in [
+        ("peak pressure (fit)", runs[0].1.abs(), runs[2].1.abs()),
+        (
+            "peak pressure (max nodal)",
+            runs[0].2.abs(),
+            runs[2].2.abs(),
+        ),
+    ] {
+        assert!(last < first, "{what} error must fall: {first:e} → {last:e}");
+    }
     let pts: Vec<(f64, f64)> = hs.iter().zip(&runs).map(|(h, r)| (*h, r.0.abs())).collect();
     let rate = signorini::plots::fit_slope(&pts).unwrap();
     assert!(
-        rate >= 1.0,
-        "observed rate of the half-width error {rate:.2} < 1"
+        rate >= 0.75,
+        "observed rate of the half-width error {rate:.2} < 3/4"
     );
 }
 
