@@ -3,6 +3,8 @@
 //! as h falls), the patch test's uniform pressure through `signorini study`, and the `study`
 //! command's files and refusals.
 
+#![allow(clippy::unwrap_used)]
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
