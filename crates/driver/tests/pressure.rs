@@ -5,6 +5,8 @@
 //! places their `s` and `pressure` give; and `weight`, `s`, `formulation` hold what the docs
 //! say on scenes whose geometry gives them exactly.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // tests may unwrap
+
 use std::path::Path;
 use std::process::Command;
 
@@ -181,14 +183,14 @@ fn check_markers(svg: &str, report: &RunReport) {
             (pixel(hi) - pixel(lo)).abs() > 100.0,
             "the data spans the axis"
         );
-        for i in 0..data.len() {
+        for (i, e) in expected.iter().enumerate() {
             let want = pixel(lo) + slope * (value(i) - value(lo));
             assert!(
                 (pixel(i) - want).abs() <= 1.5,
                 "marker {i} at {} px, (s, p) = ({}, {}) puts it at {want} px",
                 pixel(i),
-                expected[i].2,
-                expected[i].3
+                e.2,
+                e.3
             );
         }
     };
