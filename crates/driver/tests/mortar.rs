@@ -12,6 +12,7 @@ use signorini::backends::{make_backend, BackendKind};
 use signorini::run;
 use signorini_clarabel::ClarabelBackend;
 use signorini_core::mesh::MeshLimits;
+use signorini_core::model::ModelWarning;
 use signorini_core::qp::{norm_inf, QpStatus, SolveOptions};
 use signorini_core::scene::Scene;
 use signorini_core::solve::{solve_model, Solution};
@@ -473,6 +474,21 @@ fn mortar_undoes_an_initial_overlap_with_uniform_pressure() {
     let c = &o.report.contacts[0];
     // The slave (the finer lower block) has a row at each of its 16 interface nodes.
     assert_eq!((c.slave.as_str(), c.nodes.len()), ("b0", 16));
+    // The upper block's corners (0, 0.998) and (1, 0.998) are vertices of the lower block's
+    // sides, inside the region box: candidates on side edges that face nothing, counted as
+    // unmatched, not dropped.
+    let unmatched: Vec<(usize, usize)> = o
+        .model
+        .warnings
+        .iter()
+        .filter_map(|w| match w {
+            ModelWarning::UnmatchedNodes {
+                nodes, candidates, ..
+            } => Some((*nodes, *candidates)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(unmatched, [(2, 18)]);
     for n in &c.nodes {
         // The rows of the flat overlap carry the weighted gap −s exactly (1e-15: round-off of
         // the coordinates 1 − 0.002).
