@@ -415,7 +415,7 @@ fn contact_rows_with(
         let conforming = !touching.is_empty()
             && touching
                 .iter()
-                .all(|r| r.masters.iter().any(|&(_, w)| w == 1.0));
+                .all(|r| r.masters.iter().any(|&(_, w)| (w - 1.0).abs() <= 1e-12));
         let mut with_row = vec![false; meshes[slave].nodes.len()];
         for r in &rows {
             with_row[r.slave_node] = true;
