@@ -125,8 +125,10 @@ pub enum ModelWarning {
         /// Why.
         reason: NoRowReason,
     },
-    /// Slave candidate nodes with no facing master segment (within its span, on its outer side):
-    /// they have no row, so nothing keeps them out of the master.
+    /// Slave candidate nodes that got no row: node-to-segment, no facing master segment (within
+    /// its span, on its outer side); mortar, less than a quarter of the node's share of the slave
+    /// interface is covered by the master (the ends of the contact zone).  Nothing keeps these
+    /// nodes themselves out of the master.
     UnmatchedNodes {
         /// 1-based pair index.
         pair: usize,
@@ -251,7 +253,7 @@ impl std::fmt::Display for ModelWarning {
                 candidates,
             } => write!(
                 f,
-                "contact #{pair}: {nodes} of {candidates} candidate node(s) of slave \"{slave}\" face no segment of master \"{master}\" and have no constraint row"
+                "contact #{pair}: {nodes} of {candidates} candidate node(s) of slave \"{slave}\" face no segment of master \"{master}\" (mortar: the master covers less than a quarter of their share of the interface) and have no constraint row"
             ),
             ModelWarning::TributaryFallback {
                 pair,

@@ -1,4 +1,9 @@
-//! Node-to-segment contact constraints.
+//! Contact constraints: node-to-segment (this file) and mortar ([`mortar`]'s module docs), chosen
+//! per pair by `[[contact]] formulation`.  Both share what is written here about candidates, the
+//! slave choice and initial overlaps, and give one row per slave node (`ContactRow`); they differ
+//! in how a row's master weights, normal, gap and pressure weight are computed.
+//!
+//! # Node-to-segment
 //!
 //! For each contact pair, candidate boundary nodes are those in the pair's region box (or, with no
 //! box, within one element size of the other body).  The side with more candidates is the slave
