@@ -1,4 +1,4 @@
-//! Contact constraints: node-to-segment (this file) and mortar ([`mortar`]'s module docs), chosen
+//! Contact constraints: node-to-segment (this file) and mortar (`contact/mortar/mod.rs`), chosen
 //! per pair by `[[contact]] formulation`.  Both share what is written here about candidates, the
 //! slave choice and initial overlaps, and give one row per slave node (`ContactRow`); they differ
 //! in how a row's master weights, normal, gap and pressure weight are computed.
