@@ -118,6 +118,12 @@ use geometry::{dot, dual, edge_normal, nodal_normals, sub, SlaveSegment};
 /// magnitude, while a node whose segments are covered over three quarters or more keeps its row.
 pub(super) const MIN_SHARE: f64 = 0.25;
 
+/// How far, as a fraction of its length, a slave edge whose ends start outside the master may
+/// lie behind a master segment that covers it: the sagitta of a polygonal curved interface,
+/// L·θ/8 for a turn of θ between neighbouring edges, is 0.05 L at θ = 0.4 rad (23°).  Deeper
+/// means the master segment is on the far side of the master body.
+const BEHIND: f64 = 0.05;
+
 /// One slave node's integrals: M_jk (merged by master node), g̃_j.
 #[derive(Debug, Clone, Default)]
 struct Sums {
@@ -135,14 +141,18 @@ impl Sums {
 }
 
 /// The mortar rows of one pair: one row per slave node that the master covers enough (see the
-/// module docs).  `_inside_s` (which slave nodes start inside the master) is not needed: such a
-/// node is a candidate, and its negative gap comes out of the integration.
+/// module docs).  `inside_s` (the slave nodes on or inside the master) decides how far behind a
+/// master segment a slave edge may lie and still be covered by it: up to the overlap `limit`
+/// when an end of the edge starts on or inside the master (an initial overlap, negative gaps),
+/// otherwise only by [`BEHIND`] × the edge's length plus `tol` — the sagitta of a polygonal
+/// curved interface — so that a master segment on the far side of the master body (facing the
+/// slave's back across the body) never covers a slave edge.
 pub(super) fn pair_rows(
     slave: &Mesh,
     master: &Mesh,
     cand_s: &[bool],
     cand_m: &[bool],
-    _inside_s: &[Option<f64>],
+    inside_s: &[Option<f64>],
     tol: f64,
     limit: f64,
 ) -> Built {
@@ -162,7 +172,7 @@ pub(super) fn pair_rows(
         .collect();
     let index = SegmentIndex::new(&master.nodes, &segments);
     // Candidate slave edges with the master segments that face them nearby.
-    let mut edges: Vec<([usize; 2], Vec<usize>)> = Vec::new();
+    let mut edges: Vec<([usize; 2], Vec<usize>, f64)> = Vec::new();
     for &[p, q] in &slave.boundary {
         if !(cand_s[p] && cand_s[q]) || index.is_empty() {
             continue;
@@ -177,29 +187,34 @@ pub(super) fn pair_rows(
             n1: ne,
             n2: ne,
         };
+        let behind = if inside_s[p].is_some() || inside_s[q].is_some() {
+            limit
+        } else {
+            (tol + BEHIND * own.length()).min(limit)
+        };
         let mid = own.point(0.5);
         let nearest = index.nearest(mid).next().map_or(0.0, |(_, d)| d);
-        let radius = 0.5 * own.length() + nearest + limit;
+        let radius = 0.5 * own.length() + nearest + behind;
         let mut near: Vec<usize> = index
             .within(mid, radius)
             .filter(|&s| {
                 let [a, b] = segments[s];
                 let (ya, yb) = (master.nodes[a], master.nodes[b]);
                 edge_normal(ya, yb).is_some_and(|nm| dot(nm, ne) <= -FACING)
-                    && covers(&own, ya, yb, limit)
+                    && covers(&own, ya, yb, behind)
             })
             .collect();
         if near.is_empty() {
             continue;
         }
         near.sort_unstable();
-        edges.push(([p, q], near));
+        edges.push(([p, q], near, behind));
     }
     let interface: Vec<[usize; 2]> = edges.iter().map(|e| e.0).collect();
     let normals = nodal_normals(&slave.nodes, &interface);
     let mut sums = vec![Sums::default(); slave.nodes.len()];
     let mut share = vec![0.0; slave.nodes.len()];
-    for ([p, q], near) in &edges {
+    for ([p, q], near, behind) in &edges {
         let (Some(n1), Some(n2)) = (normals[*p], normals[*q]) else {
             continue;
         };
@@ -221,7 +236,7 @@ pub(super) fn pair_rows(
             let Some(points) = seg.gauss_points(piece, ya, yb) else {
                 continue;
             };
-            if points.iter().any(|g| g.gap < -limit) {
+            if points.iter().any(|g| g.gap < -behind) {
                 // Behind the master segment by more than any accepted overlap: its image runs
                 // through the master body (onto its far side).
                 continue;
