@@ -8,6 +8,7 @@
 
 use crate::geometry::{distance, orient, project_on_segment, signed_area, Point};
 
+use super::sizing::SizeField;
 use super::MeshError;
 
 /// Relative slack in `k = ceil(len / hmax − 1e-9)`.
@@ -100,9 +101,22 @@ fn edge_breaks(a: Point, b: Point, breakpoints: &[Point], tol: f64) -> Vec<Point
 }
 
 /// Appends the points of sub-interval `p → q` to `out`: `p` and the `k − 1` interior points
-/// (not `q`).
-fn push_subinterval(out: &mut Vec<Point>, p: Point, q: Point, hmax: f64) {
+/// (not `q`).  Where the size field is below `hmax` somewhere on the sub-interval, the graded
+/// splitting of [`SizeField::split`] replaces the even one (computed from the lexicographically
+/// smaller end, like it).
+fn push_subinterval(out: &mut Vec<Point>, p: Point, q: Point, hmax: f64, field: &SizeField) {
     out.push(p);
+    if !field.is_uniform() {
+        let forward = (p[0], p[1]) <= (q[0], q[1]);
+        let (a, b) = if forward { (p, q) } else { (q, p) };
+        if let Some(mut points) = field.split(a, b) {
+            if !forward {
+                points.reverse();
+            }
+            out.extend(points);
+            return;
+        }
+    }
     let k = pieces(distance(p, q), hmax);
     if k <= 1 {
         return;
@@ -123,11 +137,13 @@ fn push_subinterval(out: &mut Vec<Point>, p: Point, q: Point, hmax: f64) {
 
 /// The discretised boundary of a counter-clockwise polygon (as returned by [`clean_polygon`]),
 /// as a closed counter-clockwise loop of distinct points (the last connects to the first).
+/// `field` grades the sub-intervals it refines (a uniform field gives the even rule alone).
 pub(crate) fn discretise(
     polygon: &[Point],
     hmax: f64,
     breakpoints: &[Point],
     tol: f64,
+    field: &SizeField,
 ) -> Vec<Point> {
     let n = polygon.len();
     let mut out = Vec::new();
@@ -136,10 +152,10 @@ pub(crate) fn discretise(
         let b = polygon[(i + 1) % n];
         let mut prev = a;
         for q in edge_breaks(a, b, breakpoints, tol) {
-            push_subinterval(&mut out, prev, q, hmax);
+            push_subinterval(&mut out, prev, q, hmax, field);
             prev = q;
         }
-        push_subinterval(&mut out, prev, b, hmax);
+        push_subinterval(&mut out, prev, b, hmax, field);
     }
     out
 }

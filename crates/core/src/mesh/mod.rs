@@ -48,6 +48,7 @@ mod boundary;
 mod lattice;
 mod quads;
 mod quality;
+mod sizing;
 mod triangles;
 
 pub use boundary::box_crossings;
@@ -271,20 +272,102 @@ fn saturating_count(x: f64) -> usize {
 /// assert_eq!(estimate_elements(&square, 1e-300, ElementKind::P1), usize::MAX);
 /// ```
 pub fn estimate_elements(polygon: &[Point], hmax: f64, element: ElementKind) -> usize {
+    estimate_elements_refined(polygon, hmax, &[], element)
+}
+
+/// [`estimate_elements`] for a body with `[[body.refine]]` regions: what [`mesh_body`] creates
+/// with `refine`.  Without regions (or with none finer than `hmax`) it is [`estimate_elements`]
+/// exactly.  Saturates like it (also when the integrals below would take more than ≈ 10⁸ steps).
+///
+/// P1: ∫ dA / (c h(x)²) + ∫ ds / h(x) over the polygon and its boundary, with h the size
+/// function (see the module docs), c = 0.3 where h = hmax and [`P1_GRADED_AREA_PER_ELEMENT`]
+/// in the graded zone (measured: the graded seeds' spacing lies between 0.45 and 0.9 h).
+/// Q1: the graded tensor grid's cell count on the bounding box, without break points (they
+/// add a few lines).
+///
+/// ```
+/// use signorini_core::mesh::{estimate_elements, estimate_elements_refined, ElementKind, Refinement};
+/// let block = [[0.0, 0.0], [0.8, 0.0], [0.8, 0.4], [0.0, 0.4]];
+/// let fine = [Refinement { region: [0.35, 0.45, 0.38, 0.4], hmax: 0.0025 }];
+/// let graded = estimate_elements_refined(&block, 0.05, &fine, ElementKind::P1);
+/// assert!(graded > estimate_elements(&block, 0.05, ElementKind::P1));
+/// assert!(graded < estimate_elements(&block, 0.0025, ElementKind::P1) / 10);
+/// assert_eq!(
+///     estimate_elements_refined(&block, 0.05, &[], ElementKind::Q1),
+///     estimate_elements(&block, 0.05, ElementKind::Q1)
+/// );
+/// ```
+pub fn estimate_elements_refined(
+    polygon: &[Point],
+    hmax: f64,
+    refine: &[Refinement],
+    element: ElementKind,
+) -> usize {
     if !(hmax.is_finite() && hmax > 0.0) || polygon.len() < 3 {
         return usize::MAX;
     }
+    let field = sizing::SizeField::new(hmax, refine);
     let estimate = match element {
-        ElementKind::Q1 => {
+        ElementKind::Q1 if field.is_uniform() => {
             let [nx, ny] = q1_divisions(polygon, hmax);
             nx * ny
         }
-        ElementKind::P1 => {
+        ElementKind::P1 if field.is_uniform() => {
             signed_area(polygon).abs() / (P1_AREA_PER_ELEMENT * hmax * hmax)
                 + perimeter(polygon) / hmax
         }
+        ElementKind::Q1 => {
+            let [nx, ny] = q1_graded_divisions(polygon, &field);
+            nx * ny
+        }
+        ElementKind::P1 => p1_graded_elements(polygon, &field),
     };
     saturating_count(estimate)
+}
+
+/// Mean P1 triangle area in the graded zone, as a multiple of h(x)² (measured on the Hertz-like
+/// block of `tests/mesh_grading.rs`).
+pub const P1_GRADED_AREA_PER_ELEMENT: f64 = 0.3;
+
+/// ∫ dA / (c h²) + ∫ ds / h for a graded P1 mesh (c as documented at
+/// [`estimate_elements_refined`]).
+fn p1_graded_elements(polygon: &[Point], field: &sizing::SizeField) -> f64 {
+    let area = signed_area(polygon).abs();
+    let hmax = field.hmax();
+    let uniform = area / (hmax * hmax);
+    let graded = field.inverse_square_integral(polygon, area) - uniform;
+    uniform / P1_AREA_PER_ELEMENT
+        + graded / P1_GRADED_AREA_PER_ELEMENT
+        + graded_boundary_pieces(polygon, field)
+}
+
+/// ∫ ds / h over the polygon's boundary.
+fn graded_boundary_pieces(polygon: &[Point], field: &sizing::SizeField) -> f64 {
+    (0..polygon.len())
+        .map(|i| {
+            field
+                .pieces_along(polygon[i], polygon[(i + 1) % polygon.len()])
+                .max(1.0)
+        })
+        .sum()
+}
+
+/// Cells along x and y of the graded Q1 grid on the bounding box (no break points), as floats.
+fn q1_graded_divisions(polygon: &[Point], field: &sizing::SizeField) -> [f64; 2] {
+    let b = bounding_box(polygon);
+    let tol = 1e-9 * (b[1] - b[0]).max(b[3] - b[2]);
+    let along = |f: sizing::SizeField, lo: f64, hi: f64| {
+        let n = f.pieces_along([lo, 0.0], [hi, 0.0]);
+        if n.is_finite() && n < 1e7 {
+            (quads::graded_ticks(&[lo, hi], f.hmax(), &f).len() - 1) as f64
+        } else {
+            n
+        }
+    };
+    [
+        along(field.along_x(&b, tol), b[0], b[1]),
+        along(field.along_y(&b, tol), b[2], b[3]),
+    ]
 }
 
 /// Estimate of the number of nodes [`mesh_body`] creates, consistent with
@@ -301,15 +384,28 @@ pub fn estimate_elements(polygon: &[Point], hmax: f64, element: ElementKind) -> 
 /// assert_eq!(estimate_nodes(&square, f64::NAN, ElementKind::P1), usize::MAX);
 /// ```
 pub fn estimate_nodes(polygon: &[Point], hmax: f64, element: ElementKind) -> usize {
+    estimate_nodes_refined(polygon, hmax, &[], element)
+}
+
+/// [`estimate_nodes`] for a body with `[[body.refine]]` regions, consistent with
+/// [`estimate_elements_refined`] (P1: (E + B + 2) / 2 with B = Σ ∫ ds / h over the edges; Q1:
+/// (nx + 1)(ny + 1) of the graded grid).  Without regions it is [`estimate_nodes`] exactly.
+pub fn estimate_nodes_refined(
+    polygon: &[Point],
+    hmax: f64,
+    refine: &[Refinement],
+    element: ElementKind,
+) -> usize {
     if !(hmax.is_finite() && hmax > 0.0) || polygon.len() < 3 {
         return usize::MAX;
     }
+    let field = sizing::SizeField::new(hmax, refine);
     let estimate = match element {
-        ElementKind::Q1 => {
+        ElementKind::Q1 if field.is_uniform() => {
             let [nx, ny] = q1_divisions(polygon, hmax);
             (nx + 1.0) * (ny + 1.0)
         }
-        ElementKind::P1 => {
+        ElementKind::P1 if field.is_uniform() => {
             let elements = signed_area(polygon).abs() / (P1_AREA_PER_ELEMENT * hmax * hmax)
                 + perimeter(polygon) / hmax;
             let boundary: f64 = (0..polygon.len())
@@ -319,6 +415,15 @@ pub fn estimate_nodes(polygon: &[Point], hmax: f64, element: ElementKind) -> usi
                         .max(1.0)
                 })
                 .sum();
+            (elements.ceil() + boundary + 2.0) / 2.0
+        }
+        ElementKind::Q1 => {
+            let [nx, ny] = q1_graded_divisions(polygon, &field);
+            (nx + 1.0) * (ny + 1.0)
+        }
+        ElementKind::P1 => {
+            let elements = p1_graded_elements(polygon, &field);
+            let boundary = graded_boundary_pieces(polygon, &field).ceil();
             (elements.ceil() + boundary + 2.0) / 2.0
         }
     };
@@ -372,7 +477,7 @@ pub fn mesh_body(geometry: &BodyGeometry, limits: &MeshLimits) -> Result<Mesh, M
         hmax,
         element,
         breakpoints,
-        refine: _,
+        refine,
         tol,
     } = *geometry;
     if !(hmax.is_finite() && hmax > 0.0) {
@@ -397,7 +502,8 @@ pub fn mesh_body(geometry: &BodyGeometry, limits: &MeshLimits) -> Result<Mesh, M
         });
     }
     let polygon = boundary::clean_polygon(polygon, tol)?;
-    let estimated = estimate_elements(&polygon, hmax, element);
+    let field = sizing::SizeField::new(hmax, refine);
+    let estimated = estimate_elements_refined(&polygon, hmax, refine, element);
     if estimated > limits.max_elements {
         return Err(MeshError::TooManyElements {
             estimated,
@@ -405,15 +511,15 @@ pub fn mesh_body(geometry: &BodyGeometry, limits: &MeshLimits) -> Result<Mesh, M
         });
     }
     let mesh = match element {
-        ElementKind::Q1 => quads::mesh_rectangle(&polygon, hmax, breakpoints, tol)?,
+        ElementKind::Q1 => quads::mesh_rectangle(&polygon, hmax, &field, breakpoints, tol)?,
         ElementKind::P1 => {
-            let points = boundary::discretise(&polygon, hmax, breakpoints, tol);
+            let points = boundary::discretise(&polygon, hmax, breakpoints, tol, &field);
             let budget = estimated
                 .saturating_mul(2)
                 .saturating_add(points.len().saturating_mul(10))
                 .saturating_add(1000)
                 .min(limits.max_elements.saturating_add(points.len()));
-            triangles::mesh_polygon(&points, hmax, limits, budget)?
+            triangles::mesh_polygon(&points, hmax, &field, limits, budget)?
         }
     };
     if mesh.cells.len() > limits.max_elements {

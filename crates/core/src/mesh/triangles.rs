@@ -16,7 +16,8 @@ use spade::{
 
 use crate::geometry::{bounding_box, Point};
 
-use super::lattice::lattice_points;
+use super::lattice::{lattice_points, lattice_points_in};
+use super::sizing::SizeField;
 use super::{Cells, Mesh, MeshError, MeshLimits};
 
 type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
@@ -71,10 +72,12 @@ fn snap_relative(x: f64) -> f64 {
 }
 
 /// Triangulates the closed counter-clockwise loop `boundary` (distinct points) with every edge
-/// ≤ `hmax`.  `vertex_budget` bounds the Steiner points spade may insert.
+/// ≤ `hmax`, or, for a graded `field`, every interior edge ≤ h at its midpoint.
+/// `vertex_budget` bounds the Steiner points spade may insert.
 pub(crate) fn mesh_polygon(
     boundary: &[Point],
     hmax: f64,
+    field: &SizeField,
     limits: &MeshLimits,
     vertex_budget: usize,
 ) -> Result<Mesh, MeshError> {
@@ -90,8 +93,17 @@ pub(crate) fn mesh_polygon(
         extent,
     };
     let h = snap_relative(hmax / extent);
+    let field = (!field.is_uniform())
+        .then(|| field.scaled(normaliser.origin, extent, snap_relative));
     match catch_unwind(AssertUnwindSafe(|| {
-        triangulate(boundary, h, &normaliser, limits, vertex_budget)
+        triangulate(
+            boundary,
+            h,
+            field.as_ref(),
+            &normaliser,
+            limits,
+            vertex_budget,
+        )
     })) {
         Ok(result) => result,
         Err(_) => Err(MeshError::Triangulation {
@@ -100,9 +112,41 @@ pub(crate) fn mesh_polygon(
     }
 }
 
+/// Interior seeds of a graded mesh (unit coordinates): nested equilateral lattices, level k of
+/// spacing 0.9 h 2⁻ᵏ keeping the points where h(p) ∈ [h 2⁻ᵏ, h 2¹⁻ᵏ) (level 0: h(p) = h), so
+/// every seed's lattice spacing lies in (0.45, 0.9] h(p).  The lattices are nested (each
+/// contains the coarser ones), so seeds of different levels are never closer than the finer
+/// spacing.  Each level visits only the box where h is below its upper bound.
+fn graded_seeds(unit: &[Point], field: &SizeField) -> Vec<Point> {
+    let h = field.hmax();
+    let mut seeds = lattice_points_in(unit, LATTICE * h, GAP * LATTICE * h, None, |p| {
+        field.at(p) >= h
+    });
+    let hmin = field.hmin();
+    let mut top = h;
+    while top > hmin && top > h * 1e-12 {
+        let low = 0.5 * top;
+        if let Some(window) = field.zone_below(top) {
+            seeds.extend(lattice_points_in(
+                unit,
+                LATTICE * low,
+                GAP * LATTICE * low,
+                Some(window),
+                |p| {
+                    let hp = field.at(p);
+                    hp >= low && hp < top
+                },
+            ));
+        }
+        top = low;
+    }
+    seeds
+}
+
 fn triangulate(
     boundary: &[Point],
     h: f64,
+    field: Option<&SizeField>,
     normaliser: &Normaliser,
     limits: &MeshLimits,
     vertex_budget: usize,
@@ -110,7 +154,10 @@ fn triangulate(
     let n = boundary.len();
     let mut vertices: Vec<Point2<f64>> = boundary.iter().map(|&p| normaliser.to_unit(p)).collect();
     let unit: Vec<Point> = vertices.iter().map(|p| [p.x, p.y]).collect();
-    let seeds = lattice_points(&unit, LATTICE * h, GAP * LATTICE * h);
+    let seeds = match field {
+        None => lattice_points(&unit, LATTICE * h, GAP * LATTICE * h),
+        Some(field) => graded_seeds(&unit, field),
+    };
     let expected = n + seeds.len();
     vertices.extend(seeds.into_iter().map(|[x, y]| Point2::new(x, y)));
     let edges: Vec<[usize; 2]> = (0..n).map(|i| [i, (i + 1) % n]).collect();
@@ -132,8 +179,15 @@ fn triangulate(
 
     // Decisions are taken on the snapped h with a margin that covers the difference between the
     // snapped boundary points spade sees and the original ones the mesh returns.
-    let margin = 1e-9 + 4.0 * GRID / h;
-    let threshold2 = (h * (1.0 - margin)).powi(2);
+    let threshold2 = |h: f64| {
+        let margin = 1e-9 + 4.0 * GRID / h;
+        (h * (1.0 - margin)).powi(2)
+    };
+    let uniform2 = threshold2(h);
+    let too_long = |length2: f64, centre: Point2<f64>| match field {
+        None => length2 > uniform2,
+        Some(field) => length2 > threshold2(field.at([centre.x, centre.y])),
+    };
     let max_vertices = n.saturating_add(vertex_budget);
     let parameters = |cdt: &Cdt| {
         RefinementParameters::<f64>::new()
@@ -158,7 +212,7 @@ fn triangulate(
             }
         }
         let inside = inside_faces(&cdt, n)?;
-        let long = long_edge_midpoints(&cdt, &inside, threshold2);
+        let long = long_edge_midpoints(&cdt, &inside, &too_long);
         if long.is_empty() {
             break inside;
         }
@@ -242,14 +296,14 @@ fn face_min_angle(p: [Point2<f64>; 3]) -> f64 {
     m.to_degrees()
 }
 
-/// Midpoints of the non-boundary edges of inside faces longer than √threshold2.
+/// Midpoints of the non-boundary edges of inside faces that are `too_long(length², midpoint)`.
 fn long_edge_midpoints(
     cdt: &Cdt,
     inside: &[bool],
-    threshold2: f64,
+    too_long: &impl Fn(f64, Point2<f64>) -> bool,
 ) -> Vec<(Point2<f64>, FixedVertexHandle)> {
     cdt.undirected_edges()
-        .filter(|e| !e.is_constraint_edge() && e.length_2() > threshold2)
+        .filter(|e| !e.is_constraint_edge() && too_long(e.length_2(), e.center()))
         .filter(|e| {
             let d = e.as_directed();
             [d, d.rev()]
