@@ -305,8 +305,9 @@ impl std::fmt::Display for ModelWarning {
 }
 
 /// Meshes every body.  Break points make the mesh exact where it matters: other bodies' corners
-/// on this boundary (conforming interfaces) and the crossings of every region box that names the
-/// body (supported and loaded lengths exact for every hmax).
+/// on this boundary (conforming interfaces), the crossings of every region box that names the
+/// body (supported and loaded lengths exact for every hmax) and those of the body's
+/// `[[body.refine]]` boxes.
 pub fn mesh_scene(scene: &Scene, limits: &MeshLimits) -> Result<Vec<Mesh>, ModelError> {
     let tol = scene.tolerance();
     let mut meshes = Vec::with_capacity(scene.bodies.len());
@@ -333,6 +334,9 @@ pub fn mesh_scene(scene: &Scene, limits: &MeshLimits) -> Result<Vec<Mesh>, Model
                 .filter(|n| n.body == b)
                 .map(|n| n.region),
         );
+        // Refined regions' crossings too, so the fine zone starts and ends at a node (and two
+        // bodies with the same refine boxes break their shared edges at the same points).
+        regions.extend(body.refine.iter().map(|r| r.region));
         for r in &regions {
             breaks.extend(mesh::box_crossings(&body.polygon, r, tol));
         }

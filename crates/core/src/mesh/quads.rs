@@ -49,18 +49,38 @@ pub(crate) fn as_rectangle(polygon: &[Point], tol: f64) -> Option<[f64; 4]> {
     Some(b)
 }
 
+/// The x and y lines of the graded grid on the rectangle `b` (see [`mesh_rectangle`]).
+pub(crate) fn graded_grid(
+    polygon: &[Point],
+    hmax: f64,
+    field: &SizeField,
+    breakpoints: &[Point],
+    b: &[f64; 4],
+    tol: f64,
+) -> (Vec<f64>, Vec<f64>) {
+    let (bx, by) = grid_breaks(polygon, breakpoints, field, b, tol);
+    (
+        graded_ticks(&bx, hmax, &field.along_x(b, tol)),
+        graded_ticks(&by, hmax, &field.along_y(b, tol)),
+    )
+}
+
 /// Break values of a graded grid on the rectangle `b`: x of the vertices and break points on
-/// the bottom and top sides, y of those on the left and right sides (ends included, sorted,
-/// de-duplicated within `tol`, ends pinned to the box).
+/// the bottom and top sides and of the refined boxes' sides, y of those on the left and right
+/// sides and of the boxes' sides (ends included, sorted, de-duplicated within `tol`, ends
+/// pinned to the box), so every refined box inside the rectangle is a union of cells.
 fn grid_breaks(
     polygon: &[Point],
     breakpoints: &[Point],
+    field: &SizeField,
     b: &[f64; 4],
     tol: f64,
 ) -> (Vec<f64>, Vec<f64>) {
     let mut xs = vec![b[0], b[1]];
     let mut ys = vec![b[2], b[3]];
     let inside = |v: f64, lo: f64, hi: f64| v >= lo - tol && v <= hi + tol;
+    xs.extend(field.region_sides(0).filter(|&x| inside(x, b[0], b[1])));
+    ys.extend(field.region_sides(1).filter(|&y| inside(y, b[2], b[3])));
     for p in polygon.iter().chain(breakpoints) {
         if !(p[0].is_finite() && p[1].is_finite()) {
             continue;
@@ -147,11 +167,7 @@ pub(crate) fn mesh_rectangle(
         }
         (merged(xs, tol), merged(ys, tol))
     } else {
-        let (bx, by) = grid_breaks(polygon, breakpoints, &b, tol);
-        (
-            graded_ticks(&bx, hmax, &field.along_x(&b, tol)),
-            graded_ticks(&by, hmax, &field.along_y(&b, tol)),
-        )
+        graded_grid(polygon, hmax, field, breakpoints, &b, tol)
     };
     // Pin the ends to the exact box (the corners are polygon vertices).
     if let Some(first) = xs.first_mut() {

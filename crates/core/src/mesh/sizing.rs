@@ -25,9 +25,10 @@ pub const GRADING: f64 = 1.25;
 /// Slope of the size function, G − 1.
 const SLOPE: f64 = GRADING - 1.0;
 
-/// Most steps or cells an estimate integral takes before answering +∞ (≈ 10⁸ elements, beyond
-/// any limit worth estimating precisely; keeps absurd requests such as hmax = 1e-300 cheap).
-const MAX_WORK: usize = 1 << 28;
+/// Most steps or cells an estimate integral takes before answering +∞ (≈ 1.7e7 quadtree cells
+/// of area ≥ h² / 4 each, i.e. beyond ≈ 3e7 elements; keeps absurd requests such as a region
+/// hmax of 1e-200 to about a second).
+const MAX_WORK: usize = 1 << 24;
 
 /// Relative slack of the piece-length checks (as in `ceil(len / hmax − 1e-9)`).
 const SLACK: f64 = 1e-9;
@@ -111,11 +112,23 @@ impl SizeField {
                 let g = [b[0] - d, b[1] + d, b[2] - d, b[3] + d];
                 out = Some(match out {
                     None => g,
-                    Some(o) => [o[0].min(g[0]), o[1].max(g[1]), o[2].min(g[2]), o[3].max(g[3])],
+                    Some(o) => [
+                        o[0].min(g[0]),
+                        o[1].max(g[1]),
+                        o[2].min(g[2]),
+                        o[3].max(g[3]),
+                    ],
                 });
             }
         }
         out
+    }
+
+    /// The sides of the regions along `axis` (0: x1 and x2 of each box, 1: y1 and y2).
+    pub(crate) fn region_sides(&self, axis: usize) -> impl Iterator<Item = f64> + '_ {
+        self.regions
+            .iter()
+            .flat_map(move |(b, _)| [b[2 * axis], b[2 * axis + 1]])
     }
 
     /// The same field in the coordinates u = (x − origin) / extent, lengths mapped by `size`
@@ -263,7 +276,11 @@ impl SizeField {
                 }
                 let (s0, f0) = table[k];
                 let (s1, f1) = table[(k + 1).min(table.len() - 1)];
-                let w = if f1 > f0 { (target - f0) / (f1 - f0) } else { 0.0 };
+                let w = if f1 > f0 {
+                    (target - f0) / (f1 - f0)
+                } else {
+                    0.0
+                };
                 s.push(s0 + w * (s1 - s0));
             }
             s.push(len);
@@ -329,7 +346,12 @@ impl SizeField {
 
 /// Bounding box of a segment.
 fn segment_box(a: Point, b: Point) -> [f64; 4] {
-    [a[0].min(b[0]), a[0].max(b[0]), a[1].min(b[1]), a[1].max(b[1])]
+    [
+        a[0].min(b[0]),
+        a[0].max(b[0]),
+        a[1].min(b[1]),
+        a[1].max(b[1]),
+    ]
 }
 
 #[cfg(test)]
@@ -400,7 +422,10 @@ mod tests {
         // = 4 ln(0.1 / 0.01), then 0.04 at hmax.
         let exact = 20.0 + 2.0 * (4.0 * 10f64.ln() + 0.04 / 0.1);
         let integral = f.pieces_along(a, b);
-        assert!((integral - exact).abs() < 1e-3 * exact, "{integral} vs {exact}");
+        assert!(
+            (integral - exact).abs() < 1e-3 * exact,
+            "{integral} vs {exact}"
+        );
         // The piece count is the integral rounded up, plus at most a few percent.
         let pieces = all.len() - 1;
         assert!(pieces as f64 >= exact - 1e-6 && (pieces as f64) <= 1.05 * exact + 1.0);

@@ -93,8 +93,8 @@ pub(crate) fn mesh_polygon(
         extent,
     };
     let h = snap_relative(hmax / extent);
-    let field = (!field.is_uniform())
-        .then(|| field.scaled(normaliser.origin, extent, snap_relative));
+    let field =
+        (!field.is_uniform()).then(|| field.scaled(normaliser.origin, extent, snap_relative));
     match catch_unwind(AssertUnwindSafe(|| {
         triangulate(
             boundary,
@@ -116,7 +116,8 @@ pub(crate) fn mesh_polygon(
 /// spacing 0.9 h 2⁻ᵏ keeping the points where h(p) ∈ [h 2⁻ᵏ, h 2¹⁻ᵏ) (level 0: h(p) = h), so
 /// every seed's lattice spacing lies in (0.45, 0.9] h(p).  The lattices are nested (each
 /// contains the coarser ones), so seeds of different levels are never closer than the finer
-/// spacing.  Each level visits only the box where h is below its upper bound.
+/// spacing.  Seeds keep 0.54 × the level's largest h from the boundary.  Each level visits
+/// only the box where h is below its upper bound.
 fn graded_seeds(unit: &[Point], field: &SizeField) -> Vec<Point> {
     let h = field.hmax();
     let mut seeds = lattice_points_in(unit, LATTICE * h, GAP * LATTICE * h, None, |p| {
@@ -130,7 +131,10 @@ fn graded_seeds(unit: &[Point], field: &SizeField) -> Vec<Point> {
             seeds.extend(lattice_points_in(
                 unit,
                 LATTICE * low,
-                GAP * LATTICE * low,
+                // The gap of the level's largest h, as on the uniform lattice: a seed closer to
+                // a boundary edge of length ≈ h than 0.54 h makes a sliver there that the
+                // refinement may not split (boundary edges are kept).
+                GAP * LATTICE * top,
                 Some(window),
                 |p| {
                     let hp = field.at(p);
