@@ -281,8 +281,9 @@ pub fn estimate_elements(polygon: &[Point], hmax: f64, element: ElementKind) -> 
 /// exactly.  Saturates like it (also when the integrals below would take more than ≈ 10⁸ steps).
 ///
 /// P1: ∫ dA / (c h(x)²) + ∫ ds / h(x) over the polygon and its boundary, with h the size
-/// function (see the module docs), c = 0.3 where h = hmax and [`P1_GRADED_AREA_PER_ELEMENT`]
-/// in the graded zone (measured: the graded seeds' spacing lies between 0.45 and 0.9 h).
+/// function (see the module docs), c = 0.3 where h = hmax or h = the finest region's size
+/// and [`P1_GRADED_AREA_PER_ELEMENT`] elsewhere (measured: the graded seeds' spacing lies
+/// between 0.45 and 0.9 h there).
 /// Q1: the graded tensor grid's cell count on the bounding box, without break points (they
 /// add a few lines; exact without them).
 ///
@@ -326,19 +327,20 @@ pub fn estimate_elements_refined(
     saturating_count(estimate)
 }
 
-/// Mean P1 triangle area in the graded zone, as a multiple of h(x)² (measured: fits of
-/// (elements − area / (0.35 hmax²)) against ∫ (1/h² − 1/hmax²) dA gave 0.137–0.19 on four
-/// graded blocks of `tests/mesh_grading.rs`; the nested seed lattices are spaced 0.45–0.9 h).
-pub const P1_GRADED_AREA_PER_ELEMENT: f64 = 0.14;
+/// Mean P1 triangle area in the graded zone outside the finest boxes, as a multiple of h(x)²
+/// (measured: fits of (elements − uniform part) against ∫ (1/h² − 1/hmax²) dA gave 0.136–0.2
+/// on graded blocks of `tests/mesh_grading.rs`; the seed lattices there are spaced 0.45–0.9 h).
+/// Inside the finest boxes the seeds are the uniform lattice of their size, and
+/// [`estimate_elements`]' 0.3 applies.
+pub const P1_GRADED_AREA_PER_ELEMENT: f64 = 0.15;
 
 /// ∫ dA / (c h²) + ∫ ds / h for a graded P1 mesh (c as documented at
 /// [`estimate_elements_refined`]).
 fn p1_graded_elements(polygon: &[Point], field: &sizing::SizeField) -> f64 {
     let area = signed_area(polygon).abs();
     let hmax = field.hmax();
-    let uniform = area / (hmax * hmax);
-    let graded = field.inverse_square_integral(polygon, area) - uniform;
-    uniform / P1_AREA_PER_ELEMENT
+    let [finest, graded] = field.excess_inverse_square(polygon);
+    (area / (hmax * hmax) + finest) / P1_AREA_PER_ELEMENT
         + graded / P1_GRADED_AREA_PER_ELEMENT
         + graded_boundary_pieces(polygon, field)
 }

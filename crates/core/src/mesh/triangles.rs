@@ -112,37 +112,57 @@ pub(crate) fn mesh_polygon(
     }
 }
 
-/// Interior seeds of a graded mesh (unit coordinates): nested equilateral lattices, level k of
-/// spacing 0.9 h 2⁻ᵏ keeping the points where h(p) ∈ [h 2⁻ᵏ, h 2¹⁻ᵏ) (level 0: h(p) = h), so
-/// every seed's lattice spacing lies in (0.45, 0.9] h(p).  The lattices are nested (each
-/// contains the coarser ones), so seeds of different levels are never closer than the finer
-/// spacing.  Seeds keep 0.54 × the level's largest h from the boundary.  Each level visits
-/// only the box where h is below its upper bound.
+/// Interior seeds of a graded mesh (unit coordinates).  Where h(p) = hmax: the uniform
+/// lattice (spacing 0.9 hmax).  Elsewhere nested equilateral lattices anchored at the finest
+/// size hmin: level k has spacing 0.9 hmin 2ᵏ and keeps the points where h(p) ∈
+/// [hmin 2ᵏ, hmin 2ᵏ⁺¹) (below hmax), so the finest boxes get exactly the uniform lattice of
+/// their size and every seed's spacing lies in (0.45, 0.9] h(p).  The levels' lattices are
+/// nested, so their seeds are never closer than the finer spacing; the last level and the
+/// hmax lattice are not, so its seeds within 0.7 × its spacing of a kept hmax-lattice point
+/// are dropped.  Seeds keep 0.54 × the level's largest h from the boundary (a seed closer to
+/// a boundary edge of length ≈ h makes a sliver there that the refinement may not split:
+/// boundary edges are kept).  Each level visits only the box where h is below its upper bound.
 fn graded_seeds(unit: &[Point], field: &SizeField) -> Vec<Point> {
     let h = field.hmax();
-    let mut seeds = lattice_points_in(unit, LATTICE * h, GAP * LATTICE * h, None, |p| {
-        field.at(p) >= h
-    });
-    let hmin = field.hmin();
-    let mut top = h;
-    while top > hmin && top > h * 1e-12 {
-        let low = 0.5 * top;
+    let coarse = LATTICE * h;
+    let mut seeds = lattice_points_in(unit, coarse, GAP * coarse, None, |p| field.at(p) >= h);
+    // Is a point of the hmax lattice with h ≥ hmax within `r` of p?  (The lattice is analytic:
+    // rows y = j R, R = S √3 / 2, odd rows shifted by S / 2.)
+    let row = coarse * 3f64.sqrt() / 2.0;
+    let near_coarse = |p: Point, r: f64| {
+        let j0 = (p[1] / row).round() as i64;
+        (j0 - 1..=j0 + 1).any(|j| {
+            let shift = if j.rem_euclid(2) == 1 {
+                0.5 * coarse
+            } else {
+                0.0
+            };
+            let k0 = ((p[0] - shift) / coarse).round() as i64;
+            (k0 - 1..=k0 + 1).any(|k| {
+                let q = [k as f64 * coarse + shift, j as f64 * row];
+                let d = (q[0] - p[0]).hypot(q[1] - p[1]);
+                d < r && field.at(q) >= h
+            })
+        })
+    };
+    let mut low = field.hmin();
+    while low < h && low > h * 1e-12 {
+        let top = (2.0 * low).min(h);
+        let last = top >= h;
+        let spacing = LATTICE * low;
         if let Some(window) = field.zone_below(top) {
             seeds.extend(lattice_points_in(
                 unit,
-                LATTICE * low,
-                // The gap of the level's largest h, as on the uniform lattice: a seed closer to
-                // a boundary edge of length ≈ h than 0.54 h makes a sliver there that the
-                // refinement may not split (boundary edges are kept).
+                spacing,
                 GAP * LATTICE * top,
                 Some(window),
                 |p| {
                     let hp = field.at(p);
-                    hp >= low && hp < top
+                    hp >= low && hp < top && !(last && near_coarse(p, 0.7 * spacing))
                 },
             ));
         }
-        top = low;
+        low *= 2.0;
     }
     seeds
 }
@@ -237,10 +257,54 @@ fn triangulate(
                 })?;
             inserted.push(v);
         }
-        for v in inserted {
+        for &v in &inserted {
             for edge in cdt.vertex(v).out_edges() {
                 if let Some(face) = edge.face().as_inner() {
                     worst = worst.min(face_min_angle(face.positions()));
+                }
+            }
+        }
+        if field.is_some() {
+            // Graded: splits cascade along the size function's level changes a few edges at a
+            // time, so follow them locally (the edges at the new vertices, all inside) instead
+            // of one full scan per step.
+            let mut frontier = inserted;
+            loop {
+                let mut local: Vec<(Point2<f64>, FixedVertexHandle)> = frontier
+                    .iter()
+                    .flat_map(|&v| cdt.vertex(v).out_edges().map(move |e| (v, e)))
+                    .filter(|(_, e)| {
+                        let u = e.as_undirected();
+                        !u.is_constraint_edge() && too_long(u.length_2(), u.center())
+                    })
+                    .map(|(v, e)| (e.as_undirected().center(), v))
+                    .collect();
+                local.sort_by(|a, b| a.0.x.total_cmp(&b.0.x).then(a.0.y.total_cmp(&b.0.y)));
+                local.dedup_by(|a, b| a.0 == b.0);
+                if local.is_empty() {
+                    break;
+                }
+                if cdt.num_vertices().saturating_add(local.len()) > max_vertices {
+                    return Err(MeshError::RefinementIncomplete {
+                        vertices: cdt.num_vertices(),
+                        budget: max_vertices,
+                    });
+                }
+                frontier = Vec::with_capacity(local.len());
+                for (p, hint) in local {
+                    let v =
+                        cdt.insert_with_hint(p, hint)
+                            .map_err(|e| MeshError::Triangulation {
+                                reason: format!("inserting an edge midpoint failed: {e:?}"),
+                            })?;
+                    frontier.push(v);
+                }
+                for &v in &frontier {
+                    for edge in cdt.vertex(v).out_edges() {
+                        if let Some(face) = edge.face().as_inner() {
+                            worst = worst.min(face_min_angle(face.positions()));
+                        }
+                    }
                 }
             }
         }
