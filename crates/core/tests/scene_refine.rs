@@ -1,0 +1,104 @@
+//! `[[body.refine]]` at the scene level: what validation refuses (each message names the table
+//! and the key), what it accepts, and that the refined body really is meshed finer near the box.
+
+mod common;
+
+use common::{invalid, replaced, TWO_BLOCKS};
+use signorini_core::mesh::MeshLimits;
+use signorini_core::model::mesh_scene;
+use signorini_core::scene::Scene;
+
+/// TWO_BLOCKS with a refine table appended to the upper body (hmax 0.2).
+fn with_refine(table: &str) -> String {
+    replaced(
+        TWO_BLOCKS,
+        "young = 0.0021\npoisson = 0.3\n",
+        &format!("young = 0.0021\npoisson = 0.3\n\n[[body.refine]]\n{table}\n"),
+    )
+}
+
+#[test]
+fn refine_hmax_not_below_the_body_hmax_is_refused() {
+    for hmax in ["0.2", "0.3"] {
+        let (section, key, reason) = invalid(&with_refine(&format!(
+            "region = [1, 2, 0.9, 1.1]\nhmax = {hmax}"
+        )));
+        assert_eq!(key, "hmax");
+        assert!(
+            section.contains("upper") && section.contains("refine #1"),
+            "{section}"
+        );
+        assert!(reason.contains("0.2"), "{reason}");
+    }
+    for hmax in ["0", "-0.1", "nan", "inf"] {
+        let (section, key, _) = invalid(&with_refine(&format!(
+            "region = [1, 2, 0.9, 1.1]\nhmax = {hmax}"
+        )));
+        assert_eq!(key, "hmax", "{hmax}");
+        assert!(section.contains("refine #1"));
+    }
+}
+
+#[test]
+fn refine_box_outside_the_body_is_refused() {
+    // The upper body is [0, 2] × [1, 2]; this box lies below it.
+    let (section, key, reason) =
+        invalid(&with_refine("region = [0.5, 1.5, 0.2, 0.5]\nhmax = 0.05"));
+    assert_eq!(key, "region");
+    assert!(
+        section.contains("upper") && section.contains("refine #1"),
+        "{section}"
+    );
+    assert!(reason.contains("outside"), "{reason}");
+}
+
+#[test]
+fn refine_region_needs_four_ordered_numbers() {
+    let (section, key, reason) = invalid(&with_refine("region = [1, 2, 1.5]\nhmax = 0.05"));
+    assert_eq!(key, "region");
+    assert!(section.contains("refine #1"), "{section}");
+    assert!(reason.contains("needs 4"), "{reason}");
+    let (_, key, _) = invalid(&with_refine("region = [2, 1, 1.5, 1.8]\nhmax = 0.05"));
+    assert_eq!(key, "region");
+}
+
+#[test]
+fn refine_box_meshes_the_body_finer_there_only() {
+    // A box along the interface y = 1, x ∈ [1, 2]: the upper body's bottom edge there is split
+    // into pieces ≤ 0.02, outside the box's influence the edges stay ≤ 0.2.
+    let text = with_refine("region = [1, 2, 0.95, 1.05]\nhmax = 0.02");
+    let scene = Scene::from_toml(&text).unwrap();
+    assert_eq!(scene.bodies[0].refine.len(), 1);
+    let meshes = mesh_scene(&scene, &MeshLimits::default()).unwrap();
+    let upper = &meshes[0];
+    let on_interface: Vec<f64> = upper
+        .nodes
+        .iter()
+        .filter(|p| p[1] == 1.0 && (1.0..=2.0).contains(&p[0]))
+        .map(|p| p[0])
+        .collect();
+    // 1 / 0.02 = 50 pieces at least on [1, 2].
+    assert!(on_interface.len() >= 51, "{}", on_interface.len());
+    // The lower body has no refine table: its mesh is the one without (hmax 0.2: 6 nodes on
+    // [1, 2] as in the seed), so the interface is non-conforming, as with unequal hmax.
+    let lower = &meshes[1];
+    let lower_interface = lower
+        .nodes
+        .iter()
+        .filter(|p| p[1] == 1.0 && (1.0..=2.0).contains(&p[0]))
+        .count();
+    assert_eq!(lower_interface, 6);
+    // Far from the box (x < 0.3, y > 1.8): h = hmax, so edges there may reach 0.2 and the mesh
+    // there is as coarse as the uniform one (no node closer than 0.05 to another).
+    let far: Vec<[f64; 2]> = upper
+        .nodes
+        .iter()
+        .copied()
+        .filter(|p| p[0] < 0.3 && p[1] > 1.8)
+        .collect();
+    for (i, p) in far.iter().enumerate() {
+        for q in &far[i + 1..] {
+            assert!((p[0] - q[0]).hypot(p[1] - q[1]) > 0.05, "{p:?} {q:?}");
+        }
+    }
+}
