@@ -1,6 +1,8 @@
 //! `[[body.refine]]` at the scene level: what validation refuses (each message names the table
 //! and the key), what it accepts, and that the refined body really is meshed finer near the box.
 
+#![allow(clippy::unwrap_used)] // tests may unwrap (helpers included)
+
 mod common;
 
 use common::{invalid, replaced, TWO_BLOCKS};

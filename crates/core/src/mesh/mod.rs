@@ -25,6 +25,20 @@
 //! **Q1.**  Structured grid on an axis-aligned rectangle: x from the split points of the bottom
 //! and top sides, y from those of the left and right sides.
 //!
+//! **Graded meshes** (`refine` not empty).  The size function is
+//! h(x) = min(hmax, min over regions of (h_r + (G − 1) · dist(x, box_r))) with the growth factor
+//! G = [`GRADING`] = 1.25 (see `sizing.rs`): h_r inside each box, growing by G per element away
+//! from it, hmax beyond.  Boundary: each sub-interval between break points on which h < hmax
+//! somewhere is split into n pieces of equal ∫ ds / h, n = ceil(∫ ds / h − 1e-9) raised until
+//! every piece is ≤ h at its midpoint; computed from the lexicographically smaller end as
+//! before, so two bodies with the same hmax and refine boxes stay conforming (sub-intervals
+//! where h ≡ hmax keep the even rule).  P1 seeds: the uniform lattice where h = hmax, nested
+//! lattices of spacing 0.9 hmin 2ᵏ where h ∈ [hmin 2ᵏ, hmin 2ᵏ⁺¹) elsewhere; refinement splits
+//! every interior edge longer than h at its midpoint (cascades followed locally).  Q1: a
+//! tensor grid whose lines split the intervals between the break values (vertices, break
+//! points, box sides) by h's minimum over each grid column / row.  Without regions every path
+//! above is the uniform one, bit for bit.
+//!
 //! **Cost on long thin bodies.**  The boundary split, the seed lattice (through a cell grid)
 //! and the refinement rounds are near-linear in the node count; spade's bulk loader
 //! (`bulk_load_cdt`) is not on elongated point sets: its hull lookup buckets the hull by
