@@ -334,11 +334,23 @@ pub fn mesh_scene(scene: &Scene, limits: &MeshLimits) -> Result<Vec<Mesh>, Model
                 .filter(|n| n.body == b)
                 .map(|n| n.region),
         );
-        // Refined regions' crossings too, so the fine zone starts and ends at a node (and two
-        // bodies with the same refine boxes break their shared edges at the same points).
-        regions.extend(body.refine.iter().map(|r| r.region));
         for r in &regions {
             breaks.extend(mesh::box_crossings(&body.polygon, r, tol));
+        }
+        // Refined regions' crossings too, so the fine zone starts and ends at a node (and two
+        // bodies with the same refine boxes break their shared edges at the same points).  A
+        // crossing closer than half the region's size to a vertex would only make a short edge
+        // (a sliver) next to a node that is exact already: skipped.
+        for r in &body.refine {
+            breaks.extend(
+                mesh::box_crossings(&body.polygon, &r.region, tol)
+                    .into_iter()
+                    .filter(|p| {
+                        body.polygon
+                            .iter()
+                            .all(|v| crate::geometry::distance(*v, *p) >= 0.5 * r.hmax)
+                    }),
+            );
         }
         // A contact box only selects candidate nodes; a crossing just beside a corner (the thin
         // box's side along a side edge) would force a sliver element, so those are skipped.

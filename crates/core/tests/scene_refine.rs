@@ -104,3 +104,40 @@ fn refine_box_meshes_the_body_finer_there_only() {
         }
     }
 }
+
+/// A refine box whose side passes just beside a corner (0.001 from x = 0) must not force a
+/// sliver: that crossing is skipped (the corner is a node already), so the P1 mesh keeps the
+/// 20° bound and the Q1 grid has no column narrower than half the region's size.
+#[test]
+fn refine_box_beside_a_corner_makes_no_sliver() {
+    for element in ["p1", "q1"] {
+        let text = replaced(
+            &with_refine("region = [0.001, 0.5, 1.5, 2.0]\nhmax = 0.05"),
+            "hmax = 0.2\n",
+            &format!("hmax = 0.2\nelement = \"{element}\"\n"),
+        );
+        let scene = Scene::from_toml(&text).unwrap();
+        let limits = MeshLimits::default();
+        let upper = &mesh_scene(&scene, &limits).unwrap()[0];
+        if element == "p1" {
+            assert!(
+                upper.min_angle_deg() >= limits.min_angle_deg - 1e-9,
+                "{}",
+                upper.min_angle_deg()
+            );
+        } else {
+            let mut xs: Vec<f64> = upper.nodes.iter().map(|p| p[0]).collect();
+            xs.sort_by(f64::total_cmp);
+            xs.dedup();
+            let narrowest = xs.windows(2).map(|w| w[1] - w[0]).fold(f64::MAX, f64::min);
+            assert!(narrowest >= 0.025 * (1.0 - 1e-9), "{narrowest}");
+        }
+        // The fine zone is there: many nodes on the top edge within the box.
+        let fine = upper
+            .nodes
+            .iter()
+            .filter(|p| p[1] == 2.0 && p[0] <= 0.5)
+            .count();
+        assert!(fine >= 10, "{element}: {fine}");
+    }
+}

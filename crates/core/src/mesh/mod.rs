@@ -462,6 +462,10 @@ pub fn estimate_nodes_refined(
 /// every boundary edge once with the body on its left.  For P1 the boundary nodes come first
 /// (node `i` to `i + 1` is boundary edge `i`).
 ///
+/// With `refine` regions (finer than `hmax`) the mesh is graded: "≤ `hmax`" above becomes
+/// "≤ h(midpoint)" with the size function of the module docs, and bodies conform when they
+/// share `hmax` and `refine`.  Without them the mesh is the uniform one, bit for bit.
+///
 /// # Errors
 /// [`MeshError`] for invalid parameters, a degenerate polygon, Q1 on a non-rectangle, an
 /// estimate above `limits.max_elements` (checked before anything large is allocated) or a

@@ -79,8 +79,21 @@ fn grid_breaks(
     let mut xs = vec![b[0], b[1]];
     let mut ys = vec![b[2], b[3]];
     let inside = |v: f64, lo: f64, hi: f64| v >= lo - tol && v <= hi + tol;
-    xs.extend(field.region_sides(0).filter(|&x| inside(x, b[0], b[1])));
-    ys.extend(field.region_sides(1).filter(|&y| inside(y, b[2], b[3])));
+    // A box side closer than half its region's size to the rectangle's side would only make a
+    // sliver row or column: skipped (the side is a grid line already).
+    let away = |v: f64, h: f64, lo: f64, hi: f64| v - lo >= 0.5 * h && hi - v >= 0.5 * h;
+    xs.extend(
+        field
+            .region_sides(0)
+            .filter(|&(x, h)| away(x, h, b[0], b[1]))
+            .map(|(x, _)| x),
+    );
+    ys.extend(
+        field
+            .region_sides(1)
+            .filter(|&(y, h)| away(y, h, b[2], b[3]))
+            .map(|(y, _)| y),
+    );
     for p in polygon.iter().chain(breakpoints) {
         if !(p[0].is_finite() && p[1].is_finite()) {
             continue;

@@ -124,11 +124,12 @@ impl SizeField {
         out
     }
 
-    /// The sides of the regions along `axis` (0: x1 and x2 of each box, 1: y1 and y2).
-    pub(crate) fn region_sides(&self, axis: usize) -> impl Iterator<Item = f64> + '_ {
+    /// The sides of the regions along `axis` (0: x1 and x2 of each box, 1: y1 and y2), each
+    /// with its region's size.
+    pub(crate) fn region_sides(&self, axis: usize) -> impl Iterator<Item = (f64, f64)> + '_ {
         self.regions
             .iter()
-            .flat_map(move |(b, _)| [b[2 * axis], b[2 * axis + 1]])
+            .flat_map(move |(b, h)| [(b[2 * axis], *h), (b[2 * axis + 1], *h)])
     }
 
     /// The same field in the coordinates u = (x − origin) / extent, lengths mapped by `size`
