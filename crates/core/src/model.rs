@@ -340,14 +340,17 @@ pub fn mesh_scene(scene: &Scene, limits: &MeshLimits) -> Result<Vec<Mesh>, Model
         // Refined regions' crossings too, so the fine zone starts and ends at a node (and two
         // bodies with the same refine boxes break their shared edges at the same points).  A
         // crossing closer than half the region's size to a vertex would only make a short edge
-        // (a sliver) next to a node that is exact already: skipped.
+        // (a sliver) next to a node that is exact already: skipped.  Any body's vertex counts,
+        // so that two bodies sharing an edge skip the same crossings and stay conforming.
         for r in &body.refine {
             breaks.extend(
                 mesh::box_crossings(&body.polygon, &r.region, tol)
                     .into_iter()
                     .filter(|p| {
-                        body.polygon
+                        scene
+                            .bodies
                             .iter()
+                            .flat_map(|o| o.polygon.iter())
                             .all(|v| crate::geometry::distance(*v, *p) >= 0.5 * r.hmax)
                     }),
             );

@@ -141,3 +141,46 @@ fn refine_box_beside_a_corner_makes_no_sliver() {
         assert!(fine >= 10, "{element}: {fine}");
     }
 }
+
+/// Two blocks sharing the edge y = 1, x ∈ [1, 2], both with the same refine box across the
+/// interface (and one of its sides 0.01 from the lower block's corner (1, 1), so the sliver
+/// rule applies to one body's vertex only): `mesh_scene` gives both the same interface nodes.
+#[test]
+fn equal_refine_boxes_keep_the_interface_conforming() {
+    let table = "\n[[body.refine]]\nregion = [1.01, 1.6, 0.9, 1.1]\nhmax = 0.04\n";
+    let mut text = replaced(
+        TWO_BLOCKS,
+        "poisson = 0.3\n",
+        &format!("poisson = 0.3\n{table}"),
+    );
+    text = replaced(
+        &text,
+        "poisson = 0.34\n",
+        &format!("poisson = 0.34\n{table}"),
+    );
+    for element in ["p1", "q1"] {
+        let text = text.replace(
+            "hmax = 0.2\n",
+            &format!("hmax = 0.2\nelement = \"{element}\"\n"),
+        );
+        let scene = Scene::from_toml(&text).unwrap();
+        assert!(scene.bodies.iter().all(|b| b.refine.len() == 1));
+        let meshes = mesh_scene(&scene, &MeshLimits::default()).unwrap();
+        let interface = |i: usize| {
+            let mut x: Vec<f64> = meshes[i]
+                .nodes
+                .iter()
+                .filter(|p| p[1] == 1.0 && (1.0..=2.0).contains(&p[0]))
+                .map(|p| p[0])
+                .collect();
+            x.sort_by(f64::total_cmp);
+            x
+        };
+        let (a, b) = (interface(0), interface(1));
+        // 0.59 / 0.04 ≈ 15 pieces inside the box alone.
+        assert!(a.len() > 18, "{element}: {}", a.len());
+        assert_eq!(a, b, "{element}");
+        // The crossing 0.01 from the corner (1, 1) is not a node; the other one (1.6) is.
+        assert!(!a.contains(&1.01) && a.contains(&1.6), "{element}: {a:?}");
+    }
+}

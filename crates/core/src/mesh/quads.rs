@@ -79,21 +79,6 @@ fn grid_breaks(
     let mut xs = vec![b[0], b[1]];
     let mut ys = vec![b[2], b[3]];
     let inside = |v: f64, lo: f64, hi: f64| v >= lo - tol && v <= hi + tol;
-    // A box side closer than half its region's size to the rectangle's side would only make a
-    // sliver row or column: skipped (the side is a grid line already).
-    let away = |v: f64, h: f64, lo: f64, hi: f64| v - lo >= 0.5 * h && hi - v >= 0.5 * h;
-    xs.extend(
-        field
-            .region_sides(0)
-            .filter(|&(x, h)| away(x, h, b[0], b[1]))
-            .map(|(x, _)| x),
-    );
-    ys.extend(
-        field
-            .region_sides(1)
-            .filter(|&(y, h)| away(y, h, b[2], b[3]))
-            .map(|(y, _)| y),
-    );
     for p in polygon.iter().chain(breakpoints) {
         if !(p[0].is_finite() && p[1].is_finite()) {
             continue;
@@ -107,6 +92,19 @@ fn grid_breaks(
             ys.push(p[1].clamp(b[2], b[3]));
         }
     }
+    // A box side closer than half its region's size to another break value (a side, a vertex,
+    // another body's corner) would only make a sliver row or column: skipped, for every body
+    // alike (they see the same break values on a shared edge), so interfaces stay conforming.
+    let with_sides = |mut v: Vec<f64>, axis: usize| {
+        let sides: Vec<f64> = field
+            .region_sides(axis)
+            .filter(|&(t, h)| v.iter().all(|&w| (t - w).abs() >= 0.5 * h))
+            .map(|(t, _)| t)
+            .collect();
+        v.extend(sides);
+        v
+    };
+    let (xs, ys) = (with_sides(xs, 0), with_sides(ys, 1));
     let pin = |mut v: Vec<f64>, lo: f64, hi: f64| {
         v.retain(|&t| t == lo || t == hi || (t - lo > tol && hi - t > tol));
         merged(v, tol)
