@@ -25,9 +25,10 @@ pub const GRADING: f64 = 1.25;
 /// Slope of the size function, G − 1.
 const SLOPE: f64 = GRADING - 1.0;
 
-/// Most steps or cells an estimate integral takes before answering +∞ (≈ 1.7e7 quadtree cells
-/// of area ≥ h² / 4 each, i.e. beyond ≈ 3e7 elements; keeps absurd requests such as a region
-/// hmax of 1e-200 to about a second).
+/// Most steps or cells an estimate integral takes before answering +∞: 1.7e7 quadtree leaves
+/// (side between h / 2 and h, so 0.6–1.2 elements each) means a graded mesh beyond ≈ 1.5e7
+/// elements, which is refused even with a raised `--max-elements`; it keeps absurd requests
+/// such as a region hmax of 1e-200 to a second or two.
 const MAX_WORK: usize = 1 << 24;
 
 /// Relative slack of the piece-length checks (as in `ceil(len / hmax − 1e-9)`).
