@@ -32,6 +32,41 @@ pub fn csc(rows: usize, cols: usize, dense: &[&[f64]]) -> sprs::CsMat<f64> {
     t.to_csc()
 }
 
+/// Builds a CSC matrix from (row, col, value) triplets; duplicates are summed.
+pub fn csc_from_triplets(
+    rows: usize,
+    cols: usize,
+    entries: &[(usize, usize, f64)],
+) -> sprs::CsMat<f64> {
+    let mut t = TriMat::new((rows, cols));
+    for &(i, j, v) in entries {
+        t.add_triplet(i, j, v);
+    }
+    t.to_csc()
+}
+
+/// The QP `min ½xᵀAx − fᵀx, Bx ≤ g` with A (n × n) and B (m × n) given as triplets; an error
+/// when the data are not a valid QP (see [`QpProblem::try_new`]).
+pub fn qp_from_triplets(
+    n: usize,
+    a: &[(usize, usize, f64)],
+    f: Vec<f64>,
+    m: usize,
+    b: &[(usize, usize, f64)],
+    g: Vec<f64>,
+) -> Result<QpProblem, crate::qp::QpError> {
+    QpProblem::try_new(csc_from_triplets(n, n, a), f, csc_from_triplets(m, n, b), g)
+}
+
+/// max |value − reference| / max |reference| (the denominator kept above 1e-300).
+pub fn rel_diff(value: &[f64], reference: &[f64]) -> f64 {
+    let scale = reference
+        .iter()
+        .fold(0.0_f64, |m, v| m.max(v.abs()))
+        .max(1e-300);
+    max_diff(value, reference) / scale
+}
+
 fn qp(a: sprs::CsMat<f64>, f: Vec<f64>, b: sprs::CsMat<f64>, g: Vec<f64>) -> QpProblem {
     QpProblem::try_new(a, f, b, g)
         .unwrap_or_else(|e| unreachable!("hand-built example is valid: {e}"))

@@ -125,8 +125,10 @@ pub enum ModelWarning {
         /// Why.
         reason: NoRowReason,
     },
-    /// Slave candidate nodes with no facing master segment (within its span, on its outer side):
-    /// they have no row, so nothing keeps them out of the master.
+    /// Slave candidate nodes that got no row: node-to-segment, no facing master segment (within
+    /// its span, on its outer side); mortar, less than a quarter of the node's share of the slave
+    /// interface is covered by the master (the ends of the contact zone).  Nothing keeps these
+    /// nodes themselves out of the master.
     UnmatchedNodes {
         /// 1-based pair index.
         pair: usize,
@@ -251,7 +253,7 @@ impl std::fmt::Display for ModelWarning {
                 candidates,
             } => write!(
                 f,
-                "contact #{pair}: {nodes} of {candidates} candidate node(s) of slave \"{slave}\" face no segment of master \"{master}\" and have no constraint row"
+                "contact #{pair}: {nodes} of {candidates} candidate node(s) of slave \"{slave}\" face no segment of master \"{master}\" (mortar: the master covers less than a quarter of their share of the interface) and have no constraint row"
             ),
             ModelWarning::TributaryFallback {
                 pair,
@@ -305,8 +307,9 @@ impl std::fmt::Display for ModelWarning {
 }
 
 /// Meshes every body.  Break points make the mesh exact where it matters: other bodies' corners
-/// on this boundary (conforming interfaces) and the crossings of every region box that names the
-/// body (supported and loaded lengths exact for every hmax).
+/// on this boundary (conforming interfaces), the crossings of every region box that names the
+/// body (supported and loaded lengths exact for every hmax) and those of the body's
+/// `[[body.refine]]` boxes.
 pub fn mesh_scene(scene: &Scene, limits: &MeshLimits) -> Result<Vec<Mesh>, ModelError> {
     let tol = scene.tolerance();
     let mut meshes = Vec::with_capacity(scene.bodies.len());
@@ -335,6 +338,24 @@ pub fn mesh_scene(scene: &Scene, limits: &MeshLimits) -> Result<Vec<Mesh>, Model
         );
         for r in &regions {
             breaks.extend(mesh::box_crossings(&body.polygon, r, tol));
+        }
+        // Refined regions' crossings too, so the fine zone starts and ends at a node (and two
+        // bodies with the same refine boxes break their shared edges at the same points).  A
+        // crossing closer than half the region's size to a vertex would only make a short edge
+        // (a sliver) next to a node that is exact already: skipped.  Any body's vertex counts,
+        // so that two bodies sharing an edge skip the same crossings and stay conforming.
+        for r in &body.refine {
+            breaks.extend(
+                mesh::box_crossings(&body.polygon, &r.region, tol)
+                    .into_iter()
+                    .filter(|p| {
+                        scene
+                            .bodies
+                            .iter()
+                            .flat_map(|o| o.polygon.iter())
+                            .all(|v| crate::geometry::distance(*v, *p) >= 0.5 * r.hmax)
+                    }),
+            );
         }
         // A contact box only selects candidate nodes; a crossing just beside a corner (the thin
         // box's side along a side edge) would force a sliver element, so those are skipped.

@@ -3,8 +3,10 @@
 
 use serde::Serialize;
 
+pub mod arc;
 pub mod balance;
 
+pub use arc::{interface_arc, ArcPosition};
 pub use balance::{force_balance, BodyBalance, ForceBalance};
 
 use crate::fem::{self, element};
@@ -12,7 +14,7 @@ use crate::geometry::Point;
 use crate::mesh::{Cells, Mesh};
 use crate::model::{Effect, Model, ModelWarning};
 use crate::qp::{mat_vec, KktResiduals};
-use crate::scene::Scene;
+use crate::scene::{Formulation, Scene};
 use crate::solve::Solution;
 
 /// Wall-clock time of each phase, in seconds.
@@ -66,11 +68,22 @@ pub struct ContactNodeReport {
     pub initial_gap: f64,
     /// Contact force λ at the node (≥ 0, per unit thickness).
     pub multiplier: f64,
-    /// λ divided by the node's tributary length.
+    /// The contact pressure λ / `weight` (force per unit thickness per unit length: a stress).
     pub pressure: f64,
-    /// Whether the row counts as in contact ([`is_active`]); the VTU's pressure and the SVG's
-    /// contact edges use the same test.
+    /// Whether the row counts as in contact ([`is_active`]); the VTU's pressure, the SVG's
+    /// contact edges and `pressure.svg`'s filled markers use the same test.
     pub active: bool,
+    /// The length the multiplier is divided by to give `pressure` (the row's
+    /// [`tributary`](crate::contact::ContactRow::tributary)): node-to-segment, the node's
+    /// tributary length on the slave interface (half of each adjacent slave edge facing the
+    /// master); mortar, D_jj = ∫N_j over the part of the slave interface the master covers.
+    pub weight: f64,
+    /// Arc-length coordinate of the node along the pair's slave interface, in the scene's length
+    /// unit (see [`arc`] for its origin, direction and how disjoint pieces are laid end to end).
+    pub s: f64,
+    /// The interface piece the node lies on (0-based, in the order of [`arc`]; one piece for a
+    /// connected interface).
+    pub piece: usize,
 }
 
 /// One contact pair.
@@ -80,6 +93,8 @@ pub struct ContactReport {
     pub bodies: [String; 2],
     /// Slave body name.
     pub slave: String,
+    /// How the pair's rows were built (`"node-to-segment"` or `"mortar"`).
+    pub formulation: Formulation,
     /// True when slave and master interface nodes coincide.
     pub conforming: bool,
     /// Number of rows.
@@ -88,7 +103,8 @@ pub struct ContactReport {
     pub active: usize,
     /// Sum of the multipliers: the total normal force transmitted.
     pub normal_force: f64,
-    /// Per slave node.
+    /// Per slave node, one per row, in row order (the order of the slave node indices, not
+    /// along the interface: sort by `piece`, then `s`, to walk along it).
     pub nodes: Vec<ContactNodeReport>,
 }
 
@@ -382,7 +398,9 @@ pub fn run_report(
         let mut nodes = Vec::with_capacity(pair.rows.len());
         let mut active = 0;
         let mut normal_force = 0.0;
-        for r in &pair.rows {
+        let slave_nodes: Vec<usize> = pair.rows.iter().map(|r| r.slave_node).collect();
+        let arc = interface_arc(&model.meshes[pair.slave], &slave_nodes);
+        for (r, place) in pair.rows.iter().zip(&arc) {
             let l = solution.multipliers.get(row).copied().unwrap_or(0.0);
             let on = is_active(l, largest);
             if on {
@@ -397,6 +415,9 @@ pub fn run_report(
                 multiplier: l,
                 pressure: l / r.tributary,
                 active: on,
+                weight: r.tributary,
+                s: place.s,
+                piece: place.piece,
             });
             row += 1;
         }
@@ -405,6 +426,7 @@ pub fn run_report(
         contacts.push(ContactReport {
             bodies: spec.bodies.map(|k| scene.bodies[k].name.clone()),
             slave: scene.bodies[pair.slave].name.clone(),
+            formulation: pair.formulation,
             conforming: pair.conforming,
             constraints: pair.rows.len(),
             active,

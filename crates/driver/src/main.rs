@@ -80,7 +80,8 @@ fn parse_tol(text: &str) -> Result<f64, String> {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Mesh, assemble and solve a scene; write result.json, solution.vtu and deformed.svg.
+    /// Mesh, assemble and solve a scene; write result.json, solution.vtu, deformed.svg and, when
+    /// the scene has contact rows, pressure.svg.
     Solve {
         #[command(flatten)]
         common: Common,

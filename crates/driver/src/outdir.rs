@@ -1,7 +1,7 @@
 //! Output directories written as a whole: one command's files appear together or not at all.
 //!
 //! A command (`solve`, `compare`, `sweep`) writes a *set* of files into one directory:
-//! `result.json`, `solution.vtu` and `deformed.svg`; `compare.json` and `compare.csv`;
+//! `result.json`, `solution.vtu`, `deformed.svg` and (with contact rows) `pressure.svg`; `compare.json` and `compare.csv`;
 //! `sweep.csv` and its plots.  Writing each file atomically is not enough: a failure between two files, or two
 //! runs into the same directory, would leave files of different runs side by side.  So:
 //!

@@ -220,15 +220,22 @@ pub fn first_non_finite(report: &RunReport, fields: &[BodyFields]) -> Option<Str
     None
 }
 
-/// The files of a solve, `result.json` (the primary, moved into place last) first.
-pub const SOLVE_FILES: [&str; 3] = ["result.json", "solution.vtu", "deformed.svg"];
+/// The files of a solve, `result.json` (the primary, moved into place last) first;
+/// `pressure.svg` only when the model has contact rows.
+pub const SOLVE_FILES: [&str; 4] = [
+    "result.json",
+    "solution.vtu",
+    "deformed.svg",
+    "pressure.svg",
+];
 
-/// Writes `result.json`, `solution.vtu` and `deformed.svg` into `dir` (created if missing) as
-/// one output set (see [`crate::outdir`]): under the directory's lock (a concurrent run into the
+/// Writes `result.json`, `solution.vtu`, `deformed.svg` and — when the model has at least one
+/// contact row — `pressure.svg` ([`output::pressure`]) into `dir` (created if missing) as one
+/// output set (see [`crate::outdir`]): under the directory's lock (a concurrent run into the
 /// same directory is refused with [`OutputError::Locked`]), staged beside the targets and moved
-/// into place together, `result.json` last.  If anything fails, the directory keeps its previous
-/// files unchanged and no temporary file is left.  Returns the paths written, in the order
-/// above.
+/// into place together, `result.json` last.  A `pressure.svg` of an earlier run is removed when
+/// this one has no contact row.  If anything fails, the directory keeps its previous files
+/// unchanged and no temporary file is left.  Returns the paths written, in the order above.
 pub fn write_outputs(
     dir: &Path,
     scene: &Scene,
@@ -259,6 +266,9 @@ pub fn write_outputs(
     set.write(SOLVE_FILES[1], |w| output::write_vtu_to(w, &bodies))?;
     let svg = output::render_deformed_svg(&scene.title, &bodies)?;
     set.write(SOLVE_FILES[2], |w| w.write_all(svg.as_bytes()))?;
+    if let Some(svg) = output::render_pressure_svg(&scene.title, &outcome.report)? {
+        set.write(SOLVE_FILES[3], |w| w.write_all(svg.as_bytes()))?;
+    }
     set.commit()
 }
 

@@ -21,19 +21,24 @@ fn stderr(o: &Output) -> String {
 }
 
 #[test]
-fn solve_without_a_scene_runs_experiment_2b_and_writes_three_files() {
+fn solve_without_a_scene_runs_experiment_2b_and_writes_four_files() {
     let dir = tempfile::tempdir().unwrap();
     let o = signorini(&["solve", "--out", "res"], dir.path());
     assert!(o.status.success(), "{}", stderr(&o));
     let out = dir.path().join("res");
-    for f in ["result.json", "solution.vtu", "deformed.svg"] {
+    for f in [
+        "result.json",
+        "solution.vtu",
+        "deformed.svg",
+        "pressure.svg",
+    ] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
     let names: Vec<String> = std::fs::read_dir(&out)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
-    assert_eq!(names.len(), 3, "no stray temporary files: {names:?}");
+    assert_eq!(names.len(), 4, "no stray temporary files: {names:?}");
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
     for key in [

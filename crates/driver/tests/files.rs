@@ -78,10 +78,23 @@ fn a_failed_write_leaves_the_previous_solve_byte_identical() {
     let written = run::write_outputs(&dir, &scene, &outcome).unwrap();
     assert_eq!(
         file_names(&written),
-        ["result.json", "solution.vtu", "deformed.svg"]
+        [
+            "result.json",
+            "solution.vtu",
+            "deformed.svg",
+            "pressure.svg"
+        ]
     );
     let before = snapshot(&dir);
-    assert_eq!(names(&dir), ["deformed.svg", "result.json", "solution.vtu"]);
+    assert_eq!(
+        names(&dir),
+        [
+            "deformed.svg",
+            "pressure.svg",
+            "result.json",
+            "solution.vtu"
+        ]
+    );
 
     // A second result whose fields do not fit its mesh: result.json is staged first, then the
     // VTU writer fails.  Before output sets, result.json was already replaced at that point.
@@ -94,7 +107,15 @@ fn a_failed_write_leaves_the_previous_solve_byte_identical() {
 
     // The same result written again replaces the set, still without stray files.
     run::write_outputs(&dir, &scene, &outcome).unwrap();
-    assert_eq!(names(&dir), ["deformed.svg", "result.json", "solution.vtu"]);
+    assert_eq!(
+        names(&dir),
+        [
+            "deformed.svg",
+            "pressure.svg",
+            "result.json",
+            "solution.vtu"
+        ]
+    );
 }
 
 #[test]
@@ -158,6 +179,7 @@ fn a_directory_in_use_is_refused_by_every_writer() {
             "compare.csv",
             "compare.json",
             "deformed.svg",
+            "pressure.svg",
             "result.json",
             "solution.vtu"
         ]

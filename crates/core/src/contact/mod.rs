@@ -1,4 +1,9 @@
-//! Node-to-segment contact constraints.
+//! Contact constraints: node-to-segment (this file) and mortar (`contact/mortar/mod.rs`), chosen
+//! per pair by `[[contact]] formulation`.  Both share what is written here about candidates, the
+//! slave choice and initial overlaps, and give one row per slave node (`ContactRow`); they differ
+//! in how a row's master weights, normal, gap and pressure weight are computed.
+//!
+//! # Node-to-segment
 //!
 //! For each contact pair, candidate boundary nodes are those in the pair's region box (or, with no
 //! box, within one element size of the other body).  The side with more candidates is the slave
@@ -415,7 +420,7 @@ fn contact_rows_with(
         let conforming = !touching.is_empty()
             && touching
                 .iter()
-                .all(|r| r.masters.iter().any(|&(_, w)| w == 1.0));
+                .all(|r| r.masters.iter().any(|&(_, w)| (w - 1.0).abs() <= 1e-12));
         let mut with_row = vec![false; meshes[slave].nodes.len()];
         for r in &rows {
             with_row[r.slave_node] = true;

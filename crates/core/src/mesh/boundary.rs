@@ -4,10 +4,13 @@
 //! break point lying on the edge (distance ≤ `tol`), sorted along the edge; each sub-interval
 //! between consecutive break points is split evenly into `k = ceil(len / hmax − 1e-9)` pieces.
 //! Sub-interval points are computed from the lexicographically smaller end point, so two bodies
-//! that share a sub-interval compute the same points whatever their orientations.
+//! that share a sub-interval compute the same points whatever their orientations.  With a graded
+//! size field, sub-intervals where h < hmax somewhere are split by [`SizeField::split`] instead
+//! (same end rule).
 
 use crate::geometry::{distance, orient, project_on_segment, signed_area, Point};
 
+use super::sizing::SizeField;
 use super::MeshError;
 
 /// Relative slack in `k = ceil(len / hmax − 1e-9)`.
@@ -100,9 +103,22 @@ fn edge_breaks(a: Point, b: Point, breakpoints: &[Point], tol: f64) -> Vec<Point
 }
 
 /// Appends the points of sub-interval `p → q` to `out`: `p` and the `k − 1` interior points
-/// (not `q`).
-fn push_subinterval(out: &mut Vec<Point>, p: Point, q: Point, hmax: f64) {
+/// (not `q`).  Where the size field is below `hmax` somewhere on the sub-interval, the graded
+/// splitting of [`SizeField::split`] replaces the even one (computed from the lexicographically
+/// smaller end, like it).
+fn push_subinterval(out: &mut Vec<Point>, p: Point, q: Point, hmax: f64, field: &SizeField) {
     out.push(p);
+    if !field.is_uniform() {
+        let forward = (p[0], p[1]) <= (q[0], q[1]);
+        let (a, b) = if forward { (p, q) } else { (q, p) };
+        if let Some(mut points) = field.split(a, b) {
+            if !forward {
+                points.reverse();
+            }
+            out.extend(points);
+            return;
+        }
+    }
     let k = pieces(distance(p, q), hmax);
     if k <= 1 {
         return;
@@ -123,11 +139,13 @@ fn push_subinterval(out: &mut Vec<Point>, p: Point, q: Point, hmax: f64) {
 
 /// The discretised boundary of a counter-clockwise polygon (as returned by [`clean_polygon`]),
 /// as a closed counter-clockwise loop of distinct points (the last connects to the first).
+/// `field` grades the sub-intervals it refines (a uniform field gives the even rule alone).
 pub(crate) fn discretise(
     polygon: &[Point],
     hmax: f64,
     breakpoints: &[Point],
     tol: f64,
+    field: &SizeField,
 ) -> Vec<Point> {
     let n = polygon.len();
     let mut out = Vec::new();
@@ -136,10 +154,10 @@ pub(crate) fn discretise(
         let b = polygon[(i + 1) % n];
         let mut prev = a;
         for q in edge_breaks(a, b, breakpoints, tol) {
-            push_subinterval(&mut out, prev, q, hmax);
+            push_subinterval(&mut out, prev, q, hmax, field);
             prev = q;
         }
-        push_subinterval(&mut out, prev, b, hmax);
+        push_subinterval(&mut out, prev, b, hmax, field);
     }
     out
 }
@@ -247,5 +265,77 @@ fn segment_crossings(p1: Point, p2: Point, q1: Point, q2: Point, tol: f64, out: 
         let s = d1 / (d1 - d2);
         let x = [p1[0] + s * (p2[0] - p1[0]), p1[1] + s * (p2[1] - p1[1])];
         out.extend(on_q(x));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Refinement;
+
+    fn field() -> SizeField {
+        SizeField::new(
+            0.2,
+            &[Refinement {
+                region: [0.9, 1.1, 0.9, 1.1],
+                hmax: 0.01,
+            }],
+        )
+    }
+
+    /// A sub-interval's points do not depend on the direction it is walked in (the condition
+    /// for conforming interfaces between bodies of opposite orientation).
+    #[test]
+    fn graded_subinterval_is_the_same_both_ways() {
+        let f = field();
+        let (p, q) = ([0.0, 1.0], [2.0, 1.0]);
+        let mut forward = Vec::new();
+        push_subinterval(&mut forward, p, q, 0.2, &f);
+        let mut backward = Vec::new();
+        push_subinterval(&mut backward, q, p, 0.2, &f);
+        // forward = [p, interior…], backward = [q, interior reversed…].
+        let mut a: Vec<Point> = forward[1..].to_vec();
+        let mut b: Vec<Point> = backward[1..].to_vec();
+        b.reverse();
+        assert_eq!(a.len(), b.len());
+        assert!(a.len() > 20, "{}", a.len());
+        // Bit-identical, not just close.
+        a.iter_mut().zip(&mut b).for_each(|(x, y)| assert_eq!(x, y));
+    }
+
+    /// A uniform field leaves the even rule untouched, bit for bit.
+    #[test]
+    fn uniform_field_gives_the_even_split() {
+        let uniform = SizeField::new(0.2, &[]);
+        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let points = discretise(&square, 0.3, &[[0.5, 1.0]], 1e-9, &uniform);
+        // 4 pieces on each full side (ceil(1 / 0.3)), 2 on each half of the top.
+        assert_eq!(points.len(), 4 + 4 + 2 + 2 + 4);
+        assert_eq!(points[1], [0.25, 0.0]);
+    }
+
+    /// Where the graded field equals hmax on a whole sub-interval, the even rule applies; a
+    /// sub-interval through the box is split finer, every piece ≤ h at its midpoint.
+    #[test]
+    fn graded_discretisation_refines_near_the_box_only() {
+        let f = field();
+        let square = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.1], [0.0, 1.1]];
+        let points = discretise(&square, 0.2, &[], 1e-9, &f);
+        let n = points.len();
+        let bottom: Vec<&Point> = points.iter().filter(|p| p[1] == 0.0).collect();
+        // The bottom edge is 0.9 below the box: h = 0.01 + 0.25 · 0.9 = 0.235 > hmax: even,
+        // 10 pieces of 0.2, 11 points with both corners.
+        assert_eq!(bottom.len(), 11);
+        assert!(bottom
+            .iter()
+            .all(|p| (p[0] / 0.2 - (p[0] / 0.2).round()).abs() < 1e-12));
+        for i in 0..n {
+            let (a, b) = (points[i], points[(i + 1) % n]);
+            let mid = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+            assert!(distance(a, b) <= f.at(mid) * (1.0 + 1e-9));
+        }
+        let top = points.iter().filter(|p| p[1] == 1.1).count();
+        // The top edge runs along the box's top side for 0.2 at h 0.01: > 20 pieces.
+        assert!(top > 30, "{top}");
     }
 }

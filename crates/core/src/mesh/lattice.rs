@@ -8,14 +8,33 @@ use crate::geometry::Point;
 /// origin) strictly inside the closed loop `boundary` and at distance ≥ `gap` from every
 /// boundary segment.  Deterministic: depends only on the inputs, in row-major order.
 pub(crate) fn lattice_points(boundary: &[Point], spacing: f64, gap: f64) -> Vec<Point> {
+    lattice_points_in(boundary, spacing, gap, None, |_| true)
+}
+
+/// As [`lattice_points`], restricted to the points inside `window` (`[x1, x2, y1, y2]`, `None`:
+/// everywhere) for which `keep` holds; only the window's rows and columns are visited.
+pub(crate) fn lattice_points_in(
+    boundary: &[Point],
+    spacing: f64,
+    gap: f64,
+    window: Option<[f64; 4]>,
+    keep: impl Fn(Point) -> bool,
+) -> Vec<Point> {
     let n = boundary.len();
     if n < 3 || !(spacing.is_finite() && spacing > 0.0) {
         return Vec::new();
     }
     let row = spacing * 3f64.sqrt() / 2.0;
     let [_, _, y0, y1] = crate::geometry::bounding_box(boundary);
-    let first = (y0 / row).ceil() as i64;
-    let last = (y1 / row).floor() as i64;
+    let mut first = (y0 / row).ceil() as i64;
+    let mut last = (y1 / row).floor() as i64;
+    if let Some(w) = window {
+        if !(w[2] <= w[3] && w[0] <= w[1]) {
+            return Vec::new();
+        }
+        first = first.max((w[2] / row).ceil() as i64);
+        last = last.min((w[3] / row).floor() as i64);
+    }
     if last < first {
         return Vec::new();
     }
@@ -38,11 +57,18 @@ pub(crate) fn lattice_points(boundary: &[Point], spacing: f64, gap: f64) -> Vec<
                 crossing[r as usize].push(i as u32);
             }
         }
-        let (cx0, cx1) = (
+        let (mut cx0, mut cx1) = (
             cell_of(p[0].min(q[0]) - gap, x0),
             cell_of(p[0].max(q[0]) + gap, x0),
         );
-        let (cy0, cy1) = (cell_of(lo - gap, y0), cell_of(hi + gap, y0));
+        let (mut cy0, mut cy1) = (cell_of(lo - gap, y0), cell_of(hi + gap, y0));
+        if let Some(w) = window {
+            // Only the cells of the window's points are ever looked up.
+            cx0 = cx0.max(cell_of(w[0], x0));
+            cx1 = cx1.min(cell_of(w[1], x0));
+            cy0 = cy0.max(cell_of(w[2], y0));
+            cy1 = cy1.min(cell_of(w[3], y0));
+        }
         for cx in cx0..=cx1 {
             for cy in cy0..=cy1 {
                 near.push((cx, cy, i as u32));
@@ -81,7 +107,11 @@ pub(crate) fn lattice_points(boundary: &[Point], spacing: f64, gap: f64) -> Vec<
             0.0
         };
         for pair in xs.chunks_exact(2) {
-            let (a, b) = (pair[0] + gap, pair[1] - gap);
+            let (mut a, mut b) = (pair[0] + gap, pair[1] - gap);
+            if let Some(w) = window {
+                a = a.max(w[0]);
+                b = b.min(w[1]);
+            }
             if a > b {
                 continue;
             }
@@ -89,7 +119,7 @@ pub(crate) fn lattice_points(boundary: &[Point], spacing: f64, gap: f64) -> Vec<
             let k1 = ((b - shift) / spacing).floor() as i64;
             for k in k0..=k1 {
                 let p = [k as f64 * spacing + shift, y];
-                if far_enough(p) {
+                if far_enough(p) && keep(p) {
                     points.push(p);
                 }
             }

@@ -2,7 +2,8 @@
 
 use crate::geometry::{bounding_box, Point};
 
-use super::boundary::discretise;
+use super::boundary::{discretise, pieces};
+use super::sizing::SizeField;
 use super::{Cells, Mesh, MeshError};
 
 /// The rectangle `[x0, x1] × [y0, y1]` when the counter-clockwise polygon is an axis-aligned
@@ -48,6 +49,69 @@ pub(crate) fn as_rectangle(polygon: &[Point], tol: f64) -> Option<[f64; 4]> {
     Some(b)
 }
 
+/// The x and y lines of the graded grid on the rectangle `b` (see [`mesh_rectangle`]).
+pub(crate) fn graded_grid(
+    polygon: &[Point],
+    hmax: f64,
+    field: &SizeField,
+    breakpoints: &[Point],
+    b: &[f64; 4],
+    tol: f64,
+) -> (Vec<f64>, Vec<f64>) {
+    let (bx, by) = grid_breaks(polygon, breakpoints, field, b, tol);
+    (
+        graded_ticks(&bx, hmax, &field.along_x(b, tol)),
+        graded_ticks(&by, hmax, &field.along_y(b, tol)),
+    )
+}
+
+/// Break values of a graded grid on the rectangle `b`: x of the vertices and break points on
+/// the bottom and top sides and of the refined boxes' sides, y of those on the left and right
+/// sides and of the boxes' sides (ends included, sorted, de-duplicated within `tol`, ends
+/// pinned to the box), so every refined box inside the rectangle is a union of cells.
+fn grid_breaks(
+    polygon: &[Point],
+    breakpoints: &[Point],
+    field: &SizeField,
+    b: &[f64; 4],
+    tol: f64,
+) -> (Vec<f64>, Vec<f64>) {
+    let mut xs = vec![b[0], b[1]];
+    let mut ys = vec![b[2], b[3]];
+    let inside = |v: f64, lo: f64, hi: f64| v >= lo - tol && v <= hi + tol;
+    for p in polygon.iter().chain(breakpoints) {
+        if !(p[0].is_finite() && p[1].is_finite()) {
+            continue;
+        }
+        let on_x_side = (p[1] - b[2]).abs() <= tol || (p[1] - b[3]).abs() <= tol;
+        if on_x_side && inside(p[0], b[0], b[1]) {
+            xs.push(p[0].clamp(b[0], b[1]));
+        }
+        let on_y_side = (p[0] - b[0]).abs() <= tol || (p[0] - b[1]).abs() <= tol;
+        if on_y_side && inside(p[1], b[2], b[3]) {
+            ys.push(p[1].clamp(b[2], b[3]));
+        }
+    }
+    // A box side closer than half its region's size to another break value (a side, a vertex,
+    // another body's corner) would only make a sliver row or column: skipped, for every body
+    // alike (they see the same break values on a shared edge), so interfaces stay conforming.
+    let with_sides = |mut v: Vec<f64>, axis: usize| {
+        let sides: Vec<f64> = field
+            .region_sides(axis)
+            .filter(|&(t, h)| v.iter().all(|&w| (t - w).abs() >= 0.5 * h))
+            .map(|(t, _)| t)
+            .collect();
+        v.extend(sides);
+        v
+    };
+    let (xs, ys) = (with_sides(xs, 0), with_sides(ys, 1));
+    let pin = |mut v: Vec<f64>, lo: f64, hi: f64| {
+        v.retain(|&t| t == lo || t == hi || (t - lo > tol && hi - t > tol));
+        merged(v, tol)
+    };
+    (pin(xs, b[0], b[1]), pin(ys, b[2], b[3]))
+}
+
 /// Sorted, de-duplicated (within `tol`) values.
 fn merged(mut values: Vec<f64>, tol: f64) -> Vec<f64> {
     values.sort_by(f64::total_cmp);
@@ -60,31 +124,62 @@ fn merged(mut values: Vec<f64>, tol: f64) -> Vec<f64> {
     out
 }
 
+/// Graded grid lines of one axis: each interval between consecutive `breaks` (sorted,
+/// de-duplicated, ends included) split by the 1D field `field` (evaluated at `[t, 0]`), from its
+/// smaller end; intervals where the field is `hmax` throughout split evenly as on the boundary.
+pub(crate) fn graded_ticks(breaks: &[f64], hmax: f64, field: &SizeField) -> Vec<f64> {
+    let mut out = Vec::new();
+    for w in breaks.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        out.push(a);
+        match field.split([a, 0.0], [b, 0.0]) {
+            Some(points) => out.extend(points.iter().map(|p| p[0])),
+            None => {
+                let k = pieces(b - a, hmax);
+                out.extend((1..k).map(|i| a + (b - a) * i as f64 / k as f64));
+            }
+        }
+    }
+    if let Some(&last) = breaks.last() {
+        out.push(last);
+    }
+    out
+}
+
 /// Structured Q1 mesh of a counter-clockwise axis-aligned rectangle polygon.
 ///
 /// x-coordinates: the union of the boundary split points on the bottom and top sides; y: the
 /// union of those on the left and right sides.  Nodes are numbered row by row from the bottom
 /// left (`j · nx + i`), quads counter-clockwise.
+///
+/// Graded (`field` not uniform): a tensor grid whose x lines split each interval between the x
+/// break values (polygon vertices and break points on the bottom and top sides) by the 1D field
+/// [`SizeField::along_x`] (h's minimum over the grid column), y likewise, so every cell side is
+/// ≤ h everywhere in its cell's column or row.
 pub(crate) fn mesh_rectangle(
     polygon: &[Point],
     hmax: f64,
+    field: &SizeField,
     breakpoints: &[Point],
     tol: f64,
 ) -> Result<Mesh, MeshError> {
     let b = as_rectangle(polygon, tol).ok_or(MeshError::NotARectangle)?;
-    let boundary = discretise(polygon, hmax, breakpoints, tol);
-    let mut xs = Vec::new();
-    let mut ys = Vec::new();
-    for p in &boundary {
-        if (p[1] - b[2]).abs() <= tol || (p[1] - b[3]).abs() <= tol {
-            xs.push(p[0]);
+    let (mut xs, mut ys) = if field.is_uniform() {
+        let boundary = discretise(polygon, hmax, breakpoints, tol, field);
+        let mut xs = Vec::new();
+        let mut ys = Vec::new();
+        for p in &boundary {
+            if (p[1] - b[2]).abs() <= tol || (p[1] - b[3]).abs() <= tol {
+                xs.push(p[0]);
+            }
+            if (p[0] - b[0]).abs() <= tol || (p[0] - b[1]).abs() <= tol {
+                ys.push(p[1]);
+            }
         }
-        if (p[0] - b[0]).abs() <= tol || (p[0] - b[1]).abs() <= tol {
-            ys.push(p[1]);
-        }
-    }
-    let mut xs = merged(xs, tol);
-    let mut ys = merged(ys, tol);
+        (merged(xs, tol), merged(ys, tol))
+    } else {
+        graded_grid(polygon, hmax, field, breakpoints, &b, tol)
+    };
     // Pin the ends to the exact box (the corners are polygon vertices).
     if let Some(first) = xs.first_mut() {
         *first = b[0];

@@ -16,7 +16,8 @@ use spade::{
 
 use crate::geometry::{bounding_box, Point};
 
-use super::lattice::lattice_points;
+use super::lattice::{lattice_points, lattice_points_in};
+use super::sizing::SizeField;
 use super::{Cells, Mesh, MeshError, MeshLimits};
 
 type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
@@ -71,10 +72,12 @@ fn snap_relative(x: f64) -> f64 {
 }
 
 /// Triangulates the closed counter-clockwise loop `boundary` (distinct points) with every edge
-/// ≤ `hmax`.  `vertex_budget` bounds the Steiner points spade may insert.
+/// ≤ `hmax`, or, for a graded `field`, every interior edge ≤ h at its midpoint.
+/// `vertex_budget` bounds the Steiner points spade may insert.
 pub(crate) fn mesh_polygon(
     boundary: &[Point],
     hmax: f64,
+    field: &SizeField,
     limits: &MeshLimits,
     vertex_budget: usize,
 ) -> Result<Mesh, MeshError> {
@@ -90,8 +93,17 @@ pub(crate) fn mesh_polygon(
         extent,
     };
     let h = snap_relative(hmax / extent);
+    let field =
+        (!field.is_uniform()).then(|| field.scaled(normaliser.origin, extent, snap_relative));
     match catch_unwind(AssertUnwindSafe(|| {
-        triangulate(boundary, h, &normaliser, limits, vertex_budget)
+        triangulate(
+            boundary,
+            h,
+            field.as_ref(),
+            &normaliser,
+            limits,
+            vertex_budget,
+        )
     })) {
         Ok(result) => result,
         Err(_) => Err(MeshError::Triangulation {
@@ -100,9 +112,65 @@ pub(crate) fn mesh_polygon(
     }
 }
 
+/// Interior seeds of a graded mesh (unit coordinates).  Where h(p) = hmax: the uniform
+/// lattice (spacing 0.9 hmax).  Elsewhere nested equilateral lattices anchored at the finest
+/// size hmin: level k has spacing 0.9 hmin 2ᵏ and keeps the points where h(p) ∈
+/// [hmin 2ᵏ, hmin 2ᵏ⁺¹) (below hmax), so the finest boxes get exactly the uniform lattice of
+/// their size and every seed's spacing lies in (0.45, 0.9] h(p).  The levels' lattices are
+/// nested, so their seeds are never closer than the finer spacing; the last level and the
+/// hmax lattice are not, so its seeds within 0.7 × its spacing of a kept hmax-lattice point
+/// are dropped.  Seeds keep 0.54 × the level's largest h from the boundary (a seed closer to
+/// a boundary edge of length ≈ h makes a sliver there that the refinement may not split:
+/// boundary edges are kept).  Each level visits only the box where h is below its upper bound.
+fn graded_seeds(unit: &[Point], field: &SizeField) -> Vec<Point> {
+    let h = field.hmax();
+    let coarse = LATTICE * h;
+    let mut seeds = lattice_points_in(unit, coarse, GAP * coarse, None, |p| field.at(p) >= h);
+    // Is a point of the hmax lattice with h ≥ hmax within `r` of p?  (The lattice is analytic:
+    // rows y = j R, R = S √3 / 2, odd rows shifted by S / 2.)
+    let row = coarse * 3f64.sqrt() / 2.0;
+    let near_coarse = |p: Point, r: f64| {
+        let j0 = (p[1] / row).round() as i64;
+        (j0 - 1..=j0 + 1).any(|j| {
+            let shift = if j.rem_euclid(2) == 1 {
+                0.5 * coarse
+            } else {
+                0.0
+            };
+            let k0 = ((p[0] - shift) / coarse).round() as i64;
+            (k0 - 1..=k0 + 1).any(|k| {
+                let q = [k as f64 * coarse + shift, j as f64 * row];
+                let d = (q[0] - p[0]).hypot(q[1] - p[1]);
+                d < r && field.at(q) >= h
+            })
+        })
+    };
+    let mut low = field.hmin();
+    while low < h && low > h * 1e-12 {
+        let top = (2.0 * low).min(h);
+        let last = top >= h;
+        let spacing = LATTICE * low;
+        if let Some(window) = field.zone_below(top) {
+            seeds.extend(lattice_points_in(
+                unit,
+                spacing,
+                GAP * LATTICE * top,
+                Some(window),
+                |p| {
+                    let hp = field.at(p);
+                    hp >= low && hp < top && !(last && near_coarse(p, 0.7 * spacing))
+                },
+            ));
+        }
+        low *= 2.0;
+    }
+    seeds
+}
+
 fn triangulate(
     boundary: &[Point],
     h: f64,
+    field: Option<&SizeField>,
     normaliser: &Normaliser,
     limits: &MeshLimits,
     vertex_budget: usize,
@@ -110,7 +178,10 @@ fn triangulate(
     let n = boundary.len();
     let mut vertices: Vec<Point2<f64>> = boundary.iter().map(|&p| normaliser.to_unit(p)).collect();
     let unit: Vec<Point> = vertices.iter().map(|p| [p.x, p.y]).collect();
-    let seeds = lattice_points(&unit, LATTICE * h, GAP * LATTICE * h);
+    let seeds = match field {
+        None => lattice_points(&unit, LATTICE * h, GAP * LATTICE * h),
+        Some(field) => graded_seeds(&unit, field),
+    };
     let expected = n + seeds.len();
     vertices.extend(seeds.into_iter().map(|[x, y]| Point2::new(x, y)));
     let edges: Vec<[usize; 2]> = (0..n).map(|i| [i, (i + 1) % n]).collect();
@@ -132,8 +203,15 @@ fn triangulate(
 
     // Decisions are taken on the snapped h with a margin that covers the difference between the
     // snapped boundary points spade sees and the original ones the mesh returns.
-    let margin = 1e-9 + 4.0 * GRID / h;
-    let threshold2 = (h * (1.0 - margin)).powi(2);
+    let threshold2 = |h: f64| {
+        let margin = 1e-9 + 4.0 * GRID / h;
+        (h * (1.0 - margin)).powi(2)
+    };
+    let uniform2 = threshold2(h);
+    let too_long = |length2: f64, centre: Point2<f64>| match field {
+        None => length2 > uniform2,
+        Some(field) => length2 > threshold2(field.at([centre.x, centre.y])),
+    };
     let max_vertices = n.saturating_add(vertex_budget);
     let parameters = |cdt: &Cdt| {
         RefinementParameters::<f64>::new()
@@ -158,7 +236,7 @@ fn triangulate(
             }
         }
         let inside = inside_faces(&cdt, n)?;
-        let long = long_edge_midpoints(&cdt, &inside, threshold2);
+        let long = long_edge_midpoints(&cdt, &inside, &too_long);
         if long.is_empty() {
             break inside;
         }
@@ -179,10 +257,54 @@ fn triangulate(
                 })?;
             inserted.push(v);
         }
-        for v in inserted {
+        for &v in &inserted {
             for edge in cdt.vertex(v).out_edges() {
                 if let Some(face) = edge.face().as_inner() {
                     worst = worst.min(face_min_angle(face.positions()));
+                }
+            }
+        }
+        if field.is_some() {
+            // Graded: splits cascade along the size function's level changes a few edges at a
+            // time, so follow them locally (the edges at the new vertices, all inside) instead
+            // of one full scan per step.
+            let mut frontier = inserted;
+            loop {
+                let mut local: Vec<(Point2<f64>, FixedVertexHandle)> = frontier
+                    .iter()
+                    .flat_map(|&v| cdt.vertex(v).out_edges().map(move |e| (v, e)))
+                    .filter(|(_, e)| {
+                        let u = e.as_undirected();
+                        !u.is_constraint_edge() && too_long(u.length_2(), u.center())
+                    })
+                    .map(|(v, e)| (e.as_undirected().center(), v))
+                    .collect();
+                local.sort_by(|a, b| a.0.x.total_cmp(&b.0.x).then(a.0.y.total_cmp(&b.0.y)));
+                local.dedup_by(|a, b| a.0 == b.0);
+                if local.is_empty() {
+                    break;
+                }
+                if cdt.num_vertices().saturating_add(local.len()) > max_vertices {
+                    return Err(MeshError::RefinementIncomplete {
+                        vertices: cdt.num_vertices(),
+                        budget: max_vertices,
+                    });
+                }
+                frontier = Vec::with_capacity(local.len());
+                for (p, hint) in local {
+                    let v =
+                        cdt.insert_with_hint(p, hint)
+                            .map_err(|e| MeshError::Triangulation {
+                                reason: format!("inserting an edge midpoint failed: {e:?}"),
+                            })?;
+                    frontier.push(v);
+                }
+                for &v in &frontier {
+                    for edge in cdt.vertex(v).out_edges() {
+                        if let Some(face) = edge.face().as_inner() {
+                            worst = worst.min(face_min_angle(face.positions()));
+                        }
+                    }
                 }
             }
         }
@@ -242,14 +364,14 @@ fn face_min_angle(p: [Point2<f64>; 3]) -> f64 {
     m.to_degrees()
 }
 
-/// Midpoints of the non-boundary edges of inside faces longer than √threshold2.
+/// Midpoints of the non-boundary edges of inside faces that are `too_long(length², midpoint)`.
 fn long_edge_midpoints(
     cdt: &Cdt,
     inside: &[bool],
-    threshold2: f64,
+    too_long: &impl Fn(f64, Point2<f64>) -> bool,
 ) -> Vec<(Point2<f64>, FixedVertexHandle)> {
     cdt.undirected_edges()
-        .filter(|e| !e.is_constraint_edge() && e.length_2() > threshold2)
+        .filter(|e| !e.is_constraint_edge() && too_long(e.length_2(), e.center()))
         .filter(|e| {
             let d = e.as_directed();
             [d, d.rev()]

@@ -11,6 +11,8 @@
 //!   arrays and their layout).
 //! * [`write_deformed_svg`] plots the undeformed and the magnified deformed meshes; the factor is
 //!   chosen by [`magnification`].
+//! * [`render_pressure_svg`] plots the contact pressure against the arc coordinate along each
+//!   pair's slave interface, from the report (see [`pressure`]).
 //!
 //! Text from the scene (title, body names) may hold anything: in every XML file it is escaped
 //! ([`xml_escape`]) and characters XML 1.0 does not allow are replaced by U+FFFD
@@ -21,12 +23,14 @@ use std::path::{Path, PathBuf};
 
 use signorini_core::mesh::Mesh;
 
+pub mod pressure;
 pub(crate) mod svg;
 mod vtu;
 
 #[cfg(test)]
 mod tests;
 
+pub use pressure::render_pressure_svg;
 pub use svg::{magnification, render_deformed_svg, write_deformed_svg};
 pub use vtu::{write_vtu, write_vtu_to};
 

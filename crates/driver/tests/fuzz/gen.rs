@@ -221,6 +221,7 @@ struct SceneParams {
     contact_region: bool,
     slave: Option<bool>,
     probe: bool,
+    mortar: bool,
 }
 
 fn scene_params() -> impl Strategy<Value = SceneParams> {
@@ -237,6 +238,7 @@ fn scene_params() -> impl Strategy<Value = SceneParams> {
             prop::bool::weighted(0.6),
             prop::option::weighted(0.3, any::<bool>()),
             any::<bool>(),
+            any::<bool>(),
         ),
     )
         .prop_map(
@@ -246,7 +248,7 @@ fn scene_params() -> impl Strategy<Value = SceneParams> {
                 load,
                 linear,
                 values,
-                (contact_region, slave, probe),
+                (contact_region, slave, probe, mortar),
             )| {
                 SceneParams {
                     bodies,
@@ -258,6 +260,7 @@ fn scene_params() -> impl Strategy<Value = SceneParams> {
                     contact_region,
                     slave,
                     probe,
+                    mortar,
                 }
             },
         )
@@ -435,6 +438,9 @@ fn sections(p: &SceneParams) -> Vec<Section> {
         if let Some(upper) = p.slave {
             let s = if upper { &names[i] } else { &names[i - 1] };
             e.push(Entry::new("slave", format!("\"{s}\"")).optional());
+        }
+        if p.mortar {
+            e.push(Entry::new("formulation", "\"mortar\"".to_string()).optional());
         }
         out.push(Section {
             header: "[[contact]]",

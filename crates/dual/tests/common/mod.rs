@@ -1,21 +1,12 @@
 //! Builders shared by the integration tests.
-#![allow(dead_code, clippy::unwrap_used)]
+#![allow(dead_code, unused_imports, clippy::unwrap_used)]
 
 use signorini_core::qp::{
-    checked_status, kkt_residuals, CscMatrix, QpBackend, QpProblem, QpSolution, QpStatus,
-    SolveOptions,
+    checked_status, kkt_residuals, QpBackend, QpProblem, QpSolution, QpStatus, SolveOptions,
 };
 use signorini_dual::{DualBackend, DualSettings};
-use sprs::TriMat;
 
-/// A CSC matrix from (row, col, value) triplets.
-pub fn csc(rows: usize, cols: usize, entries: &[(usize, usize, f64)]) -> CscMatrix {
-    let mut t = TriMat::new((rows, cols));
-    for &(i, j, v) in entries {
-        t.add_triplet(i, j, v);
-    }
-    t.to_csc()
-}
+pub use signorini_core::examples::csc_from_triplets as csc;
 
 /// A QP from triplets.
 pub fn qp(
@@ -26,7 +17,7 @@ pub fn qp(
     b: &[(usize, usize, f64)],
     g: Vec<f64>,
 ) -> QpProblem {
-    QpProblem::try_new(csc(n, n, a), f, csc(m, n, b), g).unwrap()
+    signorini_core::examples::qp_from_triplets(n, a, f, m, b, g).unwrap()
 }
 
 /// The three dual backends with default settings.
@@ -84,11 +75,7 @@ pub fn laplacian_obstacle(nx: usize, ny: usize, rows: usize, stiffness: f64) -> 
     QpProblem::try_new(csc(n, n, &a), f, csc(rows, n, &b), g).unwrap()
 }
 
-/// Max |a − b| / max(‖a‖∞, tiny).
-pub fn rel_diff(a: &[f64], b: &[f64]) -> f64 {
-    let scale = a.iter().fold(0.0_f64, |m, v| m.max(v.abs())).max(1e-300);
-    a.iter()
-        .zip(b)
-        .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()))
-        / scale
+/// max |x − reference| / max |reference| (the reference first, as these tests write it).
+pub fn rel_diff(reference: &[f64], x: &[f64]) -> f64 {
+    signorini_core::examples::rel_diff(x, reference)
 }

@@ -1,0 +1,320 @@
+//! `pressure.svg`: the contact pressure along the slave interface of every contact pair.
+//!
+//! Everything plotted comes from the report (`result.json`'s `contacts`), nothing from the
+//! model: per pair, its slave nodes' `pressure` (λ / `weight`) against their arc coordinate `s`
+//! (see [`signorini_core::report::arc`]), one colour per pair (the palette shared by every plot).
+//!
+//! * An **active** node (`active` in result.json, [`signorini_core::report::is_active`]) is a
+//!   filled circle; consecutive active nodes of one interface piece (in the order of `s`) are
+//!   joined by a line, so the line breaks at inactive nodes and between pieces.
+//! * An **inactive** node is a hollow circle of the pair's colour at its (round-off) pressure,
+//!   not joined: the plot shows where the interface is open.
+//! * A node whose `s` or `pressure` is not finite is left out (a failed solve); the legend then
+//!   says how many.
+//! * The legend names each pair: its number in the scene (1-based), its slave and master bodies
+//!   and its formulation.  Nothing else depends on the formulation: node-to-segment and mortar
+//!   pressures are both λ divided by the row's weight, so their curves are comparable.
+//! * The axes are linear and start at 0 (s ≥ 0; the pressure axis includes 0).  Values outside
+//!   [10⁻³, 10⁵) are plotted divided by a power of ten, which the axis label states
+//!   ("× 1e6"), so that no axis spans extreme magnitudes.
+//!
+//! `solve` writes the file with its other outputs exactly when the model has at least one
+//! contact row ([`render_pressure_svg`] returns `None` otherwise).
+
+use plotters::prelude::*;
+
+use signorini_core::report::{ContactReport, RunReport};
+use signorini_core::scene::Formulation;
+
+use super::svg::PALETTE;
+use super::{xml_sanitize, OutputError};
+
+/// Canvas size in pixels.
+const SIZE: (u32, u32) = (900, 580);
+/// Margin around the chart, in pixels.
+const MARGIN: u32 = 16;
+/// Height of the x tick label area, in pixels.
+const X_LABELS: u32 = 50;
+/// Width of the y tick label area, in pixels.
+const Y_LABELS: u32 = 80;
+/// Marker radius in pixels.
+const MARKER: u32 = 4;
+/// Legend font size in pixels.
+const LEGEND_FONT: u32 = 15;
+/// Height of one legend row in pixels (plotters' layout: font size + margins).
+const LEGEND_ROW: f64 = 21.0;
+/// Grey of the legend entry explaining hollow markers.
+const GREY: RGBColor = RGBColor(120, 120, 120);
+
+/// Legend text of the hollow-marker entry.
+pub const INACTIVE_LABEL: &str = "hollow: inactive node (not in contact)";
+
+/// Plotting error to [`OutputError::Plot`].
+fn plot_err<E: std::fmt::Debug>(e: E) -> OutputError {
+    OutputError::Plot(format!("{e:?}"))
+}
+
+/// The formulation as written in the scene and in result.json.
+fn formulation_name(f: Formulation) -> &'static str {
+    match f {
+        Formulation::NodeToSegment => "node-to-segment",
+        Formulation::Mortar => "mortar",
+    }
+}
+
+/// One pair's points, ready to draw (in plotted units).
+struct PairCurve {
+    /// Legend text.
+    label: String,
+    /// Colour.
+    colour: RGBColor,
+    /// Runs of consecutive active nodes (each drawn as one line).
+    runs: Vec<Vec<(f64, f64)>>,
+    /// Active nodes.
+    active: Vec<(f64, f64)>,
+    /// Inactive nodes.
+    inactive: Vec<(f64, f64)>,
+}
+
+/// The legend text of pair `k` (0-based index among the report's pairs).
+pub fn pair_label(k: usize, c: &ContactReport) -> String {
+    let master = c
+        .bodies
+        .iter()
+        .find(|b| **b != c.slave)
+        .unwrap_or(&c.bodies[1]);
+    format!(
+        "pair {}: {} (slave) on {}, {}",
+        k + 1,
+        c.slave,
+        master,
+        formulation_name(c.formulation)
+    )
+}
+
+/// A power of ten that brings the largest magnitude among `values` into [10⁻³, 10⁵): 1 when
+/// it is there already (or zero), else 10^⌊log₁₀ max⌋ (exponent clamped to ±300).  Returns
+/// (divisor, exponent).
+fn scale(values: impl Iterator<Item = f64>) -> (f64, i32) {
+    let max = values.fold(0.0_f64, |m, v| m.max(v.abs()));
+    if max == 0.0 || (1e-3..1e5).contains(&max) {
+        return (1.0, 0);
+    }
+    let e = (max.log10().floor() as i32).clamp(-300, 300);
+    (10f64.powi(e), e)
+}
+
+/// `desc` with the scale note when `e` ≠ 0.
+fn with_scale(desc: &str, e: i32) -> String {
+    if e == 0 {
+        desc.to_string()
+    } else {
+        format!("{desc} (× 1e{e})")
+    }
+}
+
+/// A linear range holding 0 and every value, padded by 3 % of its width on each side (so that
+/// markers at 0 clear the axis); [−0.03, 1.03] when there is no value or all are 0.
+fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values.fold((0.0_f64, 0.0_f64), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    let width = hi - lo;
+    let (lo, hi, width) = if width > 0.0 && width.is_finite() {
+        (lo, hi, width)
+    } else {
+        (0.0, 1.0, 1.0)
+    };
+    let pad = 0.03 * width;
+    (lo - pad, hi + pad)
+}
+
+/// Largest heading font size in pixels.
+const HEADING_FONT: u32 = 21;
+/// Smallest heading font size in pixels (longer headings are cut).
+const HEADING_FONT_MIN: u32 = 12;
+/// Average glyph width of the sans-serif font, as a fraction of its size (a generous estimate).
+const GLYPH_WIDTH: f64 = 0.5;
+
+/// The heading and its font size, so that it fits the canvas width: the largest size up to
+/// [`HEADING_FONT`] at which it fits, else [`HEADING_FONT_MIN`] with the text cut and ended by
+/// "…".
+fn fit_heading(heading: String) -> (String, u32) {
+    let room = f64::from(SIZE.0 - 2 * MARGIN);
+    let chars = heading.chars().count().max(1) as f64;
+    let fits = (room / (GLYPH_WIDTH * chars)).floor();
+    if fits >= f64::from(HEADING_FONT_MIN) {
+        return (heading, (fits as u32).min(HEADING_FONT));
+    }
+    let keep = (room / (GLYPH_WIDTH * f64::from(HEADING_FONT_MIN))) as usize;
+    let mut cut: String = heading.chars().take(keep.saturating_sub(1)).collect();
+    cut.push('…');
+    (cut, HEADING_FONT_MIN)
+}
+
+/// Renders `pressure.svg` for the report's contact pairs; `None` when the report has no contact
+/// row (then no file is written).  `title` is the scene's title (any text: it is sanitised, and
+/// plotters escapes `& < > " '`).
+pub fn render_pressure_svg(title: &str, report: &RunReport) -> Result<Option<String>, OutputError> {
+    if report.contacts.iter().all(|c| c.nodes.is_empty()) {
+        return Ok(None);
+    }
+    let finite =
+        |n: &&signorini_core::report::ContactNodeReport| n.s.is_finite() && n.pressure.is_finite();
+    let points = || {
+        report
+            .contacts
+            .iter()
+            .flat_map(|c| c.nodes.iter())
+            .filter(finite)
+    };
+    let left_out = report.contacts.iter().flat_map(|c| c.nodes.iter()).count() - points().count();
+    let (sx, ex) = scale(points().map(|n| n.s));
+    let (sy, ey) = scale(points().map(|n| n.pressure));
+
+    let mut curves = Vec::new();
+    for (k, c) in report.contacts.iter().enumerate() {
+        if c.nodes.is_empty() {
+            continue;
+        }
+        let mut nodes: Vec<_> = c.nodes.iter().filter(finite).collect();
+        nodes.sort_by(|a, b| a.piece.cmp(&b.piece).then(a.s.total_cmp(&b.s)));
+        let mut curve = PairCurve {
+            label: xml_sanitize(&pair_label(k, c)),
+            colour: PALETTE[k % PALETTE.len()],
+            runs: Vec::new(),
+            active: Vec::new(),
+            inactive: Vec::new(),
+        };
+        let mut run: Vec<(f64, f64)> = Vec::new();
+        let mut piece = None;
+        for n in nodes {
+            let p = (n.s / sx, n.pressure / sy);
+            if piece != Some(n.piece) || !n.active {
+                if run.len() > 1 {
+                    curve.runs.push(std::mem::take(&mut run));
+                }
+                run.clear();
+                piece = Some(n.piece);
+            }
+            if n.active {
+                run.push(p);
+                curve.active.push(p);
+            } else {
+                curve.inactive.push(p);
+            }
+        }
+        if run.len() > 1 {
+            curve.runs.push(run);
+        }
+        curves.push(curve);
+    }
+
+    let xr = range(points().map(|n| n.s / sx));
+    let yr = range(points().map(|n| n.pressure / sy));
+    let any_inactive = curves.iter().any(|c| !c.inactive.is_empty());
+    let note =
+        (left_out > 0).then(|| format!("{left_out} node(s) with a non-finite value left out"));
+    let rows = curves.len() + usize::from(any_inactive) + usize::from(note.is_some());
+
+    let heading = if title.is_empty() {
+        "contact pressure along the slave interface".to_string()
+    } else {
+        format!("contact pressure: {}", xml_sanitize(title))
+    };
+    let (heading, heading_font) = fit_heading(heading);
+    let x_desc = with_scale("s: arc length along the slave interface", ex);
+    let y_desc = with_scale("contact pressure p = λ / weight", ey);
+
+    let mut buf = String::new();
+    {
+        let root = SVGBackend::with_string(&mut buf, SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        let area = root
+            .titled(&heading, ("sans-serif", heading_font).into_font())
+            .map_err(plot_err)?;
+        let builder = |xr: (f64, f64), yr: (f64, f64)| {
+            let mut b = ChartBuilder::on(&area);
+            b.margin(MARGIN)
+                .margin_right(MARGIN + 12)
+                .x_label_area_size(X_LABELS)
+                .y_label_area_size(Y_LABELS);
+            b.build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
+        };
+        // Measure the plotting area (building draws nothing), then raise the top of the y range
+        // so that the data stays below the legend box in the upper right corner.
+        let (_, ph) = builder(xr, yr)
+            .map_err(plot_err)?
+            .plotting_area()
+            .dim_in_pixel();
+        let legend_h = ((rows as f64 * LEGEND_ROW + 24.0) / f64::from(ph.max(1))).min(0.6);
+        let yr = (yr.0, yr.0 + (yr.1 - yr.0) / (1.0 - legend_h));
+        let mut chart = builder(xr, yr).map_err(plot_err)?;
+        chart
+            .configure_mesh()
+            .x_desc(&x_desc)
+            .y_desc(&y_desc)
+            .label_style(("sans-serif", 14))
+            .axis_desc_style(("sans-serif", 16))
+            .bold_line_style(RGBColor(225, 225, 225))
+            .light_line_style(TRANSPARENT)
+            .draw()
+            .map_err(plot_err)?;
+
+        for c in &curves {
+            let colour = c.colour;
+            let style = colour.stroke_width(2);
+            for run in &c.runs {
+                chart
+                    .draw_series(LineSeries::new(run.iter().copied(), style))
+                    .map_err(plot_err)?;
+            }
+            chart
+                .draw_series(
+                    c.active
+                        .iter()
+                        .map(|&p| Circle::new(p, MARKER, colour.filled())),
+                )
+                .map_err(plot_err)?;
+            chart
+                .draw_series(
+                    c.inactive
+                        .iter()
+                        .map(|&p| Circle::new(p, MARKER, colour.stroke_width(1))),
+                )
+                .map_err(plot_err)?;
+            chart
+                .draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
+                .map_err(plot_err)?
+                .label(c.label.clone())
+                .legend(move |(x, y)| {
+                    EmptyElement::at((x, y))
+                        + PathElement::new([(0, 0), (24, 0)], style)
+                        + Circle::new((12, 0), MARKER, colour.filled())
+                });
+        }
+        if any_inactive {
+            chart
+                .draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
+                .map_err(plot_err)?
+                .label(INACTIVE_LABEL)
+                .legend(|(x, y)| Circle::new((x + 12, y), MARKER, GREY.stroke_width(1)));
+        }
+        if let Some(note) = &note {
+            chart
+                .draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
+                .map_err(plot_err)?
+                .label(note.clone())
+                .legend(|(x, y)| EmptyElement::at((x, y)));
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .margin(10)
+            .label_font(("sans-serif", LEGEND_FONT))
+            .background_style(WHITE.mix(0.9))
+            .border_style(RGBColor(160, 160, 160))
+            .draw()
+            .map_err(plot_err)?;
+        root.present().map_err(plot_err)?;
+    }
+    Ok(Some(buf))
+}
