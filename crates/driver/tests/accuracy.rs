@@ -102,7 +102,6 @@ fn hertz_mortar_graded(h: f64) -> (f64, f64, f64, usize) {
 /// ~0.1 % here; the terms of order (a/R)² = 0.25 % that Hertz's small-slope theory and the
 /// linearised contact conditions neglect; and the discretisation error at a/h = 25.
 #[test]
-#[ignore = "needs mortar/refine"]
 fn hertz_with_mortar_on_a_graded_mesh_is_within_one_percent_of_johnson() {
     let (ea, ep, _, _) = hertz_mortar_graded(0.016);
     assert!(ea.abs() <= 0.01, "half-width off by {:.3} %", 100.0 * ea);
@@ -121,7 +120,6 @@ fn hertz_with_mortar_on_a_graded_mesh_is_within_one_percent_of_johnson() {
 /// the (a/R)² terms: ~0.1–0.25 %, see the test above) flattens the curves as the error
 /// approaches it, which is why the meshes stop at a/25.
 #[test]
-#[ignore = "needs mortar/refine"]
 fn hertz_errors_fall_as_the_graded_mesh_is_refined() {
     let hs = [0.064, 0.032, 0.016];
     let runs: Vec<(f64, f64, f64, usize)> = hs.iter().map(|&h| hertz_mortar_graded(h)).collect();
@@ -156,7 +154,6 @@ fn hertz_errors_fall_as_the_graded_mesh_is_refined() {
 /// (p = 0.01, see the fixture), and mortar reproduces it at every slave node to round-off on
 /// non-matching meshes (issue 10 asks 1e-8).
 #[test]
-#[ignore = "needs mortar/refine"]
 fn the_patch_test_with_mortar_is_exact_at_every_size_and_element() {
     let dir = tempfile::tempdir().unwrap();
     let scene = fixture("patch.toml");
