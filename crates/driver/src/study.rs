@@ -399,7 +399,7 @@ pub fn validate_plan(scene: &Scene, plan: &StudyPlan) -> Result<(), StudyError> 
     if plan.formulations.is_empty() || plan.meshes.is_empty() || plan.elements.is_empty() {
         return err("a study needs at least one formulation, mesh kind and element");
     }
-    if plan.backend.name().is_empty() || !plan.backend.available() {
+    if !plan.backend.available() {
         return Err(StudyError::Plan(format!(
             "backend \"{}\" is not compiled in",
             plan.backend

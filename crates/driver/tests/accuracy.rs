@@ -299,3 +299,29 @@ fn study_refuses_unknown_formulations_meshes_and_elements() {
         assert!(stderr.contains(says), "{stderr}");
     }
 }
+
+#[test]
+fn check_accepts_every_accuracy_fixture() {
+    let dir = fixture("");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let o = signorini(&["check", path.to_str().unwrap()], Path::new("."));
+            assert!(
+                o.status.success(),
+                "{}: {}",
+                path.display(),
+                String::from_utf8_lossy(&o.stderr)
+            );
+            let scene = Scene::from_path(&path).unwrap();
+            assert!(
+                scene.reference.is_some(),
+                "{}: no [reference]",
+                path.display()
+            );
+            n += 1;
+        }
+    }
+    assert_eq!(n, 3, "hertz, hertz-graded, patch");
+}
