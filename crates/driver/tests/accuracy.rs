@@ -325,3 +325,45 @@ fn check_accepts_every_accuracy_fixture() {
     }
     assert_eq!(n, 3, "hertz, hertz-graded, patch");
 }
+
+/// A point that cannot be run is written with status `error` and its message, the others are
+/// still solved, and the exit code is 2 (as for sweep).  hmax 0.005 asks for ~2 × 10⁵ triangles
+/// per block, past `--max-elements 20000`: the preflight refuses that point only.
+#[test]
+fn a_point_that_fails_is_recorded_and_the_exit_code_is_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = fixture("patch.toml");
+    let o = signorini(
+        &[
+            "study",
+            scene.to_str().unwrap(),
+            "--hmax",
+            "0.1,0.005",
+            "--formulations",
+            "mortar",
+            "--meshes",
+            "uniform",
+            "--elements",
+            "p1",
+            "--max-elements",
+            "20000",
+            "--out",
+            "s",
+        ],
+        dir.path(),
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let points = read_points(&dir.path().join("s/study.csv")).unwrap();
+    assert_eq!(points.len(), 2);
+    assert_eq!(points[0].status, "solved");
+    assert_eq!(points[1].status, "error");
+    assert!(points[1].message.contains("elements"), "{:?}", points[1]);
+    assert!(points[1].pressure_deviation.is_none());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("1 of 2 points not solved"));
+    assert!(dir.path().join("s/accuracy.svg").is_file());
+}

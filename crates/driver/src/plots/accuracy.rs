@@ -120,3 +120,65 @@ fn stack(panels: &[String]) -> String {
     out.push_str("</svg>\n");
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(combo: (&str, &str), h: f64, t: f64, e: Option<f64>, status: &str) -> StudyPoint {
+        StudyPoint {
+            formulation: combo.0.into(),
+            mesh: combo.1.into(),
+            element: "p1".into(),
+            hmax: h,
+            hmin: h,
+            dofs: 1,
+            constraints: 1,
+            backend: "b".into(),
+            status: status.into(),
+            mesh_s: 0.0,
+            assemble_s: 0.0,
+            solve_s: t,
+            total_s: t,
+            half_width: None,
+            error_half_width: e,
+            peak_pressure: None,
+            error_peak_pressure: e.map(|e| 2.0 * e),
+            peak_nodal_pressure: None,
+            error_peak_nodal_pressure: None,
+            pressure_deviation: None,
+            message: String::new(),
+        }
+    }
+
+    #[test]
+    fn one_panel_per_measure_with_values_and_rates_in_the_legend() {
+        let a = ("mortar", "graded");
+        let b = ("node-to-segment", "uniform");
+        // |error| = h² for `a`: rate 2.00; `b` has a zero error (clamped, noted) and an
+        // unsolved point (hollow, not fitted).
+        let points = vec![
+            point(a, 0.1, 0.01, Some(-0.01), "solved"),
+            point(a, 0.05, 0.04, Some(-0.0025), "solved"),
+            point(b, 0.1, 0.02, Some(0.0), "solved"),
+            point(b, 0.05, 0.08, Some(0.3), "max-iterations"),
+        ];
+        let svg = render_accuracy(&points, "T").unwrap().unwrap();
+        let doc = roxmltree::Document::parse(&svg).expect("well-formed");
+        let nested = doc
+            .root_element()
+            .children()
+            .filter(|n| n.has_tag_name("svg"))
+            .count();
+        // Two measures have values (a and p₀ by the fit): two panels, stacked.
+        assert_eq!(nested, 2);
+        assert_eq!(doc.root_element().attribute("height"), Some("1240"));
+        assert!(svg.contains("mortar, graded, p1 (rate 2.00 vs h)"), "{svg}");
+        assert!(svg.contains("half-width a: error vs time"));
+        assert!(svg.contains("error 0 drawn at"));
+        assert!(!svg.contains("max nodal"), "no panel without values");
+        // Nothing drawable: no plot.
+        let none = vec![point(a, 0.1, 0.01, None, "solved")];
+        assert!(render_accuracy(&none, "T").unwrap().is_none());
+    }
+}
