@@ -41,7 +41,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use serde::{Deserialize, Serialize};
-use signorini_core::mesh::{estimate_elements, MeshLimits};
+use signorini_core::mesh::{estimate_elements_refined, MeshLimits};
 use signorini_core::qp::{QpStatus, SolveOptions};
 use signorini_core::report::interpolate;
 use signorini_core::scene::Scene;
@@ -283,11 +283,17 @@ fn parse_probes(text: &str) -> HashMap<String, [f64; 2]> {
         .collect()
 }
 
-/// The scene with hmax set for the named bodies (all when `bodies` is empty).
+/// The scene with hmax set for the named bodies (all when `bodies` is empty).  A body's
+/// `[[body.refine]]` sizes scale with it (each keeps its ratio to the body's hmax), so a graded
+/// mesh stays graded the same way at every point of the sweep.
 pub fn with_hmax(scene: &Scene, bodies: &[String], hmax: f64) -> Scene {
     let mut s = scene.clone();
     for b in &mut s.bodies {
         if bodies.is_empty() || bodies.contains(&b.name) {
+            let factor = hmax / b.hmax;
+            for r in &mut b.refine {
+                r.hmax *= factor;
+            }
             b.hmax = hmax;
         }
     }
@@ -468,7 +474,7 @@ pub fn validate_plan(
         let total = s
             .bodies
             .iter()
-            .map(|b| estimate_elements(&b.polygon, b.hmax, b.element))
+            .map(|b| estimate_elements_refined(&b.polygon, b.hmax, &b.refine, b.element))
             .fold(0usize, usize::saturating_add);
         if total > limits.max_elements {
             return plan_err(format!(

@@ -428,3 +428,51 @@ fn failed_points_are_written_and_exit_with_code_2() {
     assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
     assert!(dir.path().join("t/sweep.csv").is_file());
 }
+
+/// A graded body keeps its grading along a sweep: `with_hmax` scales every `[[body.refine]]`
+/// size by the body's factor, and the plan's element estimate counts the refined region — a
+/// refine box at 1/50 of hmax makes a plan that the uniform estimate would accept exceed
+/// `--max-elements` (uniform 2 × 1 block at hmax 0.1: ~60 triangles; the 0.4 × 0.1 box at 0.002
+/// alone holds ~0.04 / (0.35 · 0.002²) ≈ 29 000).
+#[test]
+fn sweep_scales_refined_regions_and_counts_them_in_the_plan() {
+    let text = r#"
+        [[body]]
+        name = "block"
+        polygon = [[0, 0], [2, 0], [2, 1], [0, 1]]
+        hmax = 0.1
+        young = 1.0
+        poisson = 0.3
+        [[body.refine]]
+        region = [0.8, 1.2, 0.9, 1.0]
+        hmax = 0.002
+        [[dirichlet]]
+        body = "block"
+        region = [0, 2, 0, 0]
+    "#;
+    let scene = signorini_core::scene::Scene::from_toml(text).unwrap();
+    let s = signorini::sweep::with_hmax(&scene, &[], 0.05);
+    assert_eq!(s.bodies[0].hmax, 0.05);
+    assert!((s.bodies[0].refine[0].hmax - 0.001).abs() < 1e-15);
+
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("graded.toml"), text).unwrap();
+    let o = signorini(
+        &[
+            "sweep",
+            "graded.toml",
+            "--hmax",
+            "0.1",
+            "--backends",
+            "clarabel",
+            "--max-elements",
+            "5000",
+            "--out",
+            "s",
+        ],
+        dir.path(),
+    );
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("--max-elements"), "{}", stderr(&o));
+    assert!(!dir.path().join("s/sweep.csv").exists());
+}
