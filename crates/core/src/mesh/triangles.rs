@@ -36,7 +36,14 @@ const GAP: f64 = 0.6;
 const GRID: f64 = 1.0 / (1u64 << 34) as f64;
 
 /// Rounds of "split the edges longer than hmax, refine again" before giving up.
-const MAX_ROUNDS: usize = 64;
+const MAX_ROUNDS: usize = 4096;
+
+/// Rounds after which a uniform mesh, too, follows the cascade of long-edge splits locally (as
+/// graded meshes always do) instead of rescanning the whole mesh per round.  A boundary much
+/// finer than hmax (a Hertz cap's arc at 0.001 with hmax 0.01) makes each round's splits leave
+/// one or two new long edges beside them: 241 full rounds, past the old cap of 64, so such
+/// scenes were refused.  Meshes that finish within this many rounds are unchanged (bit for bit).
+const LOCAL_AFTER: usize = 64;
 
 /// Maps between scene coordinates and spade's normalised, snapped unit box.
 struct Normaliser {
@@ -264,8 +271,8 @@ fn triangulate(
                 }
             }
         }
-        if field.is_some() {
-            // Graded: splits cascade along the size function's level changes a few edges at a
+        if field.is_some() || rounds > LOCAL_AFTER {
+            // Graded (or a long uniform cascade, see LOCAL_AFTER): splits cascade along the size function's level changes a few edges at a
             // time, so follow them locally (the edges at the new vertices, all inside) instead
             // of one full scan per step.
             let mut frontier = inserted;
