@@ -23,6 +23,7 @@ use std::path::{Path, PathBuf};
 
 use signorini_core::mesh::Mesh;
 
+pub(crate) mod chart_style;
 pub mod pressure;
 pub(crate) mod svg;
 mod vtu;

@@ -21,6 +21,7 @@
 //! `solve` writes the file with its other outputs exactly when the model has at least one
 //! contact row ([`render_pressure_svg`] returns `None` otherwise).
 
+use super::chart_style::{GREY, LEGEND_FONT, LEGEND_ROW, MARGIN, X_LABELS, Y_LABELS};
 use plotters::prelude::*;
 
 use signorini_core::report::{ContactReport, RunReport};
@@ -31,20 +32,8 @@ use super::{xml_sanitize, OutputError};
 
 /// Canvas size in pixels.
 const SIZE: (u32, u32) = (900, 580);
-/// Margin around the chart, in pixels.
-const MARGIN: u32 = 16;
-/// Height of the x tick label area, in pixels.
-const X_LABELS: u32 = 50;
-/// Width of the y tick label area, in pixels.
-const Y_LABELS: u32 = 80;
 /// Marker radius in pixels.
 const MARKER: u32 = 4;
-/// Legend font size in pixels.
-const LEGEND_FONT: u32 = 15;
-/// Height of one legend row in pixels (plotters' layout: font size + margins).
-const LEGEND_ROW: f64 = 21.0;
-/// Grey of the legend entry explaining hollow markers.
-const GREY: RGBColor = RGBColor(120, 120, 120);
 
 /// Legend text of the hollow-marker entry.
 pub const INACTIVE_LABEL: &str = "hollow: inactive node (not in contact)";

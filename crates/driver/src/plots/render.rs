@@ -1,5 +1,6 @@
 //! Drawing of one log–log figure into an SVG string with plotters.
 
+use crate::output::chart_style::{GREY, LEGEND_FONT, LEGEND_ROW, MARGIN, X_LABELS, Y_LABELS};
 use crate::output::svg::PALETTE;
 use plotters::coord::combinators::WithKeyPoints;
 use plotters::element::DashedPathElement;
@@ -9,20 +10,8 @@ use crate::output::{xml_sanitize, OutputError};
 
 /// Canvas size in pixels.
 const SIZE: (u32, u32) = (900, 620);
-/// Margin around the chart, in pixels.
-const MARGIN: u32 = 16;
-/// Height of the x tick label area, in pixels.
-const X_LABELS: u32 = 50;
-/// Width of the y tick label area, in pixels.
-const Y_LABELS: u32 = 80;
 /// Marker radius in pixels.
 const MARKER: i32 = 5;
-/// Legend font size in pixels, and the height of one legend row.
-const LEGEND_FONT: u32 = 15;
-/// Height of one legend row in pixels (plotters' layout: font size + margins).
-const LEGEND_ROW: f64 = 21.0;
-/// Grey of the legend entry explaining hollow markers and of the reference line at 1.
-const GREY: RGBColor = RGBColor(120, 120, 120);
 /// Number of marker shapes (circle, square, triangle up, diamond, triangle down).
 const SHAPES: usize = 5;
 
