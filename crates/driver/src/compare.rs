@@ -5,17 +5,20 @@
 //! compared with the most accurate answer.
 
 use std::path::{Path, PathBuf};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use serde::Serialize;
+use signorini_core::fem::Dofs;
 use signorini_core::mesh::MeshLimits;
-use signorini_core::qp::{KktResiduals, QpStatus, SolveOptions};
+use signorini_core::model::Model;
+use signorini_core::qp::{KktResiduals, QpProblem, QpStatus, SolveOptions};
 use signorini_core::scene::Scene;
 use signorini_core::solve::{self, Solution};
 
 use crate::backends::{make_backend, BackendKind};
 use crate::outdir::{DirLock, OutputSet};
 use crate::output::OutputError;
+use crate::qp_files::{self, QpFileError};
 use crate::run::{self, RunError};
 
 /// One backend's row of the comparison.
@@ -35,7 +38,8 @@ pub struct CompareRow {
     pub ratio_to_floor: f64,
     /// ½uᵀAu − fᵀu.
     pub objective: f64,
-    /// Largest nodal displacement difference to the reference backend.
+    /// Largest nodal displacement difference to the reference backend (for `compare --qp`,
+    /// which has no nodes: the largest componentwise difference of x).
     pub max_du: f64,
     /// Number of active contact rows.
     pub active: usize,
@@ -49,18 +53,27 @@ pub struct CompareRow {
 /// `compare.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct CompareReport {
-    /// Scene title.
+    /// Scene title; for `compare --qp`, "QP from DIR" (with the exported scene's title when
+    /// the directory's README.txt names one).
     pub scene: String,
-    /// Free DOFs.
+    /// The directory the QP was read from (`compare --qp`); absent for a scene.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub source: Option<String>,
+    /// Free DOFs (for `compare --qp`: n, the unknowns of A).
     pub dofs: usize,
     /// Contact rows.
     pub constraints: usize,
     /// Requested tolerance.
     pub tolerance: f64,
-    /// Meshing time, seconds.
-    pub mesh_s: f64,
-    /// Assembly time, seconds.
-    pub assemble_s: f64,
+    /// Meshing time, seconds (absent for `compare --qp`: no mesh).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mesh_s: Option<f64>,
+    /// Assembly time, seconds (absent for `compare --qp`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub assemble_s: Option<f64>,
+    /// Time to read and check the QP files, seconds (`compare --qp` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub read_s: Option<f64>,
     /// One unconstrained factorisation + solve of A, seconds (median of three).
     pub floor_s: f64,
     /// Fill-reducing ordering of the floor's factor (`amd` or `metis`).
@@ -86,7 +99,7 @@ pub fn compare(
     kinds: &[BackendKind],
     options: &SolveOptions,
     limits: &MeshLimits,
-    mut progress: impl FnMut(&str),
+    progress: impl FnMut(&str),
 ) -> Result<CompareReport, RunError> {
     let prepared = run::prepare(scene, limits)?;
     if prepared.model.rows() == 0 {
@@ -94,6 +107,54 @@ pub fn compare(
     }
     let qp = solve::ScaledQp::new(prepared.qp);
     let model = &prepared.model;
+    let force_scale = model.load.iter().map(|f| f.abs()).sum::<f64>();
+    let runs = run_backends(
+        model,
+        &qp,
+        kinds,
+        options,
+        force_scale,
+        nodal_difference,
+        progress,
+    )?;
+    Ok(CompareReport {
+        scene: scene.title.clone(),
+        source: None,
+        dofs: model.free.len(),
+        constraints: model.rows(),
+        tolerance: options.tol,
+        mesh_s: Some(prepared.mesh_s),
+        assemble_s: Some(prepared.assemble_s),
+        read_s: None,
+        floor_s: runs.floor_s,
+        floor_ordering: runs.floor_ordering,
+        floor_nnz_l: runs.floor_nnz_l,
+        reference: runs.reference,
+        backends: runs.backends,
+    })
+}
+
+/// What [`run_backends`] measured.
+struct Runs {
+    floor_s: f64,
+    floor_ordering: String,
+    floor_nnz_l: usize,
+    reference: Option<String>,
+    backends: Vec<CompareRow>,
+}
+
+/// The floor, then every backend of `kinds` on `qp`, each row's `max_du` by `difference` against
+/// the solved backend with the smallest residuals, and its active rows counted against
+/// `force_scale` (see [`signorini_core::report::is_active`]).
+fn run_backends(
+    model: &Model,
+    qp: &solve::ScaledQp,
+    kinds: &[BackendKind],
+    options: &SolveOptions,
+    force_scale: f64,
+    difference: fn(&[f64], &[f64]) -> f64,
+    mut progress: impl FnMut(&str),
+) -> Result<Runs, RunError> {
     // Warm-up first (page faults of the first large allocation), then the median of three.
     let floor_info = solve::floor(&qp.problem)
         .map_err(solve::SolveError::from)?
@@ -118,7 +179,7 @@ pub fn compare(
                 },
             ))
         })?;
-        match solve::solve_scaled(model, &qp, backend.as_mut(), options) {
+        match solve::solve_scaled(model, qp, backend.as_mut(), options) {
             Ok(solution) => outcomes.push(Ok(solution)),
             Err(solve::SolveError::Qp(e)) => {
                 outcomes.push(Err((kind.name().to_string(), e.to_string())))
@@ -133,7 +194,6 @@ pub fn compare(
         .filter(|(_, s)| s.status == QpStatus::Solved)
         .min_by(|(_, a), (_, b)| a.residuals.worst().total_cmp(&b.residuals.worst()))
         .map(|(i, _)| i);
-    let force_scale = model.load.iter().map(|f| f.abs()).sum::<f64>();
     let backends = outcomes
         .iter()
         .map(|o| {
@@ -151,7 +211,7 @@ pub fn compare(
                 ratio_to_floor: s.solve_time.as_secs_f64() / floor_s,
                 objective: s.objective,
                 max_du: reference
-                    .map(|r| nodal_difference(&s.displacement, &solutions[r].displacement))
+                    .map(|r| difference(&s.displacement, &solutions[r].displacement))
                     .unwrap_or(f64::NAN),
                 active: s
                     .multipliers
@@ -163,13 +223,7 @@ pub fn compare(
             }
         })
         .collect();
-    Ok(CompareReport {
-        scene: scene.title.clone(),
-        dofs: model.free.len(),
-        constraints: model.rows(),
-        tolerance: options.tol,
-        mesh_s: prepared.mesh_s,
-        assemble_s: prepared.assemble_s,
+    Ok(Runs {
         floor_s,
         floor_ordering: floor_info.ordering.as_str().to_string(),
         floor_nnz_l: floor_info.nnz_l,
@@ -178,10 +232,127 @@ pub fn compare(
     })
 }
 
+/// Largest componentwise difference max_i |a_i − b_i| (NaN when either holds a NaN): a QP read
+/// from files has no nodes to pair its unknowns into.
+fn componentwise_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (p - q).abs())
+        .fold(0.0, |m: f64, d| {
+            if d.is_nan() || m.is_nan() {
+                f64::NAN
+            } else {
+                m.max(d)
+            }
+        })
+}
+
+/// A model whose unknowns are the QP's own (all free, none prescribed, no mesh): what the
+/// solve needs to hand back x for a QP that came from files rather than from a scene.
+fn bare_model(qp: &QpProblem) -> Model {
+    let n = qp.dofs();
+    Model {
+        meshes: Vec::new(),
+        materials: Vec::new(),
+        // Two DOFs per node: ⌈n/2⌉ nodes (only the length of an unanswered solve's NaN vector).
+        dofs: Dofs::new(&[n.div_ceil(2)]),
+        supports: sprs::CsMat::zero((n, 0)),
+        fixed_dofs: Vec::new(),
+        load: Vec::new(),
+        fixed: vec![None; n],
+        free: (0..n).collect(),
+        contacts: Vec::new(),
+        constraints: sprs::CsMat::zero((0, n)),
+        gap: Vec::new(),
+        floating: Vec::new(),
+        kernel: Vec::new(),
+        effects: Vec::new(),
+        warnings: Vec::new(),
+    }
+}
+
+/// Why `compare --qp` stopped before any backend ran.
+#[derive(Debug, thiserror::Error)]
+pub enum QpCompareError {
+    /// The files were refused (bad input: exit code 1).
+    #[error(transparent)]
+    Files(#[from] QpFileError),
+    /// The QP has no constraint row: nothing for the backends to compete on.
+    #[error("{0}: B has no row, so the QP is one linear solve and no QP backend runs: nothing to compare")]
+    NoRows(String),
+    /// The factor of A would not fit in memory (exit code 3).
+    #[error(transparent)]
+    Preflight(#[from] signorini_core::preflight::PreflightError),
+    /// The floor could not be measured.
+    #[error(transparent)]
+    Run(#[from] RunError),
+}
+
+/// `compare --qp DIR`: reads A, f, B, g (see [`crate::qp_files`]) and runs every backend of
+/// `kinds` on them exactly as [`compare`] does on a scene's QP: the same floor, scaling, residual
+/// check and rows.  There is no mesh: `mesh_s` and `assemble_s` are absent, `read_s` is the time
+/// to read and check the files, `source` the directory, and `max_du` is the largest
+/// componentwise difference of x to the reference backend's.  The files carry no null space, so
+/// on a QP whose A is singular (a body held by contact alone) the backends that need it (the
+/// `dual-*` ones, the condensed forms) end in an `error` row with their reason.
+pub fn compare_qp(
+    dir: &Path,
+    kinds: &[BackendKind],
+    options: &SolveOptions,
+    progress: impl FnMut(&str),
+) -> Result<CompareReport, QpCompareError> {
+    let start = Instant::now();
+    let files = qp_files::read_qp_dir(dir)?;
+    let read_s = start.elapsed().as_secs_f64();
+    if files.qp.rows() == 0 {
+        return Err(QpCompareError::NoRows(dir.display().to_string()));
+    }
+    if let Some(budget) = signorini_core::memory::available_bytes() {
+        signorini_core::preflight::check_factor_memory(&files.qp, budget)?;
+    }
+    let model = bare_model(&files.qp);
+    let force_scale = files.qp.load.iter().map(|f| f.abs()).sum::<f64>();
+    let (dofs, constraints) = (files.qp.dofs(), files.qp.rows());
+    let qp = solve::ScaledQp::new(files.qp);
+    let runs = run_backends(
+        &model,
+        &qp,
+        kinds,
+        options,
+        force_scale,
+        componentwise_difference,
+        progress,
+    )?;
+    let source = files.dir.display().to_string();
+    Ok(CompareReport {
+        scene: match &files.title {
+            Some(title) => format!("QP from {source} (exported from \"{title}\")"),
+            None => format!("QP from {source}"),
+        },
+        source: Some(source),
+        dofs,
+        constraints,
+        tolerance: options.tol,
+        mesh_s: None,
+        assemble_s: None,
+        read_s: Some(read_s),
+        floor_s: runs.floor_s,
+        floor_ordering: runs.floor_ordering,
+        floor_nnz_l: runs.floor_nnz_l,
+        reference: runs.reference,
+        backends: runs.backends,
+    })
+}
+
 /// The comparison as a fixed-width text table.
 pub fn table(report: &CompareReport) -> String {
+    let (unknowns, rows, du) = if report.source.is_some() {
+        ("unknowns", "constraint rows", "max|Δx|")
+    } else {
+        ("DOFs", "contact rows", "max|Δu|")
+    };
     let mut t = format!(
-        "{}\n  {} DOFs, {} contact rows; floor (factor + solve of A, {} ordering, nnz(L) {}) {:.3} ms; reference: {}\n",
+        "{}\n  {} {unknowns}, {} {rows}; floor (factor + solve of A, {} ordering, nnz(L) {}) {:.3} ms; reference: {}\n",
         report.scene,
         report.dofs,
         report.constraints,
@@ -198,7 +369,7 @@ pub fn table(report: &CompareReport) -> String {
         "solve ms",
         "÷floor",
         "objective",
-        "max|Δu|",
+        du,
         "active",
         "penetr.",
         "station.",

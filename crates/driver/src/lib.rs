@@ -12,6 +12,7 @@ pub mod export;
 pub mod outdir;
 pub mod output;
 pub mod plots;
+pub mod qp_files;
 pub mod run;
 pub mod study;
 pub mod sweep;

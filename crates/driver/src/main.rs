@@ -131,6 +131,10 @@ enum Command {
         /// Output directory for compare.json and compare.csv (created if missing).
         #[arg(long, default_value = "out")]
         out: PathBuf,
+        /// Instead of a scene: a directory holding a QP as Matrix Market files A.mtx, f.mtx,
+        /// B.mtx, g.mtx (the layout `export` writes; docs/scene.md), from this or another code.
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["scene", "max_elements"])]
+        qp: Option<PathBuf>,
     },
     /// Refine the mesh and time every backend and tolerance; write sweep.csv and plots.
     Sweep {
@@ -360,6 +364,7 @@ fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) -> Result<Exi
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn compare(
     common: &Common,
     names: &[String],
@@ -367,9 +372,9 @@ fn compare(
     tol: f64,
     time_limit_s: Option<f64>,
     out: &std::path::Path,
+    qp: Option<&std::path::Path>,
 ) -> Result<Exit> {
     let kinds = parse_backends(names, forms)?;
-    let scene = run::load_scene(common.scene.as_deref())?;
     let options = SolveOptions {
         tol,
         time_limit: time_limit(time_limit_s),
@@ -379,10 +384,29 @@ fn compare(
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let report = signorini::compare::compare(&scene, &kinds, &options, &limits(common), |name| {
+    let progress = |name: &str| {
         bar.set_message(name.to_string());
         bar.inc(1);
-    })?;
+    };
+    let report = match qp {
+        Some(dir) => {
+            use signorini::compare::QpCompareError;
+            // Each cause as its own error, so that `classify` sees it (a transparent wrapper
+            // would hide it): refused files exit 1, a factor that does not fit exits 3.
+            signorini::compare::compare_qp(dir, &kinds, &options, progress).map_err(
+                |e| match e {
+                    QpCompareError::Files(e) => anyhow::Error::new(e),
+                    QpCompareError::Preflight(e) => anyhow::Error::new(e),
+                    QpCompareError::Run(e) => anyhow::Error::new(e),
+                    e @ QpCompareError::NoRows(_) => anyhow::Error::new(e),
+                },
+            )?
+        }
+        None => {
+            let scene = run::load_scene(common.scene.as_deref())?;
+            signorini::compare::compare(&scene, &kinds, &options, &limits(common), progress)?
+        }
+    };
     bar.finish_and_clear();
     let written = signorini::compare::write(out, &report)
         .with_context(|| format!("writing comparison to {}", out.display()))?;
@@ -754,7 +778,16 @@ fn main() -> ExitCode {
             tol,
             time_limit,
             out,
-        } => compare(common, backends, forms, *tol, *time_limit, out),
+            qp,
+        } => compare(
+            common,
+            backends,
+            forms,
+            *tol,
+            *time_limit,
+            out,
+            qp.as_deref(),
+        ),
         Command::Export { common, out } => export(common, out),
         Command::Sweep {
             common,

@@ -1,0 +1,569 @@
+//! Reading a QP `min ½xᵀAx − fᵀx  s.t.  Bx ≤ g` from the Matrix Market files `signorini export`
+//! writes (`A.mtx`, `f.mtx`, `B.mtx`, `g.mtx` in one directory), or that another code wrote in
+//! the same layout (see `scripts/qp-from-scipy.py`).
+//!
+//! The reader is a small strict one, not `sprs::io::read_matrix_market`: that reader reads only
+//! the `coordinate` format (f and g are `array`), asserts (panics) on an index beyond the declared
+//! shape, ignores entries beyond the declared count, and its errors carry neither the line nor
+//! the reason ("Bad matrix market file.").  Every refusal here names the file and, when one line
+//! is at fault, its number: `dir/A.mtx:7: column index 12 out of range 1..=10`.
+//!
+//! Accepted: the header `%%MatrixMarket matrix coordinate|array real|integer general|symmetric`
+//! (case-insensitive), `%` comment lines and blank lines anywhere after it, the size line, then
+//! exactly the declared entries.  A `symmetric` file stores the lower triangle (the full matrix
+//! is rebuilt); a `general` A is accepted only when symmetric to
+//! [`SYMMETRY_TOLERANCE`] · max|A| and is then replaced by (A + Aᵀ)/2.  Duplicate coordinate
+//! entries are summed.  Vectors may be n×1 or 1×n, `array` or `coordinate`.  NaN and infinite
+//! values are refused.  `dofs.csv` and `rows.csv`, if present, are not read.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use signorini_core::qp::{CscMatrix, QpProblem};
+
+/// A `general` A counts as symmetric when |Aᵢⱼ − Aⱼᵢ| ≤ this · max|A| for every stored entry.
+///
+/// Assembly round-off in another code (an entry summed from a few dozen element contributions
+/// in a different order than its mirror) is ~100 ε ≈ 2e-14 of max|A|; 1e-10 leaves four orders
+/// of margin above it.  The symmetrised (A + Aᵀ)/2 then differs from the file by at most
+/// 5e-11 · max|A|, ten times below the tightest default KKT tolerance (1e-9) the residual check
+/// applies, so the symmetrisation cannot change a verdict.  A genuinely unsymmetric operator
+/// (friction, follower loads) differs at O(1) and is refused.
+pub const SYMMETRY_TOLERANCE: f64 = 1e-10;
+
+/// The files of a QP directory, in the order they are read.
+pub const QP_FILES: [&str; 4] = ["A.mtx", "f.mtx", "B.mtx", "g.mtx"];
+
+/// Why a QP directory was refused: the file, the line when one line is at fault, and the reason.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub struct QpFileError {
+    /// The file at fault.
+    pub file: PathBuf,
+    /// 1-based line number, when one line is at fault.
+    pub line: Option<usize>,
+    /// What is wrong.
+    pub reason: String,
+}
+
+impl fmt::Display for QpFileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line {
+            Some(line) => write!(f, "{}:{line}: {}", self.file.display(), self.reason),
+            None => write!(f, "{}: {}", self.file.display(), self.reason),
+        }
+    }
+}
+
+/// A QP read from a directory.
+#[derive(Debug, Clone)]
+pub struct QpFiles {
+    /// The directory read.
+    pub dir: PathBuf,
+    /// The problem (no kernel: the files do not carry one).
+    pub qp: QpProblem,
+    /// The `Scene:` line of `README.txt` when the directory is an export of signorini.
+    pub title: Option<String>,
+    /// Whether A's file was `general` (symmetrised on reading) rather than `symmetric`.
+    pub general: bool,
+}
+
+/// The storage of a Matrix Market file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Layout {
+    Coordinate,
+    Array,
+}
+
+/// One Matrix Market file: its shape, whether it is `symmetric`, and its entries (0-based row,
+/// column, value, 1-based line).  A symmetric file's entries are those stored (lower triangle).
+#[derive(Debug)]
+struct Mtx {
+    path: PathBuf,
+    rows: usize,
+    cols: usize,
+    size_line: usize,
+    symmetric: bool,
+    entries: Vec<(usize, usize, f64, usize)>,
+}
+
+impl Mtx {
+    fn error(&self, line: Option<usize>, reason: impl Into<String>) -> QpFileError {
+        QpFileError {
+            file: self.path.clone(),
+            line,
+            reason: reason.into(),
+        }
+    }
+}
+
+fn refuse(path: &Path, line: Option<usize>, reason: impl Into<String>) -> QpFileError {
+    QpFileError {
+        file: path.to_path_buf(),
+        line,
+        reason: reason.into(),
+    }
+}
+
+/// A value token: a finite number.
+fn value(path: &Path, line: usize, token: &str) -> Result<f64, QpFileError> {
+    let v: f64 = token
+        .parse()
+        .map_err(|_| refuse(path, Some(line), format!("`{token}` is not a number")))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(refuse(
+            path,
+            Some(line),
+            format!("value `{token}` is not finite (NaN or infinite)"),
+        ))
+    }
+}
+
+/// A 1-based index token within 1..=`bound`, returned 0-based.
+fn index(
+    path: &Path,
+    line: usize,
+    token: &str,
+    what: &str,
+    bound: usize,
+) -> Result<usize, QpFileError> {
+    let i: usize = token.parse().map_err(|_| {
+        refuse(
+            path,
+            Some(line),
+            format!("{what} index `{token}` is not a positive integer"),
+        )
+    })?;
+    if i == 0 || i > bound {
+        return Err(refuse(
+            path,
+            Some(line),
+            format!("{what} index {i} out of range 1..={bound}"),
+        ));
+    }
+    Ok(i - 1)
+}
+
+/// Reads one Matrix Market file strictly (see the module's documentation).
+fn read_mtx(path: &Path) -> Result<Mtx, QpFileError> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        refuse(
+            path,
+            None,
+            if e.kind() == std::io::ErrorKind::NotFound {
+                "missing (a QP directory holds A.mtx, f.mtx, B.mtx and g.mtx)".to_string()
+            } else {
+                format!("cannot be read: {e}")
+            },
+        )
+    })?;
+    let mut lines = text.lines().enumerate().map(|(k, l)| (k + 1, l.trim()));
+    // The header.
+    let header = lines.next().map(|(_, l)| l).unwrap_or("");
+    let words: Vec<String> = header
+        .split_whitespace()
+        .map(|w| w.to_ascii_lowercase())
+        .collect();
+    let words: Vec<&str> = words.iter().map(String::as_str).collect();
+    let (layout, symmetric) = match words.as_slice() {
+        ["%%matrixmarket", "matrix", layout, field, symmetry] => {
+            let layout = match *layout {
+                "coordinate" => Layout::Coordinate,
+                "array" => Layout::Array,
+                other => {
+                    return Err(refuse(
+                        path,
+                        Some(1),
+                        format!("format `{other}` not supported (coordinate or array)"),
+                    ))
+                }
+            };
+            if !matches!(*field, "real" | "integer") {
+                return Err(refuse(
+                    path,
+                    Some(1),
+                    format!("field `{field}` not supported (real or integer)"),
+                ));
+            }
+            let symmetric = match *symmetry {
+                "general" => false,
+                "symmetric" => true,
+                other => {
+                    return Err(refuse(
+                        path,
+                        Some(1),
+                        format!("symmetry `{other}` not supported (general or symmetric)"),
+                    ))
+                }
+            };
+            (layout, symmetric)
+        }
+        _ => {
+            return Err(refuse(
+                path,
+                Some(1),
+                "not a Matrix Market header: expected `%%MatrixMarket matrix coordinate|array real|integer general|symmetric`",
+            ))
+        }
+    };
+    let mut data = lines.filter(|(_, l)| !l.is_empty() && !l.starts_with('%'));
+    // The size line.
+    let (size_line, size) = data
+        .next()
+        .ok_or_else(|| refuse(path, None, "the file ends before its size line"))?;
+    let tokens: Vec<&str> = size.split_whitespace().collect();
+    let want = if layout == Layout::Coordinate { 3 } else { 2 };
+    let counts: Vec<usize> = tokens
+        .iter()
+        .map(|t| t.parse::<usize>())
+        .collect::<Result<_, _>>()
+        .ok()
+        .filter(|c: &Vec<usize>| c.len() == want)
+        .ok_or_else(|| {
+            refuse(
+                path,
+                Some(size_line),
+                format!(
+                    "size line `{size}` must be {} non-negative integers",
+                    if want == 3 {
+                        "`rows cols entries`: three"
+                    } else {
+                        "`rows cols`: two"
+                    }
+                ),
+            )
+        })?;
+    let (rows, cols) = (counts[0], counts[1]);
+    if symmetric && rows != cols {
+        return Err(refuse(
+            path,
+            Some(size_line),
+            format!("a symmetric matrix must be square, not {rows}×{cols}"),
+        ));
+    }
+    let mut mtx = Mtx {
+        path: path.to_path_buf(),
+        rows,
+        cols,
+        size_line,
+        symmetric,
+        entries: Vec::new(),
+    };
+    match layout {
+        Layout::Coordinate => {
+            let declared = counts[2];
+            for (line, text) in data {
+                if mtx.entries.len() == declared {
+                    return Err(mtx.error(
+                        Some(line),
+                        format!("more entries than the {declared} declared on line {size_line}"),
+                    ));
+                }
+                let t: Vec<&str> = text.split_whitespace().collect();
+                if t.len() != 3 {
+                    return Err(mtx.error(
+                        Some(line),
+                        format!("expected `row column value`, found `{text}`"),
+                    ));
+                }
+                let i = index(path, line, t[0], "row", rows)?;
+                let j = index(path, line, t[1], "column", cols)?;
+                let v = value(path, line, t[2])?;
+                if symmetric && i < j {
+                    return Err(mtx.error(
+                        Some(line),
+                        format!(
+                            "entry ({}, {}) lies above the diagonal; a symmetric file stores the lower triangle only",
+                            i + 1,
+                            j + 1
+                        ),
+                    ));
+                }
+                mtx.entries.push((i, j, v, line));
+            }
+            if mtx.entries.len() < declared {
+                return Err(mtx.error(
+                    None,
+                    format!(
+                        "the file ends after {} of the {declared} entries declared on line {size_line}",
+                        mtx.entries.len()
+                    ),
+                ));
+            }
+        }
+        Layout::Array => {
+            // Column-major; a symmetric array stores the lower triangle column by column.
+            let positions: Box<dyn Iterator<Item = (usize, usize)>> = if symmetric {
+                Box::new((0..cols).flat_map(move |j| (j..rows).map(move |i| (i, j))))
+            } else {
+                Box::new((0..cols).flat_map(move |j| (0..rows).map(move |i| (i, j))))
+            };
+            let mut positions = positions.peekable();
+            for (line, text) in data {
+                let t: Vec<&str> = text.split_whitespace().collect();
+                if t.len() != 1 {
+                    return Err(mtx.error(
+                        Some(line),
+                        format!("expected one value per line in an array file, found `{text}`"),
+                    ));
+                }
+                let Some((i, j)) = positions.next() else {
+                    return Err(mtx.error(
+                        Some(line),
+                        format!("more values than the {rows}×{cols} declared on line {size_line}"),
+                    ));
+                };
+                let v = value(path, line, t[0])?;
+                mtx.entries.push((i, j, v, line));
+            }
+            if positions.peek().is_some() {
+                return Err(mtx.error(
+                    None,
+                    format!(
+                        "the file ends after {} values; line {size_line} declares {rows}×{cols}",
+                        mtx.entries.len()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(mtx)
+}
+
+/// The full CSC matrix of a file (a symmetric file mirrored), duplicates summed.
+fn to_csc(m: &Mtx) -> CscMatrix {
+    let mut t = sprs::TriMat::with_capacity((m.rows, m.cols), m.entries.len() * 2);
+    for &(i, j, v, _) in &m.entries {
+        t.add_triplet(i, j, v);
+        if m.symmetric && i != j {
+            t.add_triplet(j, i, v);
+        }
+    }
+    t.to_csc()
+}
+
+/// A vector file: n×1 or 1×n with `n == expected`.
+fn to_vector(m: &Mtx, name: &str, expected: usize, what: &str) -> Result<Vec<f64>, QpFileError> {
+    let len = match (m.rows, m.cols) {
+        (n, 1) | (1, n) => n,
+        (r, c) => {
+            return Err(m.error(
+                Some(m.size_line),
+                format!("{name} must be a vector (n×1 or 1×n), not {r}×{c}"),
+            ))
+        }
+    };
+    if len != expected {
+        return Err(m.error(
+            Some(m.size_line),
+            format!("{name} has length {len} but {what}"),
+        ));
+    }
+    let mut v = vec![0.0; len];
+    for &(i, j, x, _) in &m.entries {
+        v[i.max(j)] += x;
+    }
+    Ok(v)
+}
+
+/// A's checks: square, symmetric (a `general` file to [`SYMMETRY_TOLERANCE`], then symmetrised),
+/// nonnegative diagonal (a necessary condition of positive semidefiniteness).
+fn stiffness(m: &Mtx) -> Result<CscMatrix, QpFileError> {
+    if m.rows != m.cols {
+        return Err(m.error(
+            Some(m.size_line),
+            format!("A must be square (n×n), not {}×{}", m.rows, m.cols),
+        ));
+    }
+    let a = to_csc(m);
+    for &(i, j, _, line) in &m.entries {
+        if i == j && a.get(i, i).copied().unwrap_or(0.0) < 0.0 {
+            return Err(m.error(
+                Some(line),
+                format!(
+                    "diagonal entry A({0}, {0}) = {1:e} is negative: A is not positive semidefinite",
+                    i + 1,
+                    a.get(i, i).copied().unwrap_or(0.0)
+                ),
+            ));
+        }
+    }
+    if m.symmetric {
+        return Ok(a);
+    }
+    let largest = a.data().iter().fold(0.0_f64, |s, v| s.max(v.abs()));
+    let allowed = SYMMETRY_TOLERANCE * largest;
+    for &(i, j, _, line) in &m.entries {
+        let (aij, aji) = (
+            a.get(i, j).copied().unwrap_or(0.0),
+            a.get(j, i).copied().unwrap_or(0.0),
+        );
+        if (aij - aji).abs() > allowed {
+            return Err(m.error(
+                Some(line),
+                format!(
+                    "A is not symmetric: A({}, {}) = {aij:e} but A({}, {}) = {aji:e} (allowed difference {SYMMETRY_TOLERANCE:e} · max|A| = {allowed:e}); a `general` A must be symmetric, or store the lower triangle with a `symmetric` header",
+                    i + 1,
+                    j + 1,
+                    j + 1,
+                    i + 1
+                ),
+            ));
+        }
+    }
+    // (A + Aᵀ)/2 entry by entry, keeping every stored entry (explicit zeros included: a matrix
+    // sum would drop them and change the pattern, hence the floor's ordering and nnz(L)).
+    // Halving is exact, so an exactly symmetric file reads back unchanged.
+    let mut t = sprs::TriMat::with_capacity((m.rows, m.cols), m.entries.len() * 2);
+    for &(i, j, v, _) in &m.entries {
+        t.add_triplet(i, j, 0.5 * v);
+        t.add_triplet(j, i, 0.5 * v);
+    }
+    Ok(t.to_csc())
+}
+
+/// Reads A, f, B, g from `dir` and checks their shapes against each other.
+pub fn read_qp_dir(dir: &Path) -> Result<QpFiles, QpFileError> {
+    if !dir.is_dir() {
+        return Err(refuse(
+            dir,
+            None,
+            "not a directory (--qp takes a directory holding A.mtx, f.mtx, B.mtx and g.mtx)",
+        ));
+    }
+    let [a, f, b, g] = QP_FILES.map(|name| dir.join(name));
+    let a = read_mtx(&a)?;
+    let stiffness = stiffness(&a)?;
+    let n = a.rows;
+    let f = read_mtx(&f)?;
+    let load = to_vector(&f, "f", n, &format!("A ({}) is {n}×{n}", a.path.display()))?;
+    let b = read_mtx(&b)?;
+    if b.cols != n {
+        return Err(b.error(
+            Some(b.size_line),
+            format!(
+                "B is {}×{} but must have n = {n} columns (A is {n}×{n})",
+                b.rows, b.cols
+            ),
+        ));
+    }
+    let m = b.rows;
+    let constraints = to_csc(&b);
+    let g = read_mtx(&g)?;
+    let gap = to_vector(
+        &g,
+        "g",
+        m,
+        &format!("B ({}) has {m} rows", b.path.display()),
+    )?;
+    let qp = QpProblem::try_new(stiffness, load, constraints, gap)
+        .map_err(|e| refuse(dir, None, e.to_string()))?;
+    let title = std::fs::read_to_string(dir.join("README.txt"))
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find_map(|l| l.strip_prefix("Scene: ").map(|s| s.trim().to_string()))
+        });
+    Ok(QpFiles {
+        dir: dir.to_path_buf(),
+        qp,
+        title,
+        general: !a.symmetric,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(dir: &Path, name: &str, text: &str) {
+        std::fs::write(dir.join(name), text).unwrap();
+    }
+
+    /// x ≤ 1 on min x² − 4x written by hand: a symmetric 1×1 A, an array f, coordinate B, g.
+    fn scalar(dir: &Path) {
+        write(
+            dir,
+            "A.mtx",
+            "%%MatrixMarket matrix coordinate real symmetric\n1 1 1\n1 1 2\n",
+        );
+        write(
+            dir,
+            "f.mtx",
+            "%%MatrixMarket matrix array real general\n% c\n1 1\n4\n",
+        );
+        write(
+            dir,
+            "B.mtx",
+            "%%MatrixMarket matrix coordinate real general\n1 1 1\n1 1 1\n",
+        );
+        write(
+            dir,
+            "g.mtx",
+            "%%MatrixMarket matrix array real general\n1 1\n1\n",
+        );
+    }
+
+    #[test]
+    fn a_hand_written_qp_reads_back() {
+        let d = tempfile::tempdir().unwrap();
+        scalar(d.path());
+        let q = read_qp_dir(d.path()).unwrap();
+        assert_eq!(q.qp.load, vec![4.0]);
+        assert_eq!(q.qp.gap, vec![1.0]);
+        assert_eq!(q.qp.stiffness.get(0, 0), Some(&2.0));
+        assert!(!q.general);
+    }
+
+    #[test]
+    fn a_symmetric_file_is_mirrored_and_a_general_one_symmetrised() {
+        let d = tempfile::tempdir().unwrap();
+        scalar(d.path());
+        write(
+            d.path(),
+            "A.mtx",
+            "%%MatrixMarket matrix coordinate real symmetric\n2 2 3\n1 1 2\n2 1 -1\n2 2 2\n",
+        );
+        write(
+            d.path(),
+            "f.mtx",
+            "%%MatrixMarket matrix array real general\n2 1\n1\n1\n",
+        );
+        write(
+            d.path(),
+            "B.mtx",
+            "%%MatrixMarket matrix coordinate real general\n1 2 1\n1 1 1\n",
+        );
+        let q = read_qp_dir(d.path()).unwrap();
+        assert_eq!(q.qp.stiffness.get(0, 1), Some(&-1.0));
+        assert_eq!(q.qp.stiffness.get(1, 0), Some(&-1.0));
+        // A general A off by 1e-12 · max|A| (within 1e-10) is averaged.
+        write(
+            d.path(),
+            "A.mtx",
+            "%%MatrixMarket matrix coordinate real general\n2 2 4\n1 1 2\n2 1 -1\n1 2 -1.000000000002\n2 2 2\n",
+        );
+        let q = read_qp_dir(d.path()).unwrap();
+        assert_eq!(q.qp.stiffness.get(0, 1), q.qp.stiffness.get(1, 0));
+        assert!(q.general);
+    }
+
+    #[test]
+    fn errors_name_the_file_and_line() {
+        let d = tempfile::tempdir().unwrap();
+        scalar(d.path());
+        write(
+            d.path(),
+            "A.mtx",
+            "%%MatrixMarket matrix coordinate real symmetric\n1 1 1\n\n1 2 2\n",
+        );
+        let e = read_qp_dir(d.path()).unwrap_err();
+        assert_eq!(e.line, Some(4), "{e}");
+        assert!(
+            e.to_string()
+                .contains("A.mtx:4: column index 2 out of range 1..=1"),
+            "{e}"
+        );
+    }
+}
