@@ -9,13 +9,14 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 use signorini_core::fem::Dofs;
+use signorini_core::linalg::SparseCholesky;
 use signorini_core::mesh::MeshLimits;
 use signorini_core::model::Model;
 use signorini_core::qp::{KktResiduals, QpProblem, QpStatus, SolveOptions};
 use signorini_core::scene::Scene;
 use signorini_core::solve::{self, Solution};
 
-use crate::backends::{make_backend, BackendKind};
+use crate::backends::{make_backend, BackendKind, Form};
 use crate::outdir::{DirLock, OutputSet};
 use crate::output::OutputError;
 use crate::qp_files::{self, QpFileError};
@@ -314,7 +315,7 @@ pub fn compare_qp(
     let force_scale = files.qp.load.iter().map(|f| f.abs()).sum::<f64>();
     let (dofs, constraints) = (files.qp.dofs(), files.qp.rows());
     let qp = solve::ScaledQp::new(files.qp);
-    let runs = run_backends(
+    let mut runs = run_backends(
         &model,
         &qp,
         kinds,
@@ -323,6 +324,32 @@ pub fn compare_qp(
         componentwise_difference,
         progress,
     )?;
+    // A dual-form backend needs A⁻¹, or A's null space when A is singular (a body held by
+    // contact alone); a scene's assembly knows the rigid-body modes, the files do not.  When
+    // such a backend did not solve and A's Cholesky breaks down, its numbers (x = 0, λ = 0) say
+    // nothing: the row becomes an error with the reason.
+    let failed_dual = |k: &BackendKind, r: &CompareRow| {
+        k.form() == Form::Dual && r.status != "solved" && r.status != "error"
+    };
+    if kinds
+        .iter()
+        .zip(&runs.backends)
+        .any(|(k, r)| failed_dual(k, r))
+    {
+        if SparseCholesky::factor(&qp.problem.stiffness).is_err() {
+            for (k, row) in kinds.iter().zip(runs.backends.iter_mut()) {
+                if failed_dual(k, row) {
+                    let said = row.message.as_deref().unwrap_or("no message");
+                    *row = error_row(
+                        &row.backend,
+                        &format!(
+                            "A is singular and QP files carry no null space, which the dual form needs (a body held by contact alone; the primal backends handle it): {said}"
+                        ),
+                    );
+                }
+            }
+        }
+    }
     let source = files.dir.display().to_string();
     Ok(CompareReport {
         scene: match &files.title {
