@@ -393,6 +393,11 @@ fn stiffness(m: &Mtx) -> Result<CscMatrix, QpFileError> {
         return Ok(a);
     }
     let largest = a.data().iter().fold(0.0_f64, |s, v| s.max(v.abs()));
+    let lines: std::collections::HashMap<(usize, usize), usize> = m
+        .entries
+        .iter()
+        .map(|&(i, j, _, line)| ((i, j), line))
+        .collect();
     let allowed = SYMMETRY_TOLERANCE * largest;
     for &(i, j, _, line) in &m.entries {
         let (aij, aji) = (
@@ -403,11 +408,14 @@ fn stiffness(m: &Mtx) -> Result<CscMatrix, QpFileError> {
             return Err(m.error(
                 Some(line),
                 format!(
-                    "A is not symmetric: A({}, {}) = {aij:e} but A({}, {}) = {aji:e} (allowed difference {SYMMETRY_TOLERANCE:e} · max|A| = {allowed:e}); a `general` A must be symmetric, or store the lower triangle with a `symmetric` header",
+                    "A is not symmetric: A({}, {}) = {aij:e} here but A({}, {}) = {aji:e} ({}) (allowed difference {SYMMETRY_TOLERANCE:e} · max|A| = {allowed:e}); a `general` A must be symmetric, or store the lower triangle with a `symmetric` header",
                     i + 1,
                     j + 1,
                     j + 1,
-                    i + 1
+                    i + 1,
+                    lines
+                        .get(&(j, i))
+                        .map_or("not stored".to_string(), |l| format!("line {l}"))
                 ),
             ));
         }

@@ -1,0 +1,433 @@
+//! `signorini compare --qp DIR`: a QP read from Matrix Market files through every backend.
+//!
+//! * an exported scene's QP gives what `compare SCENE` gives;
+//! * the spring chain written by `scripts/qp-from-scipy.py` (fixtures/qp/spring-chain) gives its
+//!   hand-known optimum from every backend;
+//! * malformed input is refused naming the file and the line, exit code 1, nothing written;
+//! * a QP with a singular A (no null space in the files) is an error row for the dual backends.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use signorini::qp_files::read_qp_dir;
+
+fn repo(path: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(path)
+}
+
+fn signorini(args: &[&str], cwd: &Path) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_signorini"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("run signorini")
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// Every backend name this build accepts (the primal and dual forms, the chain).
+fn every_backend() -> Vec<&'static str> {
+    let mut names = vec![
+        "clarabel",
+        "dual-pgs",
+        "dual-uzawa",
+        "dual-ssn",
+        "pdas",
+        "clarabel/dual",
+        "auto",
+    ];
+    if cfg!(feature = "osqp") {
+        names.extend(["osqp", "osqp/dual"]);
+    }
+    names
+}
+
+/// `compare SCENE` and `compare --qp` on the scene's export: the same problem, so the same size,
+/// the same floor factor (the reader keeps A's stored pattern, explicit zeros included), and per
+/// backend the same status, active set and objective.
+#[test]
+fn an_exported_scene_compares_as_the_scene_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let backends = if cfg!(feature = "osqp") {
+        "clarabel,osqp,dual-pgs,dual-uzawa,pdas"
+    } else {
+        "clarabel,dual-pgs,dual-uzawa,pdas"
+    };
+    // 2b: traction; 6b: a prescribed displacement, whose lifted load is all f carries.
+    for name in ["exp2b", "exp6b"] {
+        let scene = repo(&format!("fixtures/seed/{name}.toml"));
+        let scene = scene.to_str().unwrap();
+        let o = signorini(&["export", scene, "--out", "x"], dir.path());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let common = ["--backends", backends, "--tol", "1e-9"];
+        let mut args = vec!["compare", scene, "--out", "s"];
+        args.extend(common);
+        let o = signorini(&args, dir.path());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let mut args = vec!["compare", "--qp", "x", "--out", "q"];
+        args.extend(common);
+        let o = signorini(&args, dir.path());
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            o.status.success(),
+            "{stdout}{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(
+            stdout.starts_with("QP from x (exported from \"Experiment"),
+            "{stdout}"
+        );
+        let (s, q) = (
+            json(&dir.path().join("s/compare.json")),
+            json(&dir.path().join("q/compare.json")),
+        );
+        for key in ["dofs", "constraints", "floor_nnz_l", "floor_ordering"] {
+            assert_eq!(s[key], q[key], "{name} {key}");
+        }
+        // Where the QP came from, and no mesh to time.
+        assert_eq!(q["source"], "x");
+        assert!(q.get("mesh_s").is_none() && q.get("assemble_s").is_none());
+        assert!(q["read_s"].as_f64().unwrap() > 0.0);
+        assert!(s.get("source").is_none() && s["mesh_s"].as_f64().is_some());
+        let (s, q) = (
+            s["backends"].as_array().unwrap(),
+            q["backends"].as_array().unwrap(),
+        );
+        assert_eq!(s.len(), q.len());
+        for (a, b) in s.iter().zip(q) {
+            assert_eq!(a["backend"], b["backend"]);
+            assert_eq!(a["status"], "solved", "{a}");
+            assert_eq!(b["status"], "solved", "{b}");
+            assert_eq!(a["active"], b["active"], "{name} {}", a["backend"]);
+            let (oa, ob) = (
+                a["objective"].as_f64().unwrap(),
+                b["objective"].as_f64().unwrap(),
+            );
+            // Both answers meet the relative KKT tolerance 1e-9 on the same QP; the objective is
+            // stationary at the optimum, so each is within O(1e-9)·|objective| of it: 1e-7 is a
+            // hundredfold margin.
+            assert!(
+                (oa - ob).abs() <= 1e-7 * oa.abs(),
+                "{name} {}: {oa} vs {ob}",
+                a["backend"]
+            );
+        }
+    }
+}
+
+/// The fixture reads back as exactly the QP of `signorini_core::examples::spring_chain`, built
+/// independently in Rust.
+#[test]
+fn the_scipy_fixture_is_the_spring_chain() {
+    let files = read_qp_dir(&repo("fixtures/qp/spring-chain")).unwrap();
+    let known = signorini_core::examples::spring_chain().problem;
+    assert_eq!(files.qp.load, known.load);
+    assert_eq!(files.qp.gap, known.gap);
+    assert_eq!(files.qp.stiffness.to_dense(), known.stiffness.to_dense());
+    assert_eq!(
+        files.qp.constraints.to_dense(),
+        known.constraints.to_dense()
+    );
+    assert!(files.qp.kernel.is_empty());
+    assert!(!files.general, "A.mtx is written `symmetric`");
+}
+
+/// 10 unit springs, the last node pushed by f = 1 against a wall at 5: x_i = (i + 1)/2, λ = ½.
+/// Then Ax = f − Bᵀλ = ½ e₁₀, so ½xᵀAx = ½ · x₁₀ · ½ = 1.25 and fᵀx = x₁₀ = 5: the objective is
+/// −3.75, and the one row is active.  Every backend must find it.
+#[test]
+fn every_backend_finds_the_known_optimum_of_the_scipy_fixture() {
+    let dir = tempfile::tempdir().unwrap();
+    let fixture = repo("fixtures/qp/spring-chain");
+    let names = every_backend().join(",");
+    let o = signorini(
+        &[
+            "compare",
+            "--qp",
+            fixture.to_str().unwrap(),
+            "--backends",
+            &names,
+            "--out",
+            "c",
+        ],
+        dir.path(),
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(
+        stdout.contains("10 unknowns, 1 constraint rows"),
+        "{stdout}"
+    );
+    let report = json(&dir.path().join("c/compare.json"));
+    let rows = report["backends"].as_array().unwrap();
+    assert_eq!(rows.len(), every_backend().len());
+    for r in rows {
+        assert_eq!(r["status"], "solved", "{r}");
+        assert_eq!(r["active"], 1, "{r}");
+        let objective = r["objective"].as_f64().unwrap();
+        // Solved means KKT residuals ≤ 1e-9 relative; the objective's error is of that order
+        // times its scale (3.75): 1e-7 leaves a margin of ~25.
+        assert!((objective + 3.75).abs() < 1e-7, "{r}");
+        // x agrees with the reference backend's to the tolerance's order (x is O(5)).
+        assert!(r["max_du"].as_f64().unwrap() < 1e-6, "{r}");
+    }
+    let csv = std::fs::read_to_string(dir.path().join("c/compare.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + rows.len());
+}
+
+/// A QP directory with one file replaced by `text`.
+fn broken(dir: &Path, file: &str, text: &str) -> PathBuf {
+    let qp = dir.join("qp");
+    let _ = std::fs::remove_dir_all(&qp);
+    std::fs::create_dir(&qp).unwrap();
+    for name in ["A.mtx", "f.mtx", "B.mtx", "g.mtx"] {
+        std::fs::copy(repo("fixtures/qp/spring-chain").join(name), qp.join(name)).unwrap();
+    }
+    std::fs::write(qp.join(file), text).unwrap();
+    qp
+}
+
+/// The fixture's A with `line` (4-based: line 4 is the first entry) replaced.
+fn a_with(line: usize, replacement: &str) -> String {
+    let text = std::fs::read_to_string(repo("fixtures/qp/spring-chain/A.mtx")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    lines[line - 1] = replacement.to_string();
+    lines.join("\n") + "\n"
+}
+
+const ARRAY: &str = "%%MatrixMarket matrix array real general\n";
+const COORD: &str = "%%MatrixMarket matrix coordinate real general\n";
+
+/// Every malformed case: exit code 1, the file and line named (`file:line:` as compilers do),
+/// the reason given, and nothing written (the output directory is not even created).
+#[test]
+fn malformed_input_is_refused_with_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let ones = |n: usize| "1\n".repeat(n);
+    let cases: Vec<(&str, String, &str)> = vec![
+        // Shapes.  The fixture has n = 10, m = 1; each size line is line 2 here, 3 in the fixture.
+        (
+            "A.mtx",
+            format!("{COORD}10 9 1\n1 1 2\n"),
+            "A.mtx:2: A must be square (n×n), not 10×9",
+        ),
+        (
+            "f.mtx",
+            format!("{ARRAY}9 1\n{}", ones(9)),
+            "f.mtx:2: f has length 9 but A",
+        ),
+        (
+            "f.mtx",
+            format!("{ARRAY}10 2\n{}", ones(20)),
+            "f.mtx:2: f must be a vector (n×1 or 1×n), not 10×2",
+        ),
+        (
+            "B.mtx",
+            format!("{COORD}1 9 1\n1 9 1\n"),
+            "B.mtx:2: B is 1×9 but must have n = 10 columns",
+        ),
+        (
+            "g.mtx",
+            format!("{ARRAY}2 1\n5\n5\n"),
+            "g.mtx:2: g has length 2 but B",
+        ),
+        // Symmetry: a `general` A whose (1, 2) entry differs from (2, 1).
+        (
+            "A.mtx",
+            format!("{COORD}2 2 3\n1 1 2\n2 1 -1\n1 2 -1.5\n"),
+            "A.mtx:4: A is not symmetric: A(2, 1) = -1e0 here but A(1, 2) = -1.5e0 (line 5)",
+        ),
+        // An upper-triangle entry in a `symmetric` file.
+        (
+            "A.mtx",
+            a_with(5, "1 2 -1"),
+            "A.mtx:5: entry (1, 2) lies above the diagonal",
+        ),
+        // Values.
+        (
+            "A.mtx",
+            a_with(6, "2 2 NaN"),
+            "A.mtx:6: value `NaN` is not finite",
+        ),
+        (
+            "g.mtx",
+            format!("{ARRAY}1 1\ninf\n"),
+            "g.mtx:3: value `inf` is not finite",
+        ),
+        (
+            "f.mtx",
+            format!("{ARRAY}10 1\n{}x1\n", ones(9)),
+            "f.mtx:12: `x1` is not a number",
+        ),
+        (
+            "B.mtx",
+            format!("{COORD}1 10 1\n1 10 one\n"),
+            "B.mtx:3: `one` is not a number",
+        ),
+        // Indices.
+        (
+            "A.mtx",
+            a_with(7, "11 2 -1"),
+            "A.mtx:7: row index 11 out of range 1..=10",
+        ),
+        (
+            "B.mtx",
+            format!("{COORD}1 10 1\n1 0 1\n"),
+            "B.mtx:3: column index 0 out of range 1..=10",
+        ),
+        // Counts.
+        (
+            "B.mtx",
+            format!("{COORD}1 10 1\n1 10 1\n1 9 1\n"),
+            "B.mtx:4: more entries than the 1 declared on line 2",
+        ),
+        (
+            "B.mtx",
+            format!("{COORD}1 10 2\n1 10 1\n"),
+            "B.mtx: the file ends after 1 of the 2 entries declared on line 2",
+        ),
+        (
+            "f.mtx",
+            format!("{ARRAY}10 1\n1 2\n"),
+            "f.mtx:3: expected one value per line",
+        ),
+        // Headers and size lines.
+        (
+            "A.mtx",
+            "10 10 19\n".to_string(),
+            "A.mtx:1: not a Matrix Market header",
+        ),
+        (
+            "B.mtx",
+            "%%MatrixMarket matrix coordinate complex general\n1 10 1\n1 10 1 0\n".to_string(),
+            "B.mtx:1: field `complex` not supported",
+        ),
+        (
+            "A.mtx",
+            "%%MatrixMarket matrix coordinate real skew-symmetric\n".to_string(),
+            "A.mtx:1: symmetry `skew-symmetric` not supported",
+        ),
+        (
+            "g.mtx",
+            format!("{ARRAY}1\n5\n"),
+            "g.mtx:2: size line `1` must be `rows cols`: two non-negative integers",
+        ),
+        // Positive semidefiniteness, as far as one entry tells.
+        (
+            "A.mtx",
+            a_with(4, "1 1 -2"),
+            "A.mtx:4: diagonal entry A(1, 1) = -2e0 is negative",
+        ),
+    ];
+    for (file, text, expected) in &cases {
+        let qp = broken(dir.path(), file, text);
+        let o = signorini(
+            &["compare", "--qp", qp.to_str().unwrap(), "--out", "c"],
+            dir.path(),
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{file}: {err}");
+        let named = format!("{}", qp.join(expected).display());
+        assert!(err.contains(&named), "expected `{named}` in:\n{err}");
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(!dir.path().join("c").exists(), "{file}: {expected}");
+    }
+    // A missing file, and a directory that is not there at all.
+    let qp = broken(dir.path(), "g.mtx", "");
+    std::fs::remove_file(qp.join("g.mtx")).unwrap();
+    for (arg, expected) in [
+        (
+            qp.clone(),
+            format!("{}: missing", qp.join("g.mtx").display()),
+        ),
+        (
+            dir.path().join("nowhere"),
+            format!("{}: not a directory", dir.path().join("nowhere").display()),
+        ),
+    ] {
+        let o = signorini(
+            &["compare", "--qp", arg.to_str().unwrap(), "--out", "c"],
+            dir.path(),
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert!(err.contains(&expected), "expected `{expected}` in:\n{err}");
+        assert!(!dir.path().join("c").exists());
+    }
+}
+
+/// `--qp` replaces the scene: both at once is a usage error.
+#[test]
+fn qp_and_a_scene_together_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo("fixtures/seed/exp2b.toml");
+    let fixture = repo("fixtures/qp/spring-chain");
+    let o = signorini(
+        &[
+            "compare",
+            scene.to_str().unwrap(),
+            "--qp",
+            fixture.to_str().unwrap(),
+            "--out",
+            "c",
+        ],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("cannot be used with"));
+    assert!(!dir.path().join("c").exists());
+}
+
+/// A floating body's QP: A is singular and the files carry no null space.  The primal backends
+/// solve it; the dual ones, which need A⁻¹ or the rigid-body modes, are error rows saying so;
+/// the comparison still finishes (exit 2, "not solved"), it does not crash.
+#[test]
+fn a_singular_a_without_null_space_is_an_error_row_for_the_dual_backends() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo("fixtures/hard/floating.toml");
+    let o = signorini(
+        &["export", scene.to_str().unwrap(), "--out", "x"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = signorini(
+        &[
+            "compare",
+            "--qp",
+            "x",
+            "--backends",
+            "clarabel,pdas,dual-pgs,dual-ssn,clarabel/dual",
+            "--out",
+            "c",
+        ],
+        dir.path(),
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let report = json(&dir.path().join("c/compare.json"));
+    let rows = report["backends"].as_array().unwrap();
+    for r in &rows[..2] {
+        assert_eq!(r["status"], "solved", "{r}");
+    }
+    for r in &rows[2..] {
+        assert_eq!(r["status"], "error", "{r}");
+        assert!(r["objective"].is_null(), "{r}");
+        let message = r["message"].as_str().unwrap();
+        assert!(
+            message.contains("A is singular and QP files carry no null space"),
+            "{message}"
+        );
+    }
+}
