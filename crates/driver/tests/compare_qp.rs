@@ -26,7 +26,8 @@ fn signorini(args: &[&str], cwd: &Path) -> std::process::Output {
 }
 
 fn json(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+    serde_json::from_str(&std::fs::read_to_string(path).expect("read the report"))
+        .expect("the report is JSON")
 }
 
 /// Every backend name this build accepts (the primal and dual forms, the chain).
@@ -187,17 +188,19 @@ fn every_backend_finds_the_known_optimum_of_the_scipy_fixture() {
 fn broken(dir: &Path, file: &str, text: &str) -> PathBuf {
     let qp = dir.join("qp");
     let _ = std::fs::remove_dir_all(&qp);
-    std::fs::create_dir(&qp).unwrap();
+    std::fs::create_dir(&qp).expect("make the QP directory");
     for name in ["A.mtx", "f.mtx", "B.mtx", "g.mtx"] {
-        std::fs::copy(repo("fixtures/qp/spring-chain").join(name), qp.join(name)).unwrap();
+        std::fs::copy(repo("fixtures/qp/spring-chain").join(name), qp.join(name))
+            .expect("copy the fixture");
     }
-    std::fs::write(qp.join(file), text).unwrap();
+    std::fs::write(qp.join(file), text).expect("write the broken file");
     qp
 }
 
 /// The fixture's A with `line` (4-based: line 4 is the first entry) replaced.
 fn a_with(line: usize, replacement: &str) -> String {
-    let text = std::fs::read_to_string(repo("fixtures/qp/spring-chain/A.mtx")).unwrap();
+    let text =
+        std::fs::read_to_string(repo("fixtures/qp/spring-chain/A.mtx")).expect("read the fixture");
     let mut lines: Vec<String> = text.lines().map(String::from).collect();
     lines[line - 1] = replacement.to_string();
     lines.join("\n") + "\n"
