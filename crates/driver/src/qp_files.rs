@@ -376,6 +376,20 @@ fn stiffness(m: &Mtx) -> Result<CscMatrix, QpFileError> {
             format!("A must be square (n×n), not {}×{}", m.rows, m.cols),
         ));
     }
+    // Every unknown has stiffness, so A stores an entry in every row: a size line declaring
+    // more rows than the entries can cover is refused before anything of that size is
+    // allocated (a header claiming 10¹² unknowns must not exhaust memory).
+    let covered = m.entries.len() * if m.symmetric { 2 } else { 1 };
+    if m.rows > covered {
+        return Err(m.error(
+            Some(m.size_line),
+            format!(
+                "A declares {} unknowns but stores {} entries: some unknown has an empty row (no stiffness)",
+                m.rows,
+                m.entries.len()
+            ),
+        ));
+    }
     let a = to_csc(m);
     for &(i, j, _, line) in &m.entries {
         if i == j && a.get(i, i).copied().unwrap_or(0.0) < 0.0 {
@@ -457,6 +471,16 @@ pub fn read_qp_dir(dir: &Path) -> Result<QpFiles, QpFileError> {
         ));
     }
     let m = b.rows;
+    // Likewise every constraint involves an unknown (and g is allocated at B's row count).
+    if m > b.entries.len() {
+        return Err(b.error(
+            Some(b.size_line),
+            format!(
+                "B declares {m} rows but stores {} entries: some constraint row is empty",
+                b.entries.len()
+            ),
+        ));
+    }
     let constraints = to_csc(&b);
     let g = read_mtx(&g)?;
     let gap = to_vector(

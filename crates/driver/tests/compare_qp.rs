@@ -242,6 +242,17 @@ fn malformed_input_is_refused_with_file_and_line() {
             format!("{ARRAY}2 1\n5\n5\n"),
             "g.mtx:2: g has length 2 but B",
         ),
+        // Sizes the entries cannot fill (refused before allocating them).
+        (
+            "A.mtx",
+            format!("{COORD}1000000000000 1000000000000 1\n1 1 2\n"),
+            "A.mtx:2: A declares 1000000000000 unknowns but stores 1 entries",
+        ),
+        (
+            "B.mtx",
+            format!("{COORD}1000000000000 10 1\n1 10 1\n"),
+            "B.mtx:2: B declares 1000000000000 rows but stores 1 entries",
+        ),
         // Symmetry: a `general` A whose (1, 2) entry differs from (2, 1).
         (
             "A.mtx",
