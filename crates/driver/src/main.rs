@@ -364,7 +364,6 @@ fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) -> Result<Exi
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 fn compare(
     common: &Common,
     names: &[String],

@@ -378,6 +378,23 @@ fn malformed_input_is_refused_with_file_and_line() {
     }
 }
 
+/// A QP without constraint rows is one linear solve: nothing to compare, as for a scene without
+/// contact (exit 1, nothing written).
+#[test]
+fn a_qp_without_rows_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let qp = broken(dir.path(), "B.mtx", &format!("{COORD}0 10 0\n"));
+    std::fs::write(qp.join("g.mtx"), format!("{ARRAY}0 1\n")).unwrap();
+    let o = signorini(
+        &["compare", "--qp", qp.to_str().unwrap(), "--out", "c"],
+        dir.path(),
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("B has no row"), "{err}");
+    assert!(!dir.path().join("c").exists());
+}
+
 /// `--qp` replaces the scene: both at once is a usage error.
 #[test]
 fn qp_and_a_scene_together_are_refused() {
