@@ -1175,6 +1175,49 @@ mod tests {
         assert_ne!(scene_hash(&renamed, &all), h);
     }
 
+    /// The progress callback names a point when it starts, not only once it is done: the bar
+    /// used to show the previous point's label (and no sign of life) while a point ran.
+    #[test]
+    fn progress_names_each_point_before_it_runs() {
+        let scene = run::load_scene(None).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let plan = SweepPlan {
+            hmax: vec![0.3, 0.2],
+            bodies: Vec::new(),
+            backends: vec![BackendKind::Clarabel, BackendKind::DualPgs],
+            tols: vec![1e-9],
+            repeat: 1,
+            time_limit: None,
+            resume: false,
+            overwrite: false,
+            shard: Some(Shard { index: 2, count: 3 }),
+            vtu: false,
+        };
+        let mut calls: Vec<(usize, usize, String)> = Vec::new();
+        sweep(
+            &scene,
+            &plan,
+            &SolveOptions::default(),
+            &MeshLimits::default(),
+            dir.path(),
+            |d, t, w| calls.push((d, t, w.to_string())),
+        )
+        .unwrap();
+        // Shard 2/3 of 4 points runs point 2 alone: hmax 0.3, dual-pgs.
+        let texts: Vec<&str> = calls.iter().map(|c| c.2.as_str()).collect();
+        assert_eq!(
+            texts,
+            [
+                "hmax 0.3: meshing and assembling",
+                "hmax 0.3: timing the floor (236 DOFs)",
+                "hmax 0.3 dual-pgs tol 1e-9: solving",
+                "hmax 0.3 dual-pgs tol 1e-9: solved",
+            ]
+        );
+        let counts: Vec<(usize, usize)> = calls.iter().map(|c| (c.0, c.1)).collect();
+        assert_eq!(counts, [(0, 1), (0, 1), (0, 1), (1, 1)]);
+    }
+
     #[test]
     fn the_header_is_the_points_fields() {
         let mut w = csv::Writer::from_writer(Vec::new());
