@@ -60,7 +60,7 @@ fn run_shards(scene: &Path, cwd: &Path) {
     for i in 1..=3 {
         let shard = format!("{i}/3");
         let o = run_sweep(
-            scene.to_str().unwrap(),
+            scene.to_str().expect("UTF-8 path"),
             &["--shard", &shard],
             &format!("s{i}"),
             cwd,
@@ -178,12 +178,12 @@ fn merged_shards_equal_the_unsharded_sweep() {
 /// Every entry of `dir` (recursively), for "nothing was written".
 fn tree(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
     let mut out = Vec::new();
-    for e in std::fs::read_dir(dir).unwrap() {
-        let e = e.unwrap();
-        if e.file_type().unwrap().is_dir() {
+    for e in std::fs::read_dir(dir).expect("test I/O") {
+        let e = e.expect("test I/O");
+        if e.file_type().expect("test I/O").is_dir() {
             out.extend(tree(&e.path()));
         } else {
-            out.push((e.path(), std::fs::read(e.path()).unwrap()));
+            out.push((e.path(), std::fs::read(e.path()).expect("test I/O")));
         }
     }
     out.sort();
@@ -191,13 +191,13 @@ fn tree(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
 }
 
 fn copy_dir(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap() {
-        let e = e.unwrap();
-        if e.file_type().unwrap().is_dir() {
+    std::fs::create_dir_all(to).expect("test I/O");
+    for e in std::fs::read_dir(from).expect("test I/O") {
+        let e = e.expect("test I/O");
+        if e.file_type().expect("test I/O").is_dir() {
             copy_dir(&e.path(), &to.join(e.file_name()));
         } else {
-            std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+            std::fs::copy(e.path(), to.join(e.file_name())).expect("test I/O");
         }
     }
 }
@@ -319,8 +319,10 @@ fn bad_shards_are_refused_at_parse() {
 fn vtu_xml(bytes: &[u8]) -> String {
     let marker = b"<AppendedData";
     match bytes.windows(marker.len()).position(|w| w == marker) {
-        Some(at) => String::from_utf8(bytes[..at].to_vec()).unwrap() + "</VTKFile>",
-        None => String::from_utf8(bytes.to_vec()).unwrap(),
+        Some(at) => {
+            String::from_utf8(bytes[..at].to_vec()).expect("the VTU header is UTF-8") + "</VTKFile>"
+        }
+        None => String::from_utf8(bytes.to_vec()).expect("the VTU header is UTF-8"),
     }
 }
 
