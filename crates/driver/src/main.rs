@@ -508,6 +508,7 @@ fn sweep_merge(dirs: &[PathBuf], overwrite: bool, out: &std::path::Path) -> Resu
     let outcome = signorini::sweep::merge::merge(dirs, out, overwrite)?;
     let mut written = vec![outcome.csv.clone()];
     written.extend(outcome.plots.iter().cloned());
+    written.extend(outcome.files.iter().cloned());
     sweep_report(
         &format!(
             "{} (merged from {} shards)",

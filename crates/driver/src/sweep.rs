@@ -708,7 +708,7 @@ pub fn solution_file_name(p: usize, total: usize, hmax: f64, backend: &str, tol:
 }
 
 /// Writes the PVD collection: one `DataSet` per `(timestep, file, label)`.
-fn write_pvd(
+pub(crate) fn write_pvd(
     w: &mut dyn std::io::Write,
     entries: &[(usize, String, String)],
 ) -> std::io::Result<()> {

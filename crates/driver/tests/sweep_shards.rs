@@ -326,16 +326,13 @@ fn vtu_xml(bytes: &[u8]) -> String {
     }
 }
 
-#[test]
-fn vtu_writes_a_collection_of_every_point() {
-    let dir = tempfile::tempdir().unwrap();
-    let cwd = dir.path();
-    let scene = fixture("exp2b");
-    let o = run_sweep(scene.to_str().unwrap(), &["--vtu"], "v", cwd);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let points = read_points(&cwd.join("v/sweep.csv")).unwrap();
-    let pvd = std::fs::read_to_string(cwd.join("v/solutions.pvd")).unwrap();
-    let doc = roxmltree::Document::parse(&pvd).unwrap();
+/// Checks `dir/solutions.pvd` against the plan and `dir/sweep.csv`: one `DataSet` per point,
+/// timestep = the point's number, every file present and XML.
+fn check_collection(dir: &Path) {
+    let points = read_points(&dir.join("sweep.csv")).expect("the collection is as written");
+    let pvd =
+        std::fs::read_to_string(dir.join("solutions.pvd")).expect("the collection is as written");
+    let doc = roxmltree::Document::parse(&pvd).expect("the collection is as written");
     let root = doc.root_element();
     assert_eq!(root.tag_name().name(), "VTKFile");
     assert_eq!(root.attribute("type"), Some("Collection"));
@@ -350,7 +347,7 @@ fn vtu_writes_a_collection_of_every_point() {
             set.attribute("timestep"),
             Some((k + 1).to_string().as_str())
         );
-        let file = set.attribute("file").unwrap();
+        let file = set.attribute("file").expect("the collection is as written");
         let (h, t, b) = ORDER[k];
         assert!(
             file.starts_with("solutions/") && file.contains(&format!("_h{h}_{b}_tol{t:e}")),
@@ -359,7 +356,7 @@ fn vtu_writes_a_collection_of_every_point() {
         assert!(points
             .iter()
             .any(|p| p.hmax == h && p.tol == t && p.backend == b));
-        let bytes = std::fs::read(cwd.join("v").join(file)).unwrap();
+        let bytes = std::fs::read(dir.join(file)).expect("the collection is as written");
         let xml = vtu_xml(&bytes);
         let vtu = roxmltree::Document::parse(&xml).unwrap_or_else(|e| panic!("{file}: {e}"));
         assert_eq!(
@@ -367,8 +364,15 @@ fn vtu_writes_a_collection_of_every_point() {
             Some("UnstructuredGrid")
         );
         // As many points as the mesh has nodes: 2 per free DOF at most, so at least dofs / 2.
-        let piece = vtu.descendants().find(|n| n.has_tag_name("Piece")).unwrap();
-        let nodes: usize = piece.attribute("NumberOfPoints").unwrap().parse().unwrap();
+        let piece = vtu
+            .descendants()
+            .find(|n| n.has_tag_name("Piece"))
+            .expect("the collection is as written");
+        let nodes: usize = piece
+            .attribute("NumberOfPoints")
+            .expect("the collection is as written")
+            .parse()
+            .expect("the collection is as written");
         let p = &points[k];
         assert!(
             2 * nodes >= p.dofs,
@@ -376,6 +380,30 @@ fn vtu_writes_a_collection_of_every_point() {
             p.dofs
         );
     }
+}
+
+#[test]
+fn vtu_writes_a_collection_of_every_point() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let scene = fixture("exp2b");
+    let o = run_sweep(scene.to_str().unwrap(), &["--vtu"], "v", cwd);
+    assert!(o.status.success(), "{}", stderr(&o));
+    check_collection(&cwd.join("v"));
+    // Shards with --vtu: the merge copies their solutions and lists them all.
+    for i in 1..=3 {
+        let shard = format!("{i}/3");
+        let o = run_sweep(
+            scene.to_str().unwrap(),
+            &["--vtu", "--shard", &shard],
+            &format!("s{i}"),
+            cwd,
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let o = signorini(&["sweep", "merge", "s1", "s2", "s3", "--out", "m"], cwd);
+    assert!(o.status.success(), "{}", stderr(&o));
+    check_collection(&cwd.join("m"));
     // Without --vtu, an overwrite removes the collection (it would name stale files).
     let o = run_sweep(scene.to_str().unwrap(), &["--overwrite"], "v", cwd);
     assert!(o.status.success(), "{}", stderr(&o));

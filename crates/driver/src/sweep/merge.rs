@@ -17,7 +17,10 @@
 //! * every row has its `displacements/<p>.u` file, readable, with as many values as the other
 //!   points of the same mesh.
 //!
-//! The merged rows are written in plan order.  The error columns, left empty by the shards, are
+//! The merged rows are written in plan order.  When shards were run with `--vtu`, their
+//! `solutions/<point>.vtu` files are copied into `OUT/solutions/` and `OUT/solutions.pvd` lists
+//! them (timestep = the point's number in the plan), so the merged directory stands on its own.
+//!  The error columns, left empty by the shards, are
 //! computed here as an unsharded sweep computes them: `error_vs_reference` against the mesh's
 //! reference (walking the mesh's points in plan order, the solved point at the tightest
 //! tolerance with the smallest worst residual so far, from the stored displacements and
@@ -28,8 +31,8 @@ use std::path::{Path, PathBuf};
 
 use super::shard::{self, Manifest, Shard};
 use super::{
-    better_reference, error_vs, fill_error_vs_finest, key, sweep_members, write_csv, Point,
-    SWEEP_FILE,
+    better_reference, error_vs, fill_error_vs_finest, key, solution_file_name, sweep_members,
+    write_csv, write_pvd, Point, SOLUTIONS_DIR, SOLUTIONS_FILE, SWEEP_FILE,
 };
 use crate::outdir::{DirLock, OutputSet};
 use crate::output::OutputError;
@@ -62,6 +65,8 @@ pub struct MergeOutcome {
     pub csv: PathBuf,
     /// The plots written.
     pub plots: Vec<PathBuf>,
+    /// `solutions.pvd`, when some shard wrote its points' solutions (`--vtu`).
+    pub files: Vec<PathBuf>,
     /// The merged points, in plan order.
     pub points: Vec<Point>,
     /// The study's manifest (of the first shard, with the shard set to `1/1`).
@@ -334,6 +339,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, overwrite: bool) -> Result<MergeOutco
     // The rows of every shard, with their displacements.
     let mut seen: HashMap<String, (PathBuf, u64)> = HashMap::new();
     let mut rows: Vec<(usize, Point, f64, Vec<f64>)> = Vec::with_capacity(study.points);
+    let mut row_dirs: HashMap<usize, PathBuf> = HashMap::new();
     for (dir, (mpath, m)) in dirs.iter().zip(&manifests) {
         let csv = dir.join(SWEEP_FILE);
         let mut present = Vec::new();
@@ -396,6 +402,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, overwrite: bool) -> Result<MergeOutco
                 )
             })?;
             present.push(k);
+            row_dirs.insert(k, dir.clone());
             rows.push((k, p, worst, u));
         }
         for k in m.shard.points(study.points) {
@@ -413,6 +420,12 @@ pub fn merge(dirs: &[PathBuf], out: &Path, overwrite: bool) -> Result<MergeOutco
         }
     }
     rows.sort_by_key(|r| r.0);
+    let sources: Vec<(usize, Point, PathBuf)> = rows
+        .iter()
+        .map(|(k, p, _, _)| (*k, p.clone(), row_dirs[k].clone()))
+        .collect();
+    let points_index: HashMap<usize, usize> =
+        rows.iter().enumerate().map(|(i, r)| (r.0, i)).collect();
     // error_vs_reference, mesh by mesh in plan order, as an unsharded sweep computes it.
     let per_mesh = study.tols.len() * study.backends.len();
     let mut points = Vec::with_capacity(rows.len());
@@ -472,7 +485,46 @@ pub fn merge(dirs: &[PathBuf], out: &Path, overwrite: bool) -> Result<MergeOutco
     if std::fs::symlink_metadata(&csv_path).is_ok() && !overwrite {
         return Err(MergeError::Exists(csv_path));
     }
+    // The shards' solutions (written with --vtu), copied so that the merged directory stands on
+    // its own, and their collection.
+    let mut solutions: Vec<(usize, String, String)> = Vec::new();
+    for (k, p, dir) in &sources {
+        let name = solution_file_name(*k, study.points, p.hmax, &p.backend, p.tol);
+        let from = dir.join(SOLUTIONS_DIR).join(&name);
+        if from.is_file() {
+            solutions.push((*k, name, from.display().to_string()));
+        }
+    }
+    let mut files = Vec::new();
+    if !solutions.is_empty() {
+        let slock = DirLock::acquire(&out.join(SOLUTIONS_DIR))?;
+        for (_, name, from) in &solutions {
+            let mut sset = OutputSet::new(&slock, Some(name), &[name.as_str()])?;
+            sset.write(name, |w| {
+                let mut f = std::fs::File::open(from)?;
+                std::io::copy(&mut f, w).map(drop)
+            })?;
+            sset.commit()?;
+        }
+    }
     let mut set = OutputSet::new(&lock, Some(SWEEP_FILE), &sweep_members())?;
+    if !solutions.is_empty() {
+        let entries: Vec<(usize, String, String)> = solutions
+            .iter()
+            .map(|(k, name, _)| {
+                let p = &points[points_index[k]];
+                (
+                    *k,
+                    format!("{SOLUTIONS_DIR}/{name}"),
+                    format!(
+                        "point {k}: hmax {}, {}, tol {:e}, {}",
+                        p.hmax, p.backend, p.tol, p.status
+                    ),
+                )
+            })
+            .collect();
+        files.push(set.write(SOLUTIONS_FILE, |w| write_pvd(w, &entries))?);
+    }
     let csv = set.write(SWEEP_FILE, |w| write_csv(w, &points))?;
     let mut plot_paths = Vec::new();
     for (name, svg) in &plots {
@@ -491,6 +543,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, overwrite: bool) -> Result<MergeOutco
     Ok(MergeOutcome {
         csv,
         plots: plot_paths,
+        files,
         points,
         manifest,
         skipped,
