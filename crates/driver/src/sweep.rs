@@ -26,6 +26,28 @@
 //!   interrupted sweep keeps every finished point and `resume` skips them.  The final write
 //!   replaces `sweep.csv` and the plots together.
 //!
+//! * `shard.json` (with `--shard`) and `solutions.pvd` (with `--vtu`) are members of the same
+//!   set; a run that does not write them removes an earlier run's.
+//!
+//! # Shards and merging
+//!
+//! `--shard I/N` runs the plan's points `I, I + N, I + 2N, …` (numbered from 1 in plan order:
+//! hmax coarse to fine, tolerances tightest first, backends as given); see [`shard`] for the
+//! files a shard adds (`shard.json`, `displacements/<p>.u`) and [`merge`] for
+//! `signorini sweep merge`, which checks that the shards form one study and writes the merged
+//! `sweep.csv` and plots.  A shard leaves both error columns empty (they need points of other
+//! shards); the merge computes them from the stored displacements, residuals and probes with
+//! the same functions an unsharded sweep uses, so the merged file equals the unsharded one
+//! apart from the times and memory.  A backend that hits the time limit is skipped on the finer
+//! meshes *of the same shard* only (a shard does not see the others' points).
+//!
+//! # Solutions (`--vtu`)
+//!
+//! Every point run writes its solution as `solutions/<point>.vtu` ([`solution_file_name`],
+//! each file its own output set inside `solutions/`, written before the point's row) and the
+//! final write adds [`SOLUTIONS_FILE`], a ParaView collection (PVD) listing the points of
+//! `sweep.csv` whose file exists, with `timestep` = the point's number in the plan.
+//!
 //! # Scene hash
 //!
 //! The `scene_hash` column ([`scene_hash`]) is the FNV-1a 64-bit hash, as 16 lowercase hex

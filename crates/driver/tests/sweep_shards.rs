@@ -223,6 +223,9 @@ fn merge_refuses_foreign_missing_duplicated_or_damaged_shards() {
     assert!(lines.len() >= 3, "{text}");
     lines[2] = lines[2].rsplit_once(',').unwrap().0.to_string();
     std::fs::write(&csv, lines.join("\n") + "\n").unwrap();
+    // Shard 2/3 whose sweep.csv is another scene's (a foreign file under a valid manifest).
+    copy_dir(&cwd.join("s2"), &cwd.join("foreign2"));
+    std::fs::copy(cwd.join("other2/sweep.csv"), cwd.join("foreign2/sweep.csv")).unwrap();
     // Shard 1/3 whose manifest says it was interrupted.
     copy_dir(&cwd.join("s1"), &cwd.join("cut1"));
     let m = cwd.join("cut1/shard.json");
@@ -270,6 +273,11 @@ fn merge_refuses_foreign_missing_duplicated_or_damaged_shards() {
             "a corrupt line",
             vec!["s1", "s2", "bad3"],
             "bad3/sweep.csv: line 3".to_string(),
+        ),
+        (
+            "a foreign sweep.csv",
+            vec!["s1", "foreign2", "s3"],
+            "foreign2/sweep.csv: line 2: scene_hash".to_string(),
         ),
         (
             "an interrupted shard",
