@@ -19,7 +19,7 @@
 //!   which of its points were skipped after a time limit.  It is part of the sweep's output set,
 //!   rewritten with every checkpoint (`complete: false`) and at the end (`complete: true`).
 //! * `displacements/<p>.u` for each point `p` it ran ([`write_point_data`]): the residual that
-//!   ranks a mesh's reference ([`signorini_core::qp::Residuals::worst`]) and the nodal
+//!   ranks a mesh's reference ([`signorini_core::qp::KktResiduals::worst`]) and the nodal
 //!   displacement vector, so that `sweep merge` computes `error_vs_reference` exactly as an
 //!   unsharded sweep does.  Layout: the 8 bytes `SIGU\x01\0\0\0`, the residual (f64), the
 //!   length `n` (u64), then `n` f64 values, all little-endian.
