@@ -445,13 +445,16 @@ pub fn merge(dirs: &[PathBuf], out: &Path, overwrite: bool) -> Result<MergeOutco
             Some((_, _, r)) => {
                 let u_ref = &rows[r].3;
                 if u_ref.len() != u.len() {
-                    let csv = dirs[0].join(SWEEP_FILE);
+                    let file = row_dirs[&k]
+                        .join(shard::DISPLACEMENTS_DIR)
+                        .join(shard::point_data_name(k));
                     return Err(refused(
-                        &csv,
+                        &file,
                         None,
                         format!(
-                            "point {k} has {} displacement values, its mesh's reference {}",
+                            "point {k} has {} displacement values, but the reference of its mesh (point {}) has {}",
                             u.len(),
+                            rows[r].0,
                             u_ref.len()
                         ),
                     ));
