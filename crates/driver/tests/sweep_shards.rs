@@ -306,6 +306,60 @@ fn merge_refuses_foreign_missing_duplicated_or_damaged_shards() {
     }
 }
 
+/// An interrupted shard is finished with `--resume` (which refuses another shard's file, naming
+/// the line) and then merges like the others.
+#[test]
+fn an_interrupted_shard_resumes_and_merges() {
+    let dir = tempfile::tempdir().unwrap();
+    let cwd = dir.path();
+    let scene = fixture("exp2b");
+    run_shards(&scene, cwd);
+    // Simulate an interruption of shard 1/3 (points 1, 4, 7): its last row is lost and its
+    // manifest still says it is running.
+    let csv = cwd.join("s1/sweep.csv");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 4, "{text}");
+    std::fs::write(&csv, lines[..3].join("\n") + "\n").unwrap();
+    let m = cwd.join("s1/shard.json");
+    let manifest = std::fs::read_to_string(&m).unwrap();
+    std::fs::write(
+        &m,
+        manifest.replace("\"complete\": true", "\"complete\": false"),
+    )
+    .unwrap();
+    let o = signorini(&["sweep", "merge", "s1", "s2", "s3", "--out", "m"], cwd);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--resume"), "{}", stderr(&o));
+    // Resuming it as shard 2/3 is refused: line 2 holds point 1, shard 1's.
+    let o = run_sweep(
+        scene.to_str().unwrap(),
+        &["--shard", "2/3", "--resume"],
+        "s1",
+        cwd,
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("s1/sweep.csv: line 2: point 1 of the plan belongs to shard 1/3"),
+        "{}",
+        stderr(&o)
+    );
+    let o = run_sweep(
+        scene.to_str().unwrap(),
+        &["--shard", "1/3", "--resume"],
+        "s1",
+        cwd,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(read_points(&csv).unwrap().len(), 3);
+    let o = signorini(&["sweep", "merge", "s1", "s2", "s3", "--out", "m"], cwd);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        read_points(&cwd.join("m/sweep.csv")).unwrap().len(),
+        ORDER.len()
+    );
+}
+
 #[test]
 fn bad_shards_are_refused_at_parse() {
     let dir = tempfile::tempdir().unwrap();

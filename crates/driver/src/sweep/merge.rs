@@ -312,7 +312,11 @@ pub fn merge(dirs: &[PathBuf], out: &Path, overwrite: bool) -> Result<MergeOutco
             return Err(refused(
                 &path,
                 line_of(&text, "shard"),
-                format!("shard {} is given twice: also {}", m.shard, other.display()),
+                format!(
+                    "shard {} is given twice (also as {})",
+                    m.shard,
+                    other.display()
+                ),
             ));
         }
         manifests.push((path, m));
