@@ -26,6 +26,28 @@
 //!   interrupted sweep keeps every finished point and `resume` skips them.  The final write
 //!   replaces `sweep.csv` and the plots together.
 //!
+//! * `shard.json` (with `--shard`) and `solutions.pvd` (with `--vtu`) are members of the same
+//!   set; a run that does not write them removes an earlier run's.
+//!
+//! # Shards and merging
+//!
+//! `--shard I/N` runs the plan's points `I, I + N, I + 2N, …` (numbered from 1 in plan order:
+//! hmax coarse to fine, tolerances tightest first, backends as given); see [`shard`] for the
+//! files a shard adds (`shard.json`, `displacements/<p>.u`) and [`merge`] for
+//! `signorini sweep merge`, which checks that the shards form one study and writes the merged
+//! `sweep.csv` and plots.  A shard leaves both error columns empty (they need points of other
+//! shards); the merge computes them from the stored displacements, residuals and probes with
+//! the same functions an unsharded sweep uses, so the merged file equals the unsharded one
+//! apart from the times and memory.  A backend that hits the time limit is skipped on the finer
+//! meshes *of the same shard* only (a shard does not see the others' points).
+//!
+//! # Solutions (`--vtu`)
+//!
+//! Every point run writes its solution as `solutions/<point>.vtu` ([`solution_file_name`],
+//! each file its own output set inside `solutions/`, written before the point's row) and the
+//! final write adds [`SOLUTIONS_FILE`], a ParaView collection (PVD) listing the points of
+//! `sweep.csv` whose file exists, with `timestep` = the point's number in the plan.
+//!
 //! # Scene hash
 //!
 //! The `scene_hash` column ([`scene_hash`]) is the FNV-1a 64-bit hash, as 16 lowercase hex
@@ -52,6 +74,11 @@ use crate::outdir::{DirLock, OutputSet};
 use crate::output::OutputError;
 use crate::run::{self, RunError};
 
+pub mod merge;
+pub mod shard;
+
+use shard::{Manifest, Shard};
+
 /// What to sweep.
 #[derive(Debug, Clone)]
 pub struct SweepPlan {
@@ -71,10 +98,24 @@ pub struct SweepPlan {
     pub resume: bool,
     /// Replace an existing `sweep.csv` (once the new sweep writes its first point).
     pub overwrite: bool,
+    /// Run only this shard's points (see [`shard`]); `None`: every point.
+    pub shard: Option<Shard>,
+    /// Write each point's solution as `solutions/<point>.vtu` and the collection
+    /// `solutions.pvd` (see [`SOLUTIONS_FILE`]).
+    pub vtu: bool,
 }
 
 /// The CSV file of a sweep, the primary file of its output set.
 pub const SWEEP_FILE: &str = "sweep.csv";
+
+/// The ParaView collection of the points' solutions (with `--vtu`): a PVD file listing
+/// `solutions/<point>.vtu` ([`solution_file_name`]) for every point of `sweep.csv` whose
+/// solution file exists, in plan order, each with `timestep` = the point's number in the plan
+/// (from 1; see [`shard`]), so ParaView's time slider steps through the points.
+pub const SOLUTIONS_FILE: &str = "solutions.pvd";
+
+/// The subdirectory of the points' VTU files (with `--vtu`).
+pub const SOLUTIONS_DIR: &str = "solutions";
 
 /// What a sweep wrote.
 #[derive(Debug, Clone)]
@@ -91,6 +132,9 @@ pub struct SweepOutcome {
     pub skipped: usize,
     /// This scene's [`scene_hash`].
     pub scene_hash: String,
+    /// Other files of the set written: `shard.json` (with a shard), `solutions.pvd` (with
+    /// `vtu`).
+    pub files: Vec<PathBuf>,
 }
 
 /// Why a sweep stopped.
@@ -553,7 +597,8 @@ pub fn read_for_resume(
             ),
         ));
     }
-    let (hmaxes, tols, backends) = grid(plan);
+    let the_grid = grid(plan);
+    let (hmaxes, tols, backends) = &the_grid;
     let mut seen: HashMap<String, u64> = HashMap::new();
     let mut points = Vec::new();
     let mut record = csv::StringRecord::new();
@@ -601,6 +646,18 @@ pub fn read_for_resume(
         if p.status.trim().is_empty() {
             return Err(refuse(line, "empty status".into()));
         }
+        if let (Some(s), Some(k)) = (plan.shard, plan_index(&the_grid, &p)) {
+            if !s.owns(k) {
+                return Err(refuse(
+                    line,
+                    format!(
+                        "point {k} of the plan belongs to shard {}/{}, not to this shard {s}",
+                        Shard::of_point(k, s.count),
+                        s.count
+                    ),
+                ));
+            }
+        }
         if let Some(first) = seen.insert(key(p.hmax, &p.backend, p.tol), line) {
             return Err(refuse(
                 line,
@@ -625,23 +682,134 @@ fn write_csv(w: &mut dyn std::io::Write, points: &[Point]) -> std::io::Result<()
     csv.flush()
 }
 
-/// The files of a sweep's output set: the CSV (primary) and the plots.
+/// The files of a sweep's output set: the CSV (primary), the plots, the shard's manifest and
+/// the solutions' collection (the last two are removed when a run does not write them).
 fn sweep_members() -> Vec<&'static str> {
     std::iter::once(SWEEP_FILE)
         .chain(crate::plots::PLOT_FILES)
+        .chain([shard::MANIFEST_FILE, SOLUTIONS_FILE])
         .collect()
 }
 
-/// Replaces `sweep.csv` by `points` and removes the plots (they no longer match).
-fn checkpoint(lock: &DirLock, points: &[Point]) -> Result<(), OutputError> {
+/// Replaces `sweep.csv` by `points` (and `shard.json` by `manifest`, if any) and removes the
+/// plots (they no longer match).
+fn checkpoint(
+    lock: &DirLock,
+    points: &[Point],
+    manifest: Option<&Manifest>,
+) -> Result<(), OutputError> {
     let mut set = OutputSet::new(lock, Some(SWEEP_FILE), &sweep_members())?;
     set.write(SWEEP_FILE, |w| write_csv(w, points))?;
+    if let Some(m) = manifest {
+        set.write(shard::MANIFEST_FILE, |w| m.write(w))?;
+    }
     set.commit().map(drop)
 }
 
+/// The number (from 1) of the point (hmax, backend, tol) in the plan order of `grid` (see
+/// [`shard`]), if it is part of the grid.
+fn plan_index(grid: &(Vec<f64>, Vec<f64>, Vec<BackendKind>), p: &Point) -> Option<usize> {
+    let (hmaxes, tols, backends) = grid;
+    let ih = hmaxes
+        .iter()
+        .position(|h| h.to_bits() == p.hmax.to_bits())?;
+    let it = tols.iter().position(|t| t.to_bits() == p.tol.to_bits())?;
+    let ib = backends.iter().position(|b| b.name() == p.backend)?;
+    Some(1 + (ih * tols.len() + it) * backends.len() + ib)
+}
+
+/// The VTU file of point `p` (from 1) of a plan of `total` points, inside [`SOLUTIONS_DIR`]:
+/// `<p>_h<hmax>_<backend>_tol<tol>.vtu`, `p` zero-padded to the width of `total`, a `/` in the
+/// backend's name (`clarabel/dual`) written `-`.
+pub fn solution_file_name(p: usize, total: usize, hmax: f64, backend: &str, tol: f64) -> String {
+    let width = total.max(1).to_string().len();
+    format!(
+        "{p:0width$}_h{hmax}_{}_tol{tol:e}.vtu",
+        backend.replace(['/', '\\'], "-")
+    )
+}
+
+/// Writes the PVD collection: one `DataSet` per `(timestep, file, label)`.
+pub(crate) fn write_pvd(
+    w: &mut dyn std::io::Write,
+    entries: &[(usize, String, String)],
+) -> std::io::Result<()> {
+    use crate::output::xml_escape;
+    writeln!(w, "<?xml version=\"1.0\"?>")?;
+    writeln!(
+        w,
+        "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">"
+    )?;
+    writeln!(w, "  <Collection>")?;
+    for (step, file, label) in entries {
+        // Labels are built from numbers and backend names: no "--" can occur in them.
+        writeln!(w, "    <!-- {} -->", label.replace("--", "- -"))?;
+        writeln!(
+            w,
+            "    <DataSet timestep=\"{step}\" group=\"\" part=\"0\" file=\"{}\"/>",
+            xml_escape(file)
+        )?;
+    }
+    writeln!(w, "  </Collection>")?;
+    writeln!(w, "</VTKFile>")
+}
+
+/// The collection's entries: every point of `points` whose VTU exists under `dir`, in plan
+/// order.
+fn pvd_entries(
+    dir: &Path,
+    grid: &(Vec<f64>, Vec<f64>, Vec<BackendKind>),
+    total: usize,
+    points: &[Point],
+) -> Vec<(usize, String, String)> {
+    let mut entries: Vec<(usize, String, String)> = points
+        .iter()
+        .filter_map(|pt| {
+            let p = plan_index(grid, pt)?;
+            let name = solution_file_name(p, total, pt.hmax, &pt.backend, pt.tol);
+            dir.join(SOLUTIONS_DIR).join(&name).is_file().then(|| {
+                (
+                    p,
+                    format!("{SOLUTIONS_DIR}/{name}"),
+                    format!(
+                        "point {p}: hmax {}, {}, tol {:e}, {}",
+                        pt.hmax, pt.backend, pt.tol, pt.status
+                    ),
+                )
+            })
+        })
+        .collect();
+    entries.sort_by_key(|e| e.0);
+    entries
+}
+
+/// `max |u − u_ref| / max |u_ref|` over the nodes: the `error_vs_reference` column.
+pub(crate) fn error_vs(u_ref: &[f64], u: &[f64]) -> f64 {
+    let scale = max_displacement(u_ref).max(f64::MIN_POSITIVE);
+    u_ref
+        .chunks(2)
+        .zip(u.chunks(2))
+        .map(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]))
+        .fold(0.0, f64::max)
+        / scale
+}
+
+/// Whether a solved point at the tightest tolerance with worst residual `worst` becomes its
+/// mesh's reference, replacing `current` (the reference so far, in plan order).
+pub(crate) fn better_reference(current: Option<f64>, worst: f64) -> bool {
+    current.is_none_or(|r| worst < r)
+}
+
 /// Runs the sweep into `dir/sweep.csv` and its plots (see the [module docs](self) for the
-/// files); `progress(done, total, what)` after each point.  Plot headings use the part of the
-/// scene title before any colon.
+/// files).  Plot headings use the part of the scene title before any colon.
+///
+/// `progress(done, total, what)` is called when a mesh starts (meshing, the floor), when each
+/// point starts (`what` names it, ending in `: solving`) and when it ends (`done` counts the
+/// finished points of this run's share of the plan, `total` is that share).
+///
+/// With `plan.shard`, only that shard's points run (see [`shard`]): the error columns are left
+/// empty, `shard.json` and `displacements/` are written for `sweep merge`.  With `plan.vtu`,
+/// every point run writes `solutions/<point>.vtu` and the set gets [`SOLUTIONS_FILE`].
 ///
 /// Points whose backend fails (any status other than `solved`) are written like the others and
 /// counted in [`SweepOutcome::failed`]; an error that stops a whole mesh (meshing, assembly, a
@@ -675,23 +843,56 @@ pub fn sweep(
         .iter()
         .map(|p| key(p.hmax, &p.backend, p.tol))
         .collect();
-    let (hmaxes, tols, backends) = grid(plan);
-    let total = hmaxes.len() * tols.len() * backends.len();
+    let the_grid = grid(plan);
+    let (hmaxes, tols, backends) = &the_grid;
+    let per_mesh = tols.len() * backends.len();
+    let plan_total = hmaxes.len() * per_mesh;
+    let owns = |p: usize| plan.shard.is_none_or(|s| s.owns(p));
+    let total = (1..=plan_total).filter(|&p| owns(p)).count();
+    let mut manifest = plan.shard.map(|shard| Manifest {
+        format: shard::MANIFEST_FORMAT.to_string(),
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        title: scene.title.clone(),
+        scene_hash: hash.clone(),
+        bodies: plan.bodies.clone(),
+        hmax: hmaxes.clone(),
+        backends: backends.iter().map(|b| b.name().to_string()).collect(),
+        tols: tols.clone(),
+        shard,
+        points: plan_total,
+        complete: false,
+        skipped: Vec::new(),
+    });
+    let displacements = plan
+        .shard
+        .map(|_| DirLock::acquire(&dir.join(shard::DISPLACEMENTS_DIR)))
+        .transpose()?;
+    let solutions = plan
+        .vtu
+        .then(|| DirLock::acquire(&dir.join(SOLUTIONS_DIR)))
+        .transpose()?;
     let mut count = 0;
     let mut given_up: HashSet<BackendKind> = HashSet::new();
     let repeat = plan.repeat;
 
-    for &h in &hmaxes {
-        let todo: Vec<(f64, BackendKind)> = tols
-            .iter()
-            .flat_map(|&t| backends.iter().map(move |&b| (t, b)))
-            .filter(|(t, b)| !done.contains(&key(h, b.name(), *t)))
+    for (ih, &h) in hmaxes.iter().enumerate() {
+        let index = |it: usize, ib: usize| 1 + (ih * tols.len() + it) * backends.len() + ib;
+        let mine: Vec<(usize, usize)> = (0..tols.len())
+            .flat_map(|it| (0..backends.len()).map(move |ib| (it, ib)))
+            .filter(|&(it, ib)| owns(index(it, ib)))
             .collect();
-        if todo.is_empty() {
-            count += tols.len() * backends.len();
-            progress(count, total, &format!("hmax {h}: already done"));
+        let todo = mine
+            .iter()
+            .filter(|&&(it, ib)| !done.contains(&key(h, backends[ib].name(), tols[it])))
+            .count();
+        if todo == 0 {
+            count += mine.len();
+            if !mine.is_empty() {
+                progress(count, total, &format!("hmax {h}: already done"));
+            }
             continue;
         }
+        progress(count, total, &format!("hmax {h}: meshing and assembling"));
         let s = with_hmax(scene, &plan.bodies, h);
         let mut mesh_times = Vec::with_capacity(repeat);
         let mut assemble_times = Vec::with_capacity(repeat);
@@ -708,6 +909,14 @@ pub fn sweep(
         if prepared.model.rows() == 0 {
             return Err(RunError::NoContact(format!("the mesh at hmax {h}")).into());
         }
+        progress(
+            count,
+            total,
+            &format!(
+                "hmax {h}: timing the floor ({} DOFs)",
+                prepared.model.free.len()
+            ),
+        );
         let qp = solve::ScaledQp::new(prepared.qp);
         let model = &prepared.model;
         // One untimed factorisation first: the first touch of a large factor's memory costs page
@@ -724,19 +933,24 @@ pub fn sweep(
             (median(mesh_times), median(assemble_times), median(floors));
 
         let mut reference: Option<(f64, Vec<f64>)> = None; // (residual, displacement)
-        for (t, kind) in tols
-            .iter()
-            .flat_map(|&t| backends.iter().map(move |&b| (t, b)))
-        {
+        for &(it, ib) in &mine {
+            let (t, kind, p) = (tols[it], backends[ib], index(it, ib));
             let label = format!("hmax {h} {} tol {t:e}", kind.name());
             let skip_row = done.contains(&key(h, kind.name(), t));
-            // The tightest tolerance is always solved (again, if resuming) to fix the reference.
-            let needed_for_reference = t == tols[0] && reference.is_none();
+            // The tightest tolerance is always solved (again, if resuming) to fix the reference;
+            // a shard leaves the reference to `sweep merge`.
+            let needed_for_reference = plan.shard.is_none() && it == 0 && reference.is_none();
             if (skip_row && !needed_for_reference) || given_up.contains(&kind) {
                 count += 1;
-                progress(count, total, &label);
+                let why = if skip_row {
+                    "already done"
+                } else {
+                    "skipped (time limit on a coarser mesh)"
+                };
+                progress(count, total, &format!("{label}: {why}"));
                 continue;
             }
+            progress(count, total, &format!("{label}: solving"));
             let mut backend = make_backend(kind).map_err(|e| {
                 RunError::from(solve::SolveError::Qp(
                     signorini_core::qp::QpError::Unavailable {
@@ -768,26 +982,25 @@ pub fn sweep(
             if sol.status == QpStatus::TimeLimit {
                 given_up.insert(kind);
             }
-            if t == tols[0] && sol.status == QpStatus::Solved {
-                let worst = sol.residuals.worst();
-                if reference.as_ref().is_none_or(|(r, _)| worst < *r) {
-                    reference = Some((worst, sol.displacement.clone()));
-                }
+            let worst = sol.residuals.worst();
+            if it == 0
+                && sol.status == QpStatus::Solved
+                && better_reference(reference.as_ref().map(|r| r.0), worst)
+            {
+                reference = Some((worst, sol.displacement.clone()));
             }
             count += 1;
-            progress(count, total, &label);
+            progress(count, total, &format!("{label}: {}", sol.status.as_str()));
             if skip_row {
                 continue;
             }
-            let error_vs_reference = reference.as_ref().map(|(_, u_ref)| {
-                let scale = max_displacement(u_ref).max(f64::MIN_POSITIVE);
-                u_ref
-                    .chunks(2)
-                    .zip(sol.displacement.chunks(2))
-                    .map(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]))
-                    .fold(0.0, f64::max)
-                    / scale
-            });
+            let error_vs_reference = if plan.shard.is_some() {
+                None
+            } else {
+                reference
+                    .as_ref()
+                    .map(|(_, u_ref)| error_vs(u_ref, &sol.displacement))
+            };
             let solve_s = median(times);
             let point = Point {
                 hmax: h,
@@ -815,31 +1028,101 @@ pub fn sweep(
                 floor_ordering: floor_info.ordering.as_str().to_string(),
                 floor_nnz_l: floor_info.nnz_l,
             };
+            // The point's own files first, so that every row of sweep.csv has its files.
+            if let Some(dlock) = &displacements {
+                let name = shard::point_data_name(p);
+                let mut set = OutputSet::new(dlock, Some(&name), &[&name])?;
+                set.write(&name, |w| {
+                    shard::write_point_data(w, worst, &sol.displacement)
+                })?;
+                set.commit()?;
+            }
+            if let Some(slock) = &solutions {
+                write_solution(
+                    slock,
+                    &s,
+                    model,
+                    &sol,
+                    &solution_file_name(p, plan_total, h, kind.name(), t),
+                )?;
+            }
             points.push(point);
-            checkpoint(&lock, &points)?;
+            checkpoint(&lock, &points, manifest.as_ref())?;
         }
     }
-    fill_error_vs_finest(&mut points);
+    if plan.shard.is_none() {
+        fill_error_vs_finest(&mut points);
+    }
     let rows: Vec<crate::plots::SweepRow> = points.iter().map(Point::to_row).collect();
     // Plot titles get the part of the scene title before any colon, to stay on one line.
     let short = scene.title.split(':').next().unwrap_or(&scene.title).trim();
     let plots = crate::plots::render_sweep(&rows, short)?;
     let mut set = OutputSet::new(&lock, Some(SWEEP_FILE), &sweep_members())?;
     let csv = set.write(SWEEP_FILE, |w| write_csv(w, &points))?;
+    let mut plot_paths = Vec::new();
     for (name, svg) in &plots {
-        set.write(name, |w| w.write_all(svg.as_bytes()))?;
+        plot_paths.push(set.write(name, |w| w.write_all(svg.as_bytes()))?);
     }
-    let mut written = set.commit()?;
-    written.retain(|p| *p != csv);
+    let mut files = Vec::new();
+    if let Some(m) = &mut manifest {
+        let present: HashSet<usize> = points
+            .iter()
+            .filter_map(|pt| plan_index(&the_grid, pt))
+            .collect();
+        m.skipped = m
+            .shard
+            .points(plan_total)
+            .into_iter()
+            .filter(|p| !present.contains(p))
+            .collect();
+        m.complete = true;
+        files.push(set.write(shard::MANIFEST_FILE, |w| m.write(w))?);
+    }
+    if plan.vtu {
+        let entries = pvd_entries(dir, &the_grid, plan_total, &points);
+        files.push(set.write(SOLUTIONS_FILE, |w| write_pvd(w, &entries))?);
+    }
+    set.commit()?;
     let failed = points.iter().filter(|p| p.status != "solved").count();
     Ok(SweepOutcome {
         csv,
-        plots: written,
+        plots: plot_paths,
         skipped: total.saturating_sub(points.len()),
         failed,
         points,
         scene_hash: hash,
+        files,
     })
+}
+
+/// Writes one point's solution as `name` into the locked `solutions/` directory (its own
+/// output set: complete or absent).
+fn write_solution(
+    lock: &DirLock,
+    scene: &Scene,
+    model: &signorini_core::model::Model,
+    sol: &Solution,
+    name: &str,
+) -> Result<(), OutputError> {
+    let fields = signorini_core::report::body_fields(model, sol);
+    let bodies: Vec<crate::output::BodyField> = model
+        .meshes
+        .iter()
+        .zip(&fields)
+        .zip(&scene.bodies)
+        .map(|((mesh, f), body)| crate::output::BodyField {
+            name: &body.name,
+            mesh,
+            displacement: &f.displacement,
+            stress: &f.stress,
+            von_mises: &f.von_mises,
+            contact_pressure: &f.contact_pressure,
+        })
+        .collect();
+    crate::output::check_fields(&bodies)?;
+    let mut set = OutputSet::new(lock, Some(name), &[name])?;
+    set.write(name, |w| crate::output::write_vtu_to(w, &bodies))?;
+    set.commit().map(drop)
 }
 
 /// Fills `error_vs_finest`: for each point, the largest relative difference to the finest mesh's
@@ -912,6 +1195,49 @@ mod tests {
         let mut renamed = scene.clone();
         renamed.probes[0].name.push('x');
         assert_ne!(scene_hash(&renamed, &all), h);
+    }
+
+    /// The progress callback names a point when it starts, not only once it is done: the bar
+    /// used to show the previous point's label (and no sign of life) while a point ran.
+    #[test]
+    fn progress_names_each_point_before_it_runs() {
+        let scene = run::load_scene(None).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let plan = SweepPlan {
+            hmax: vec![0.3, 0.2],
+            bodies: Vec::new(),
+            backends: vec![BackendKind::Clarabel, BackendKind::DualPgs],
+            tols: vec![1e-9],
+            repeat: 1,
+            time_limit: None,
+            resume: false,
+            overwrite: false,
+            shard: Some(Shard { index: 2, count: 3 }),
+            vtu: false,
+        };
+        let mut calls: Vec<(usize, usize, String)> = Vec::new();
+        sweep(
+            &scene,
+            &plan,
+            &SolveOptions::default(),
+            &MeshLimits::default(),
+            dir.path(),
+            |d, t, w| calls.push((d, t, w.to_string())),
+        )
+        .unwrap();
+        // Shard 2/3 of 4 points runs point 2 alone: hmax 0.3, dual-pgs.
+        let texts: Vec<&str> = calls.iter().map(|c| c.2.as_str()).collect();
+        assert_eq!(
+            texts,
+            [
+                "hmax 0.3: meshing and assembling",
+                "hmax 0.3: timing the floor (236 DOFs)",
+                "hmax 0.3 dual-pgs tol 1e-9: solving",
+                "hmax 0.3 dual-pgs tol 1e-9: solved",
+            ]
+        );
+        let counts: Vec<(usize, usize)> = calls.iter().map(|c| (c.0, c.1)).collect();
+        assert_eq!(counts, [(0, 1), (0, 1), (0, 1), (1, 1)]);
     }
 
     #[test]
