@@ -73,6 +73,10 @@ pub fn classify(error: &anyhow::Error) -> Exit {
                 cause.downcast_ref::<SweepError>(),
                 Some(SweepError::Run(e)) if run_resource(e)
             )
+            || matches!(
+                cause.downcast_ref::<crate::sweep::merge::MergeError>(),
+                Some(crate::sweep::merge::MergeError::Output(_))
+            )
         {
             return Exit::Resource;
         }

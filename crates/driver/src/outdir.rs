@@ -2,7 +2,9 @@
 //!
 //! A command (`solve`, `compare`, `sweep`) writes a *set* of files into one directory:
 //! `result.json`, `solution.vtu`, `deformed.svg` and (with contact rows) `pressure.svg`; `compare.json` and `compare.csv`;
-//! `sweep.csv` and its plots.  Writing each file atomically is not enough: a failure between two files, or two
+//! `sweep.csv` and its plots (with `--shard`, also `shard.json`; with `--vtu`, `solutions.pvd`, the
+//! files in `solutions/` and, per shard, `displacements/` being sets of their own, each with its
+//! own lock).  Writing each file atomically is not enough: a failure between two files, or two
 //! runs into the same directory, would leave files of different runs side by side.  So:
 //!
 //! 1. [`DirLock::acquire`] takes an advisory, exclusive, non-blocking lock on the directory
