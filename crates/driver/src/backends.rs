@@ -16,7 +16,10 @@ use signorini_core::qp::{CondensedDual, QpBackend};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, ValueEnum)]
 pub enum BackendKind {
     /// The fastest backend likely to succeed, with fall-backs (see [`crate::auto`]).
-    #[value(name = "auto", help = "the fastest backend likely to succeed, with fall-backs")]
+    #[value(
+        name = "auto",
+        help = "the fastest backend likely to succeed, with fall-backs"
+    )]
     Auto,
     /// Interior point (clarabel).
     #[value(name = "clarabel", help = "interior point (clarabel)")]
@@ -25,16 +28,28 @@ pub enum BackendKind {
     #[value(name = "osqp", help = "ADMM (OSQP; builds with the osqp feature)")]
     Osqp,
     /// Projected Gauss–Seidel on the condensed dual.
-    #[value(name = "dual-pgs", help = "projected Gauss–Seidel on the condensed dual")]
+    #[value(
+        name = "dual-pgs",
+        help = "projected Gauss–Seidel on the condensed dual"
+    )]
     DualPgs,
     /// Uzawa / projected gradient on the dual.
-    #[value(name = "dual-uzawa", help = "Uzawa / projected gradient on the condensed dual")]
+    #[value(
+        name = "dual-uzawa",
+        help = "Uzawa / projected gradient on the condensed dual"
+    )]
     DualUzawa,
     /// Primal–dual active set (semismooth Newton) on the condensed dual.
-    #[value(name = "dual-ssn", help = "primal–dual active set (semismooth Newton) on the condensed dual")]
+    #[value(
+        name = "dual-ssn",
+        help = "primal–dual active set (semismooth Newton) on the condensed dual"
+    )]
     DualSsn,
     /// Primal–dual active set on the sparse primal KKT system.
-    #[value(name = "pdas", help = "primal–dual active set on the sparse primal KKT system")]
+    #[value(
+        name = "pdas",
+        help = "primal–dual active set on the sparse primal KKT system"
+    )]
     Pdas,
     /// clarabel on the condensed dual (`"clarabel/dual"`, see
     /// [`CondensedDual`](signorini_core::qp::CondensedDual)).

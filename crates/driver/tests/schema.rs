@@ -29,18 +29,18 @@ fn stderr(o: &Output) -> String {
 fn schema(document: &str) -> jsonschema::Validator {
     let o = signorini(&["schema", document], Path::new("."));
     assert!(o.status.success(), "{}", stderr(&o));
-    let value: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let value: Value = serde_json::from_slice(&o.stdout).expect("the schema is JSON");
     assert_eq!(
         value["$schema"], "https://json-schema.org/draft/2020-12/schema",
         "{document}"
     );
-    jsonschema::validator_for(&value).unwrap()
+    jsonschema::validator_for(&value).expect("the schema compiles")
 }
 
 /// A TOML scene as the JSON value the scene schema is about (the `toml` crate's
 /// deserialisation into `serde_json::Value`: tables become objects, arrays arrays).
 fn scene_json(text: &str) -> Value {
-    toml::from_str(text).unwrap()
+    toml::from_str(text).expect("TOML")
 }
 
 fn errors(validator: &jsonschema::Validator, instance: &Value) -> Vec<String> {
@@ -109,7 +109,8 @@ fn solve(dir: &Path, args: &[&str]) -> Value {
     all.extend(args);
     let o = signorini(&all, dir);
     assert!(o.status.success(), "{args:?}: {}", stderr(&o));
-    serde_json::from_str(&std::fs::read_to_string(dir.join("res/result.json")).unwrap()).unwrap()
+    let text = std::fs::read_to_string(dir.join("res/result.json")).expect("result.json");
+    serde_json::from_str(&text).expect("result.json is JSON")
 }
 
 #[test]
@@ -144,7 +145,9 @@ fn results_satisfy_the_result_schema_and_record_their_provenance() {
     // independent of the program's.
     let hash = p["scene_sha256"].as_str().unwrap();
     assert_eq!(hash.len(), 64);
-    assert!(hash.bytes().all(|b| b.is_ascii_hexdigit() && !b.is_ascii_uppercase()));
+    assert!(hash
+        .bytes()
+        .all(|b| b.is_ascii_hexdigit() && !b.is_ascii_uppercase()));
     if let Ok(o) = Command::new("sha256sum").arg(&scene).output() {
         if o.status.success() {
             let out = String::from_utf8_lossy(&o.stdout);
@@ -172,7 +175,10 @@ fn results_satisfy_the_result_schema_and_record_their_provenance() {
 
     // The auto chain: attempts, chosen and reason are in the schema too; the built-in scene
     // has no path.
-    let r3 = solve(dir.path(), &["--backend", "auto", "--chain", "dual-ssn, clarabel"]);
+    let r3 = solve(
+        dir.path(),
+        &["--backend", "auto", "--chain", "dual-ssn, clarabel"],
+    );
     let errs = errors(&validator, &r3);
     assert!(errs.is_empty(), "{errs:?}");
     assert!(!r3["attempts"].as_array().unwrap().is_empty());
@@ -181,6 +187,34 @@ fn results_satisfy_the_result_schema_and_record_their_provenance() {
         r3["provenance"]["settings"]["chain"],
         serde_json::json!(["dual-ssn", "clarabel"])
     );
+
+    // Warnings of every shape the fixtures produce (a point, counts, a reason) are in it.
+    for (fixture, kinds) in [
+        ("initial-overlap", ["initial_overlap", "unmatched_nodes"]),
+        ("inert-rows", ["inert_rows", "no_contact_row"]),
+    ] {
+        let path = fixtures().join(format!("hard/{fixture}.toml"));
+        let r = solve(dir.path(), &[path.to_str().unwrap()]);
+        let errs = errors(&validator, &r);
+        assert!(errs.is_empty(), "{fixture}: {errs:?}");
+        let found: Vec<&str> = r["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|w| w["kind"].as_str().unwrap())
+            .collect();
+        for kind in kinds {
+            assert!(found.contains(&kind), "{fixture}: {found:?}");
+        }
+    }
+
+    // serde_json writes a non-finite number as null (unmeasurable residuals are infinite): the
+    // schema allows null where a number goes, and nothing else.
+    let mut odd = r.clone();
+    odd["residuals"]["stationarity"] = Value::Null;
+    assert!(errors(&validator, &odd).is_empty());
+    odd["residuals"]["stationarity"] = serde_json::json!("inf");
+    assert!(!errors(&validator, &odd).is_empty());
 
     // The schema is not vacuous: a missing field, a wrong type, an unknown warning kind fail.
     let mut bad = r.clone();
@@ -213,9 +247,15 @@ fn backend_names_are_listed_and_typos_get_suggestions() {
     let o = signorini(&["solve", "--help"], dir.path());
     let help = String::from_utf8_lossy(&o.stdout);
     for name in names {
-        assert!(help.contains(&format!("- {name}:")), "{name} not in help: {help}");
+        assert!(
+            help.contains(&format!("- {name}:")),
+            "{name} not in help: {help}"
+        );
     }
-    let o = signorini(&["solve", "--backend", "clarabl", "--out", "res"], dir.path());
+    let o = signorini(
+        &["solve", "--backend", "clarabl", "--out", "res"],
+        dir.path(),
+    );
     assert_eq!(o.status.code(), Some(1));
     let err = stderr(&o);
     assert!(err.contains("unknown backend \"clarabl\""), "{err}");
@@ -223,7 +263,10 @@ fn backend_names_are_listed_and_typos_get_suggestions() {
     for name in names {
         assert!(err.contains(name), "{name} not named: {err}");
     }
-    let o = signorini(&["compare", "--forms", "primal,duel", "--out", "res"], dir.path());
+    let o = signorini(
+        &["compare", "--forms", "primal,duel", "--out", "res"],
+        dir.path(),
+    );
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("'dual'"), "{}", stderr(&o));
     assert!(!dir.path().join("res").exists());

@@ -9,7 +9,9 @@ use serde::Deserialize;
 use crate::mesh::ElementKind;
 
 /// Plane-strain or plane-stress idealisation.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize, schemars::JsonSchema)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum Plane {
     /// Plane strain (ε_zz = 0), the seed's choice; per unit thickness.
@@ -20,7 +22,9 @@ pub enum Plane {
 }
 
 /// How a contact pair's constraint rows are built (`docs/scene.md`, "Contact formulations").
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize, schemars::JsonSchema)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Formulation {
     /// One row per slave node on the closest master segment (the seed's method, single pass).
