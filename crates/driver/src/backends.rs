@@ -370,3 +370,57 @@ where
         ))
     }
 }
+
+/// clap's parser of a choice whose names and parsing function live elsewhere (the study's
+/// formulations, mesh kinds and elements, whose types are not clap's): help lists `names`, an
+/// unknown name is refused with `parse`'s message and clap's suggestion of the closest name.
+#[derive(Clone)]
+pub struct NamedParser<T> {
+    names: &'static [&'static str],
+    parse: fn(&str) -> Result<T, String>,
+}
+
+impl<T> NamedParser<T> {
+    /// The parser of `names` by `parse`.
+    pub fn new(names: &'static [&'static str], parse: fn(&str) -> Result<T, String>) -> Self {
+        NamedParser { names, parse }
+    }
+}
+
+impl<T: Clone + Send + Sync + 'static> TypedValueParser for NamedParser<T> {
+    type Value = T;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &OsStr,
+    ) -> Result<T, clap::Error> {
+        let Some(text) = value.to_str() else {
+            return Err(clap::Error::new(ErrorKind::InvalidUtf8).with_cmd(cmd));
+        };
+        let message = match (self.parse)(text) {
+            Ok(v) => return Ok(v),
+            Err(m) => m,
+        };
+        let listed = clap::builder::PossibleValuesParser::new(self.names.iter().copied());
+        let tip = match listed.parse_ref(cmd, arg, OsStr::new(text.trim())) {
+            Err(e) => match e.get(ContextKind::SuggestedValue) {
+                Some(ContextValue::String(s)) => {
+                    format!("\n\n  tip: a similar value exists: '{s}'")
+                }
+                _ => String::new(),
+            },
+            Ok(_) => String::new(),
+        };
+        let place = arg.map_or(String::new(), |a| format!(" (in --{})", a.get_id()));
+        Err(
+            clap::Error::raw(ErrorKind::InvalidValue, format!("{message}{place}{tip}\n"))
+                .with_cmd(cmd),
+        )
+    }
+
+    fn possible_values(&self) -> Option<Box<dyn Iterator<Item = PossibleValue> + '_>> {
+        Some(Box::new(self.names.iter().map(|n| PossibleValue::new(*n))))
+    }
+}

@@ -11,7 +11,7 @@ use std::time::Duration;
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use signorini::auto::AutoBackend;
-use signorini::backends::{make_backend, BackendKind, ChoiceParser, Form};
+use signorini::backends::{make_backend, BackendKind, ChoiceParser, Form, NamedParser};
 use signorini::exit::{classify, Exit};
 use signorini::run;
 use signorini_core::mesh::MeshLimits;
@@ -168,13 +168,13 @@ enum Command {
         #[arg(long, value_delimiter = ',', required = true)]
         hmax: Vec<f64>,
         /// Comma-separated contact formulations set on every pair.
-        #[arg(long, value_delimiter = ',', default_value = "node-to-segment,mortar", value_parser = signorini::study::parse_formulation)]
+        #[arg(long, value_delimiter = ',', default_value = "node-to-segment,mortar", value_parser = NamedParser::new(&["node-to-segment", "mortar"], signorini::study::parse_formulation))]
         formulations: Vec<signorini_core::scene::Formulation>,
         /// Comma-separated mesh kinds: uniform (every [[body.refine]] dropped), graded (kept).
-        #[arg(long, value_delimiter = ',', default_value = "uniform,graded", value_parser = clap::value_parser!(signorini::study::MeshKind))]
+        #[arg(long, value_delimiter = ',', default_value = "uniform,graded", value_parser = NamedParser::new(&["uniform", "graded"], |s| s.parse::<signorini::study::MeshKind>()))]
         meshes: Vec<signorini::study::MeshKind>,
         /// Comma-separated elements set on the bodies that are axis-aligned rectangles.
-        #[arg(long, value_delimiter = ',', default_value = "p1,q1", value_parser = signorini::study::parse_element)]
+        #[arg(long, value_delimiter = ',', default_value = "p1,q1", value_parser = NamedParser::new(&["p1", "q1"], signorini::study::parse_element))]
         elements: Vec<signorini_core::mesh::ElementKind>,
         /// QP backend every point is solved with (as for solve).
         #[arg(long, default_value = "auto", value_parser = ChoiceParser::<BackendKind>::new())]

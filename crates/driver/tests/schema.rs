@@ -270,6 +270,30 @@ fn backend_names_are_listed_and_typos_get_suggestions() {
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("'dual'"), "{}", stderr(&o));
     assert!(!dir.path().join("res").exists());
+    // The study's choices too (their own messages kept, clap's suggestion added).
+    let o = signorini(
+        &[
+            "study",
+            "--hmax",
+            "0.2",
+            "--formulations",
+            "mortr",
+            "--out",
+            "res",
+        ],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert!(err.contains("node-to-segment or mortar"), "{err}");
+    assert!(err.contains("a similar value exists: 'mortar'"), "{err}");
+    let o = signorini(&["study", "--help"], dir.path());
+    let help = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        help.contains("[possible values: uniform, graded]"),
+        "{help}"
+    );
+    assert!(!dir.path().join("res").exists());
     // `name/form` spellings and spaces around list items keep working.
     let r = solve(dir.path(), &["--backend", " dual-ssn/dual "]);
     assert_eq!(r["backend"], "dual-ssn");
