@@ -664,7 +664,7 @@ fn parse_backends(names: &[BackendKind], forms: &[Form]) -> Result<Vec<BackendKi
     for k in &kinds {
         anyhow::ensure!(
             k.available(),
-            "backend \"{k}\" is not compiled in; rebuild with `--features {k}`"
+            "backend \"{k}\" is not compiled in; rebuild with `--features osqp`"
         );
     }
     Ok(kinds)
