@@ -130,6 +130,7 @@ pub struct RunReport {
     /// Backend name (`"cholesky"` when there was no contact row).
     pub backend: String,
     /// `"solved"` only when the residuals meet the tolerance.
+    #[schemars(with = "crate::qp::QpStatus")]
     pub status: String,
     /// The tolerance requested.
     pub tolerance: f64,
@@ -164,6 +165,7 @@ pub struct RunReport {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub message: Option<String>,
     /// The backend's own verdict before the core's residual check (`status` is the program's).
+    #[schemars(with = "crate::qp::QpStatus")]
     pub backend_status: String,
     /// What the program noticed and worked around (empty when nothing).
     pub warnings: Vec<WarningReport>,
@@ -236,6 +238,7 @@ pub struct AttemptReport {
     pub status: String,
     /// The backend's own verdict (absent after an error).
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "Option<crate::qp::QpStatus>")]
     pub backend_status: Option<String>,
     /// Its iterations.
     pub iterations: usize,

@@ -128,6 +128,31 @@ mod tests {
         );
     }
 
+    /// `result.json`'s `status` is written with [`QpStatus::as_str`] and described in the schema
+    /// by `QpStatus`'s serde names: the two must be the same words.
+    #[test]
+    fn status_words_are_the_schema_enum() {
+        use signorini_core::qp::QpStatus;
+        let all = [
+            QpStatus::Solved,
+            QpStatus::Inaccurate,
+            QpStatus::MaxIterations,
+            QpStatus::TimeLimit,
+            QpStatus::PrimalInfeasible,
+            QpStatus::DualInfeasible,
+            QpStatus::NumericalError,
+        ];
+        let schema = serde_json::to_value(result_schema()).unwrap();
+        let text = schema["$defs"]["QpStatus"].to_string();
+        for s in all {
+            assert_eq!(serde_json::to_value(s).unwrap(), s.as_str());
+            assert!(
+                text.contains(&format!("\"{}\"", s.as_str())),
+                "{s} in {text}"
+            );
+        }
+    }
+
     #[test]
     fn only_plain_numbers_become_nullable() {
         let mut s: Schema = serde_json::json!({"type": "number", "format": "double"})

@@ -221,6 +221,9 @@ fn results_satisfy_the_result_schema_and_record_their_provenance() {
     bad.as_object_mut().unwrap().remove("status");
     assert!(!errors(&validator, &bad).is_empty());
     let mut bad = r.clone();
+    bad["status"] = serde_json::json!("sloved");
+    assert!(!errors(&validator, &bad).is_empty());
+    let mut bad = r.clone();
     bad["dofs"] = serde_json::json!("many");
     assert!(!errors(&validator, &bad).is_empty());
     let mut bad = r.clone();
