@@ -29,7 +29,7 @@ use crate::qp::{CscMatrix, QpError, QpProblem};
 use crate::scene::Scene;
 
 /// Something that a scene asks the program to simulate.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum Effect {
     /// Prescribed displacements.
@@ -99,7 +99,7 @@ pub enum ModelError {
 }
 
 /// Why a contact pair produced no constraint row.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum NoRowReason {
     /// No boundary node of either body is within one element size of the other (no region box).
@@ -113,7 +113,7 @@ pub enum NoRowReason {
 /// Something assembly had to approximate or leave out, counted per contact pair.  `pair` is the
 /// 1-based index of the `[[contact]]` section; bodies are named.  [`std::fmt::Display`] gives a
 /// one-line message; serialised (JSON) with the variant name in `kind`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum ModelWarning {
     /// The pair produced no constraint row at all (it has no effect on the solution).

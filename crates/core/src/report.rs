@@ -1,6 +1,7 @@
 //! The result of a run: full displacements, reactions, stresses, contact pressures and probes, as
 //! the `result.json` of `docs/scene.md`.
 
+use schemars::JsonSchema;
 use serde::Serialize;
 
 pub mod arc;
@@ -18,7 +19,7 @@ use crate::scene::{Formulation, Scene};
 use crate::solve::Solution;
 
 /// Wall-clock time of each phase, in seconds.
-#[derive(Debug, Clone, Copy, Default, Serialize)]
+#[derive(Debug, Clone, Copy, Default, Serialize, JsonSchema)]
 pub struct Timings {
     /// Meshing.
     pub mesh: f64,
@@ -33,7 +34,7 @@ pub struct Timings {
 }
 
 /// Per-body results.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct BodyReport {
     /// Body name.
     pub name: String,
@@ -56,7 +57,7 @@ pub struct BodyReport {
 }
 
 /// One slave node of a contact pair.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct ContactNodeReport {
     /// Slave node x.
     pub x: f64,
@@ -87,7 +88,7 @@ pub struct ContactNodeReport {
 }
 
 /// One contact pair.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct ContactReport {
     /// The pair's body names, as in the scene.
     pub bodies: [String; 2],
@@ -109,7 +110,7 @@ pub struct ContactReport {
 }
 
 /// A probe's displacement.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct ProbeReport {
     /// Probe name.
     pub name: String,
@@ -122,13 +123,14 @@ pub struct ProbeReport {
 }
 
 /// `result.json`.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct RunReport {
     /// Scene title.
     pub scene: String,
     /// Backend name (`"cholesky"` when there was no contact row).
     pub backend: String,
     /// `"solved"` only when the residuals meet the tolerance.
+    #[schemars(with = "crate::qp::QpStatus")]
     pub status: String,
     /// The tolerance requested.
     pub tolerance: f64,
@@ -163,6 +165,7 @@ pub struct RunReport {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub message: Option<String>,
     /// The backend's own verdict before the core's residual check (`status` is the program's).
+    #[schemars(with = "crate::qp::QpStatus")]
     pub backend_status: String,
     /// What the program noticed and worked around (empty when nothing).
     pub warnings: Vec<WarningReport>,
@@ -175,10 +178,59 @@ pub struct RunReport {
     /// `--backend auto` only: why the chain had its order, and how it ended.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
+    /// Where the result comes from: program, scene file, backend settings, machine (written by
+    /// `signorini solve`; absent from reports built without it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub provenance: Option<Provenance>,
+}
+
+/// What a result can be traced to (`result.json`'s `provenance`).
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct Provenance {
+    /// The program's version (`signorini --version`, the crate version).
+    pub version: String,
+    /// The git commit the program was built from, when the build recorded one (the
+    /// `SIGNORINI_COMMIT` environment variable at build time); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub commit: Option<String>,
+    /// The scene file as given on the command line; absent for the built-in default scene.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scene_path: Option<String>,
+    /// SHA-256 of the scene file's bytes (of the built-in scene's text when no file was
+    /// given), 64 lowercase hex digits: `sha256sum scene.toml` prints the same.
+    pub scene_sha256: String,
+    /// The backend and the settings it was run with.
+    pub settings: BackendSettings,
+    /// Logical cores the program could use (`std::thread::available_parallelism`; 1 when
+    /// unknown).
+    pub cores: usize,
+}
+
+/// The backend settings of a run (`provenance.settings`).
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct BackendSettings {
+    /// The backend asked for, as the command line names it (`"auto"`, `"clarabel/dual"`, …).
+    pub backend: String,
+    /// The formulation it runs on: `"primal"` (sparse, in the displacements) or `"dual"`
+    /// (condensed, in the contact forces); `auto` picks per attempt (see `attempts`).
+    pub form: String,
+    /// The relative KKT tolerance an answer must meet to count as solved.
+    pub tolerance: f64,
+    /// Wall-clock limit of the backend (with `auto`, of the whole chain), seconds; absent
+    /// when there is none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_limit_s: Option<f64>,
+    /// Iteration cap; absent when the backend chooses its own.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_iter: Option<usize>,
+    /// `auto` only: the backends the chain may try, in order, when given by `--chain`
+    /// (absent: auto's own rule, whose order `reason` explains).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub chain: Vec<String>,
 }
 
 /// One backend's run inside the `auto` chain (`result.json`'s `attempts`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct AttemptReport {
     /// Backend name.
     pub backend: String,
@@ -186,6 +238,7 @@ pub struct AttemptReport {
     pub status: String,
     /// The backend's own verdict (absent after an error).
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "Option<crate::qp::QpStatus>")]
     pub backend_status: Option<String>,
     /// Its iterations.
     pub iterations: usize,
@@ -198,7 +251,7 @@ pub struct AttemptReport {
 
 /// One warning of `result.json`: its one-line message and the figures of its kind (`kind`,
 /// `pair`, counts, places; see [`ModelWarning`]).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct WarningReport {
     /// The warning in one line (as printed to stderr).
     pub message: String,
@@ -481,5 +534,6 @@ pub fn run_report(
         attempts: Vec::new(),
         chosen: None,
         reason: None,
+        provenance: None,
     }
 }

@@ -1,40 +1,73 @@
 //! The QP backends the driver can run, picked by name at run time.
 
+use std::ffi::OsStr;
 use std::fmt;
+use std::marker::PhantomData;
 use std::str::FromStr;
 
+use clap::builder::{EnumValueParser, PossibleValue, TypedValueParser};
+use clap::error::{ContextKind, ContextValue, ErrorKind};
+use clap::ValueEnum;
 use signorini_core::qp::{CondensedDual, QpBackend};
 
-/// A backend the command line can name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// A backend the command line can name.  Parsed by clap as a [`ValueEnum`] through
+/// [`ChoiceParser`] (help lists the names, a typo gets a suggestion); the first line of each
+/// variant's doc is its help text.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, ValueEnum)]
 pub enum BackendKind {
+    /// The fastest backend likely to succeed, with fall-backs (see [`crate::auto`]).
+    #[value(
+        name = "auto",
+        help = "the fastest backend likely to succeed, with fall-backs"
+    )]
+    Auto,
     /// Interior point (clarabel).
+    #[value(name = "clarabel", help = "interior point (clarabel)")]
     Clarabel,
     /// ADMM (OSQP), when built with the `osqp` feature.
+    #[value(name = "osqp", help = "ADMM (OSQP; builds with the osqp feature)")]
     Osqp,
     /// Projected Gauss–Seidel on the condensed dual.
+    #[value(
+        name = "dual-pgs",
+        help = "projected Gauss–Seidel on the condensed dual"
+    )]
     DualPgs,
     /// Uzawa / projected gradient on the dual.
+    #[value(
+        name = "dual-uzawa",
+        help = "Uzawa / projected gradient on the condensed dual"
+    )]
     DualUzawa,
     /// Primal–dual active set (semismooth Newton) on the condensed dual.
+    #[value(
+        name = "dual-ssn",
+        help = "primal–dual active set (semismooth Newton) on the condensed dual"
+    )]
     DualSsn,
     /// Primal–dual active set on the sparse primal KKT system.
+    #[value(
+        name = "pdas",
+        help = "primal–dual active set on the sparse primal KKT system"
+    )]
     Pdas,
     /// clarabel on the condensed dual (`"clarabel/dual"`, see
     /// [`CondensedDual`](signorini_core::qp::CondensedDual)).
+    #[value(name = "clarabel/dual", help = "clarabel on the condensed dual")]
     ClarabelDual,
     /// OSQP on the condensed dual (`"osqp/dual"`).
+    #[value(name = "osqp/dual", help = "OSQP on the condensed dual")]
     OsqpDual,
-    /// The fastest backend likely to succeed, with fall-backs (see [`crate::auto`]).
-    Auto,
 }
 
 /// The formulation a backend runs on: the primal QP in x, or the condensed dual in λ.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, ValueEnum)]
 pub enum Form {
     /// `min ½xᵀAx − fᵀx  s.t.  Bx ≤ g` (sparse, n unknowns).
+    #[value(help = "in the displacements: min ½xᵀAx − fᵀx s.t. Bx ≤ g (sparse)")]
     Primal,
     /// `min ½λᵀHλ − dᵀλ  s.t.  λ ≥ 0`, H = B A⁻¹ Bᵀ dense (m unknowns).
+    #[value(help = "in the contact forces: min ½λᵀHλ − dᵀλ s.t. λ ≥ 0, H = B A⁻¹ Bᵀ (dense)")]
     Dual,
 }
 
@@ -260,5 +293,134 @@ mod names_tests {
                 kind.name()
             );
         }
+    }
+}
+
+/// clap's parser of a backend or form name: surrounding spaces are ignored (`--backends "a, b"`),
+/// the [`ValueEnum`] names are matched first, then every longer spelling [`FromStr`] accepts
+/// (`clarabel/primal`, `dual-pgs/dual`); an unknown name is refused with the [`BackendError`]
+/// message, which names every valid one, and clap's suggestion of the closest.  Help lists the
+/// [`ValueEnum`] names.
+#[derive(Debug)]
+pub struct ChoiceParser<E>(PhantomData<E>);
+
+impl<E> ChoiceParser<E> {
+    /// The parser.
+    pub fn new() -> Self {
+        ChoiceParser(PhantomData)
+    }
+}
+
+impl<E> Default for ChoiceParser<E> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<E> Clone for ChoiceParser<E> {
+    fn clone(&self) -> Self {
+        Self::new()
+    }
+}
+
+impl<E> TypedValueParser for ChoiceParser<E>
+where
+    E: ValueEnum + FromStr<Err = BackendError> + Clone + Send + Sync + 'static,
+{
+    type Value = E;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &OsStr,
+    ) -> Result<E, clap::Error> {
+        let Some(text) = value.to_str() else {
+            return Err(clap::Error::new(ErrorKind::InvalidUtf8).with_cmd(cmd));
+        };
+        let text = text.trim();
+        let enum_parser = EnumValueParser::<E>::new();
+        let clap_error = match enum_parser.parse_ref(cmd, arg, OsStr::new(text)) {
+            Ok(v) => return Ok(v),
+            Err(e) => e,
+        };
+        let error = match text.parse::<E>() {
+            Ok(v) => return Ok(v),
+            Err(e) => e,
+        };
+        let kind = match error {
+            BackendError::Unknown(_) | BackendError::UnknownForm(_) => ErrorKind::InvalidValue,
+            _ => ErrorKind::ValueValidation,
+        };
+        let tip = match clap_error.get(ContextKind::SuggestedValue) {
+            Some(ContextValue::String(s)) if kind == ErrorKind::InvalidValue => {
+                format!("\n\n  tip: a similar value exists: '{s}'")
+            }
+            _ => String::new(),
+        };
+        let place = arg.map_or(String::new(), |a| format!(" (in --{})", a.get_id()));
+        Err(clap::Error::raw(kind, format!("{error}{place}{tip}\n")).with_cmd(cmd))
+    }
+
+    fn possible_values(&self) -> Option<Box<dyn Iterator<Item = PossibleValue> + '_>> {
+        Some(Box::new(
+            E::value_variants()
+                .iter()
+                .filter_map(ValueEnum::to_possible_value),
+        ))
+    }
+}
+
+/// clap's parser of a choice whose names and parsing function live elsewhere (the study's
+/// formulations, mesh kinds and elements, whose types are not clap's): help lists `names`, an
+/// unknown name is refused with `parse`'s message and clap's suggestion of the closest name.
+#[derive(Clone)]
+pub struct NamedParser<T> {
+    names: &'static [&'static str],
+    parse: fn(&str) -> Result<T, String>,
+}
+
+impl<T> NamedParser<T> {
+    /// The parser of `names` by `parse`.
+    pub fn new(names: &'static [&'static str], parse: fn(&str) -> Result<T, String>) -> Self {
+        NamedParser { names, parse }
+    }
+}
+
+impl<T: Clone + Send + Sync + 'static> TypedValueParser for NamedParser<T> {
+    type Value = T;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &OsStr,
+    ) -> Result<T, clap::Error> {
+        let Some(text) = value.to_str() else {
+            return Err(clap::Error::new(ErrorKind::InvalidUtf8).with_cmd(cmd));
+        };
+        let message = match (self.parse)(text) {
+            Ok(v) => return Ok(v),
+            Err(m) => m,
+        };
+        let listed = clap::builder::PossibleValuesParser::new(self.names.iter().copied());
+        let tip = match listed.parse_ref(cmd, arg, OsStr::new(text.trim())) {
+            Err(e) => match e.get(ContextKind::SuggestedValue) {
+                Some(ContextValue::String(s)) => {
+                    format!("\n\n  tip: a similar value exists: '{s}'")
+                }
+                _ => String::new(),
+            },
+            Ok(_) => String::new(),
+        };
+        let place = arg.map_or(String::new(), |a| format!(" (in --{})", a.get_id()));
+        Err(
+            clap::Error::raw(ErrorKind::InvalidValue, format!("{message}{place}{tip}\n"))
+                .with_cmd(cmd),
+        )
+    }
+
+    fn possible_values(&self) -> Option<Box<dyn Iterator<Item = PossibleValue> + '_>> {
+        Some(Box::new(self.names.iter().map(|n| PossibleValue::new(*n))))
     }
 }

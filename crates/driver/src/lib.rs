@@ -7,6 +7,7 @@ pub mod auto;
 pub mod backends;
 pub mod check;
 pub mod compare;
+pub mod contract;
 pub mod exit;
 pub mod export;
 pub mod outdir;

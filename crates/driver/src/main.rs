@@ -11,7 +11,7 @@ use std::time::Duration;
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use signorini::auto::AutoBackend;
-use signorini::backends::{make_backend, BackendKind, Form};
+use signorini::backends::{make_backend, BackendKind, ChoiceParser, Form, NamedParser};
 use signorini::exit::{classify, Exit};
 use signorini::run;
 use signorini_core::mesh::MeshLimits;
@@ -59,12 +59,6 @@ fn time_limit(seconds: Option<f64>) -> Option<Duration> {
         .and_then(|t| Duration::try_from_secs_f64(t).ok())
 }
 
-/// `primal` or `dual`.
-fn parse_form(text: &str) -> Result<Form, String> {
-    text.parse()
-        .map_err(|e: signorini::backends::BackendError| e.to_string())
-}
-
 /// A tolerance in (0, 1).
 fn parse_tol(text: &str) -> Result<f64, String> {
     let t: f64 = text
@@ -85,20 +79,19 @@ enum Command {
     Solve {
         #[command(flatten)]
         common: Common,
-        /// QP backend: auto (the fastest likely to succeed, falling back to a robust one; see
-        /// docs/scene.md), clarabel, osqp, dual-pgs, dual-uzawa, dual-ssn, or clarabel/dual,
-        /// osqp/dual (the condensed dual form).
-        #[arg(long, default_value = "auto")]
-        backend: String,
+        /// QP backend: auto is the fastest likely to succeed, falling back to a robust one (see
+        /// docs/scene.md); clarabel/dual and osqp/dual are the condensed dual form.
+        #[arg(long, default_value = "auto", value_parser = ChoiceParser::<BackendKind>::new())]
+        backend: BackendKind,
         /// Formulation for clarabel and osqp: primal (sparse, in the displacements) or dual
         /// (condensed, dense in the contact forces; not for bodies held by contact alone).
         /// `--backend clarabel --form dual` is `--backend clarabel/dual`.
-        #[arg(long, value_parser = parse_form)]
+        #[arg(long, value_parser = ChoiceParser::<Form>::new())]
         form: Option<Form>,
         /// With `--backend auto`: the backends to try, in order, instead of auto's rule
         /// (e.g. dual-ssn,clarabel).
-        #[arg(long, value_delimiter = ',')]
-        chain: Vec<String>,
+        #[arg(long, value_delimiter = ',', value_parser = ChoiceParser::<BackendKind>::new())]
+        chain: Vec<BackendKind>,
         /// Relative KKT tolerance the answer must meet to count as solved.
         #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
         tol: f64,
@@ -114,13 +107,12 @@ enum Command {
     Compare {
         #[command(flatten)]
         common: Common,
-        /// Comma-separated backends [default: clarabel,osqp,dual-pgs,dual-uzawa, those compiled in];
-        /// also auto, clarabel/dual, osqp/dual.
-        #[arg(long, value_delimiter = ',')]
-        backends: Vec<String>,
-        /// Comma-separated forms (primal, dual) each of clarabel and osqp runs in; the other
-        /// backends run once, in their own form [default: as named in --backends].
-        #[arg(long, value_delimiter = ',', value_parser = parse_form)]
+        /// Comma-separated backends [default: clarabel,osqp,dual-pgs,dual-uzawa, those compiled in].
+        #[arg(long, value_delimiter = ',', value_parser = ChoiceParser::<BackendKind>::new())]
+        backends: Vec<BackendKind>,
+        /// Comma-separated forms each of clarabel and osqp runs in; the other backends run
+        /// once, in their own form [default: as named in --backends].
+        #[arg(long, value_delimiter = ',', value_parser = ChoiceParser::<Form>::new())]
         forms: Vec<Form>,
         /// Relative KKT tolerance every backend is asked to meet.
         #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
@@ -155,17 +147,17 @@ enum Command {
         #[arg(long, value_delimiter = ',', required = true)]
         hmax: Vec<f64>,
         /// Comma-separated contact formulations set on every pair.
-        #[arg(long, value_delimiter = ',', default_value = "node-to-segment,mortar", value_parser = signorini::study::parse_formulation)]
+        #[arg(long, value_delimiter = ',', default_value = "node-to-segment,mortar", value_parser = NamedParser::new(&["node-to-segment", "mortar"], signorini::study::parse_formulation))]
         formulations: Vec<signorini_core::scene::Formulation>,
         /// Comma-separated mesh kinds: uniform (every [[body.refine]] dropped), graded (kept).
-        #[arg(long, value_delimiter = ',', default_value = "uniform,graded", value_parser = clap::value_parser!(signorini::study::MeshKind))]
+        #[arg(long, value_delimiter = ',', default_value = "uniform,graded", value_parser = NamedParser::new(&["uniform", "graded"], |s| s.parse::<signorini::study::MeshKind>()))]
         meshes: Vec<signorini::study::MeshKind>,
         /// Comma-separated elements set on the bodies that are axis-aligned rectangles.
-        #[arg(long, value_delimiter = ',', default_value = "p1,q1", value_parser = signorini::study::parse_element)]
+        #[arg(long, value_delimiter = ',', default_value = "p1,q1", value_parser = NamedParser::new(&["p1", "q1"], signorini::study::parse_element))]
         elements: Vec<signorini_core::mesh::ElementKind>,
         /// QP backend every point is solved with (as for solve).
-        #[arg(long, default_value = "auto")]
-        backend: String,
+        #[arg(long, default_value = "auto", value_parser = ChoiceParser::<BackendKind>::new())]
+        backend: BackendKind,
         /// Relative KKT tolerance every point must meet to count as solved.
         #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
         tol: f64,
@@ -189,6 +181,13 @@ enum Command {
         #[command(flatten)]
         common: Common,
     },
+    /// Print the JSON Schema (draft 2020-12) of the scene file or of result.json, generated
+    /// from the program's own types (see docs/scene.md).
+    Schema {
+        /// Which document.
+        #[arg(value_enum)]
+        document: signorini::contract::Document,
+    },
 }
 
 /// `signorini sweep SCENE …`: the options of a sweep.
@@ -203,8 +202,8 @@ struct SweepArgs {
     #[arg(long, value_delimiter = ',')]
     bodies: Vec<String>,
     /// Comma-separated backends [default: clarabel,osqp,dual-pgs,dual-uzawa, those compiled in].
-    #[arg(long, value_delimiter = ',')]
-    backends: Vec<String>,
+    #[arg(long, value_delimiter = ',', value_parser = ChoiceParser::<BackendKind>::new())]
+    backends: Vec<BackendKind>,
     /// Comma-separated tolerances.
     #[arg(long, value_delimiter = ',', default_value = "1e-9", value_parser = parse_tol)]
     tol: Vec<f64>,
@@ -291,15 +290,15 @@ fn warn(text: impl std::fmt::Display) {
 
 /// What `solve` was asked to run.
 struct SolveArgs<'a> {
-    backend: &'a str,
+    backend: BackendKind,
     form: Option<Form>,
-    chain: &'a [String],
+    chain: &'a [BackendKind],
     tol: f64,
     time_limit_s: Option<f64>,
 }
 
 fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) -> Result<Exit> {
-    let mut kind: BackendKind = args.backend.parse()?;
+    let mut kind = args.backend;
     if let Some(form) = args.form {
         kind = kind.with_form(form)?;
     }
@@ -317,7 +316,16 @@ fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) -> Result<Exi
         time_limit: time_limit(args.time_limit_s),
         ..SolveOptions::default()
     };
-    let outcome = if kind == BackendKind::Auto {
+    let settings = signorini_core::report::BackendSettings {
+        backend: kind.name().to_string(),
+        form: kind.form().name().to_string(),
+        tolerance: options.tol,
+        time_limit_s: options.time_limit.map(|t| t.as_secs_f64()),
+        max_iter: options.max_iter,
+        chain: args.chain.iter().map(|k| k.name().to_string()).collect(),
+    };
+    let provenance = signorini::contract::provenance(common.scene.as_deref(), settings)?;
+    let mut outcome = if kind == BackendKind::Auto {
         let mut auto = if args.chain.is_empty() {
             AutoBackend::default()
         } else {
@@ -348,6 +356,7 @@ fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) -> Result<Exi
         let mut backend = make_backend(kind)?;
         run::solve_scene(&scene, backend.as_mut(), &options, &limits(common))?
     };
+    outcome.report.provenance = Some(provenance);
     let written = run::write_outputs(out, &scene, &outcome)
         .with_context(|| format!("writing results to {}", out.display()))?;
     let r = &outcome.report;
@@ -409,7 +418,7 @@ fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) -> Result<Exi
 
 fn compare(
     common: &Common,
-    names: &[String],
+    names: &[BackendKind],
     forms: &[Form],
     tol: f64,
     time_limit_s: Option<f64>,
@@ -613,13 +622,13 @@ struct StudyArgs<'a> {
     formulations: &'a [signorini_core::scene::Formulation],
     meshes: &'a [signorini::study::MeshKind],
     elements: &'a [signorini_core::mesh::ElementKind],
-    backend: &'a str,
+    backend: BackendKind,
     tol: f64,
     overwrite: bool,
 }
 
 fn study(common: &Common, args: &StudyArgs, out: &std::path::Path) -> Result<Exit> {
-    let backend: BackendKind = args.backend.parse()?;
+    let backend = args.backend;
     anyhow::ensure!(
         backend.available(),
         "backend \"{backend}\" is not compiled in; rebuild with `--features osqp`"
@@ -732,14 +741,14 @@ const DEFAULT_BACKENDS: [BackendKind; 4] = [
 
 /// The backends named (or the defaults), each of clarabel and osqp once per form of `forms`
 /// when it is not empty (the other backends once, in their own form).
-fn parse_backends(names: &[String], forms: &[Form]) -> Result<Vec<BackendKind>> {
+fn parse_backends(names: &[BackendKind], forms: &[Form]) -> Result<Vec<BackendKind>> {
     let named: Vec<BackendKind> = if names.is_empty() {
         DEFAULT_BACKENDS
             .into_iter()
             .filter(|k| k.available())
             .collect()
     } else {
-        names.iter().map(|n| n.parse()).collect::<Result<_, _>>()?
+        names.to_vec()
     };
     let mut kinds: Vec<BackendKind> = Vec::with_capacity(named.len() * 2);
     for kind in named {
@@ -757,7 +766,7 @@ fn parse_backends(names: &[String], forms: &[Form]) -> Result<Vec<BackendKind>> 
     for k in &kinds {
         anyhow::ensure!(
             k.available(),
-            "backend \"{k}\" is not compiled in; rebuild with `--features {k}`"
+            "backend \"{k}\" is not compiled in; rebuild with `--features osqp`"
         );
     }
     Ok(kinds)
@@ -816,6 +825,15 @@ fn check(common: &Common) -> Result<Exit> {
     Ok(Exit::Success)
 }
 
+fn schema(document: signorini::contract::Document) -> Result<Exit> {
+    let text = serde_json::to_string_pretty(&signorini::contract::schema(document))
+        .context("serialising the schema")?;
+    let mut con = Console::new();
+    con.line(text)?;
+    con.finish()?;
+    Ok(Exit::Success)
+}
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
@@ -841,7 +859,7 @@ fn main() -> ExitCode {
         } => solve(
             common,
             &SolveArgs {
-                backend,
+                backend: *backend,
                 form: *form,
                 chain,
                 tol: *tol,
@@ -892,13 +910,14 @@ fn main() -> ExitCode {
                 formulations,
                 meshes,
                 elements,
-                backend,
+                backend: *backend,
                 tol: *tol,
                 overwrite: *overwrite,
             },
             out,
         ),
         Command::Check { common } => check(common),
+        Command::Schema { document } => schema(*document),
     };
     match result {
         Ok(code) => code.into(),

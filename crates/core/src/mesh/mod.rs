@@ -69,7 +69,9 @@ pub use boundary::box_crossings;
 pub use sizing::GRADING;
 
 /// Element type of a body.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum ElementKind {
     /// Linear triangles.

@@ -15,7 +15,7 @@ use super::problem::QpProblem;
 /// * `stationarity` = ‖Ax − f + Bᵀλ‖∞ / F;
 /// * `complementarity` = maxᵢ |λᵢ (g − Bx)ᵢ| / (F Xᵢ);
 /// * `min_multiplier` = min(0, minᵢ λᵢ) / F (zero when every λᵢ ≥ 0).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default, schemars::JsonSchema)]
 pub struct KktResiduals {
     /// Largest constraint violation max(0, Bx − g), in length units.
     pub max_penetration: f64,

@@ -5,7 +5,7 @@ use serde::Serialize;
 use super::residuals::KktResiduals;
 
 /// What became of a solve.  Not converging is data, not an error.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum QpStatus {
     /// The KKT residuals meet the requested tolerance.

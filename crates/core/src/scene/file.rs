@@ -9,7 +9,9 @@ use serde::Deserialize;
 use crate::mesh::ElementKind;
 
 /// Plane-strain or plane-stress idealisation.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum Plane {
     /// Plane strain (ε_zz = 0), the seed's choice; per unit thickness.
@@ -20,7 +22,9 @@ pub enum Plane {
 }
 
 /// How a contact pair's constraint rows are built (`docs/scene.md`, "Contact formulations").
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Formulation {
     /// One row per slave node on the closest master segment (the seed's method, single pass).
@@ -32,7 +36,7 @@ pub enum Formulation {
 }
 
 /// A displacement component.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum Component {
     /// Horizontal.
@@ -42,7 +46,7 @@ pub enum Component {
 }
 
 /// The whole file.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
     /// Free-text title.
@@ -69,7 +73,7 @@ pub struct SceneFile {
 }
 
 /// `[model]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ModelSection {
     /// `"strain"` (default) or `"stress"`.
@@ -82,7 +86,7 @@ pub struct ModelSection {
 }
 
 /// `[[body]]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BodySection {
     /// Unique name.
@@ -106,7 +110,7 @@ pub struct BodySection {
 }
 
 /// `[[body.refine]]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RefineSection {
     /// Box `[x1, x2, y1, y2]` meshed with the finer size.
@@ -116,7 +120,7 @@ pub struct RefineSection {
 }
 
 /// `[[dirichlet]]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DirichletSection {
     /// Body name.
@@ -130,7 +134,7 @@ pub struct DirichletSection {
 }
 
 /// `[[neumann]]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NeumannSection {
     /// Body name.
@@ -148,7 +152,7 @@ pub struct NeumannSection {
 }
 
 /// `[[contact]]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSection {
     /// The two body names.
@@ -163,7 +167,7 @@ pub struct ContactSection {
 }
 
 /// `[[probe]]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ProbeSection {
     /// Name in the report.
@@ -175,7 +179,7 @@ pub struct ProbeSection {
 }
 
 /// `[reference]`: analytic values the computed contact pressure is compared with.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ReferenceSection {
     /// 1-based contact pair the values are about (default 1).

@@ -1,0 +1,167 @@
+//! The published contract: the JSON Schemas of the scene file and of `result.json`
+//! (`signorini schema scene|result`), generated from the Rust types that read and write them so
+//! that they cannot drift; and the provenance a result records (program, scene file hash, backend
+//! settings, machine).
+
+use std::path::Path;
+
+use schemars::generate::SchemaSettings;
+use schemars::transform::RecursiveTransform;
+use schemars::Schema;
+use sha2::{Digest, Sha256};
+use signorini_core::report::{BackendSettings, Provenance, RunReport};
+use signorini_core::scene::{SceneError, SceneFile};
+
+use crate::run::DEFAULT_SCENE;
+
+/// Which document a schema describes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Document {
+    /// The TOML scene file (read as JSON: every TOML table an object, every array an array).
+    Scene,
+    /// `result.json`, written by `signorini solve`.
+    Result,
+}
+
+/// The JSON Schema (draft 2020-12) of `document`.
+pub fn schema(document: Document) -> Schema {
+    match document {
+        Document::Scene => scene_schema(),
+        Document::Result => result_schema(),
+    }
+}
+
+/// The JSON Schema of the scene file: the deserialisation contract of [`SceneFile`], so every
+/// table refuses unknown keys (`additionalProperties: false`) and keys with a default are not
+/// required.  It checks structure and types only: lengths of coordinate arrays, ranges of
+/// values and cross-references (body names) are checked by `signorini check`.
+pub fn scene_schema() -> Schema {
+    let mut schema = SchemaSettings::draft2020_12()
+        .for_deserialize()
+        .into_generator()
+        .into_root_schema_for::<SceneFile>();
+    schema.insert("title".into(), "signorini scene file".into());
+    schema
+}
+
+/// The JSON Schema of `result.json`: the serialisation contract of [`RunReport`] (fields written
+/// only when present are not required).  serde_json writes a number that is not finite (NaN,
+/// ±∞) as `null`, so every number of the result may also be `null`; `status` is then never
+/// `"solved"`.
+pub fn result_schema() -> Schema {
+    let mut schema = SchemaSettings::draft2020_12()
+        .for_serialize()
+        .with_transform(RecursiveTransform(nullable_numbers))
+        .into_generator()
+        .into_root_schema_for::<RunReport>();
+    schema.insert("title".into(), "signorini result.json".into());
+    schema
+}
+
+/// `"type": "number"` becomes `"type": ["number", "null"]` (see [`result_schema`]).
+fn nullable_numbers(schema: &mut Schema) {
+    if schema.get("type").and_then(|t| t.as_str()) == Some("number") {
+        schema.insert("type".into(), serde_json::json!(["number", "null"]));
+    }
+}
+
+/// SHA-256 of `bytes`, as 64 lowercase hex digits (what `sha256sum` prints).
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// SHA-256 of the scene file's bytes ([`sha256_hex`]), or of the built-in scene's text when
+/// `path` is `None`.
+pub fn scene_sha256(path: Option<&Path>) -> Result<String, SceneError> {
+    match path {
+        Some(p) => std::fs::read(p)
+            .map(|bytes| sha256_hex(&bytes))
+            .map_err(|source| SceneError::Read {
+                path: p.display().to_string(),
+                source,
+            }),
+        None => Ok(sha256_hex(DEFAULT_SCENE.as_bytes())),
+    }
+}
+
+/// The logical cores this process may use (1 when unknown).
+pub fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// The provenance of a run of the scene at `scene` (`None`: the built-in one) with `settings`:
+/// this program's version and, when the build recorded it, its commit; the scene's path and
+/// SHA-256; the settings; the core count.
+pub fn provenance(
+    scene: Option<&Path>,
+    settings: BackendSettings,
+) -> Result<Provenance, SceneError> {
+    Ok(Provenance {
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        commit: option_env!("SIGNORINI_COMMIT")
+            .filter(|c| !c.trim().is_empty())
+            .map(|c| c.trim().to_string()),
+        scene_path: scene.map(|p| p.display().to_string()),
+        scene_sha256: scene_sha256(scene)?,
+        settings,
+        cores: cores(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// FIPS 180-2's test vectors (appendix B.1 and the empty message).
+    #[test]
+    fn sha256_matches_the_standard_vectors() {
+        assert_eq!(
+            sha256_hex(b"abc"),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
+        assert_eq!(
+            sha256_hex(b""),
+            "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855"
+        );
+    }
+
+    /// `result.json`'s `status` is written with [`QpStatus::as_str`] and described in the schema
+    /// by `QpStatus`'s serde names: the two must be the same words.
+    #[test]
+    fn status_words_are_the_schema_enum() {
+        use signorini_core::qp::QpStatus;
+        let all = [
+            QpStatus::Solved,
+            QpStatus::Inaccurate,
+            QpStatus::MaxIterations,
+            QpStatus::TimeLimit,
+            QpStatus::PrimalInfeasible,
+            QpStatus::DualInfeasible,
+            QpStatus::NumericalError,
+        ];
+        let schema = serde_json::to_value(result_schema()).unwrap();
+        let text = schema["$defs"]["QpStatus"].to_string();
+        for s in all {
+            assert_eq!(serde_json::to_value(s).unwrap(), s.as_str());
+            assert!(
+                text.contains(&format!("\"{}\"", s.as_str())),
+                "{s} in {text}"
+            );
+        }
+    }
+
+    #[test]
+    fn only_plain_numbers_become_nullable() {
+        let mut s: Schema = serde_json::json!({"type": "number", "format": "double"})
+            .try_into()
+            .unwrap();
+        nullable_numbers(&mut s);
+        assert_eq!(s.get("type"), Some(&serde_json::json!(["number", "null"])));
+        let mut s: Schema = serde_json::json!({"type": "integer"}).try_into().unwrap();
+        nullable_numbers(&mut s);
+        assert_eq!(s.get("type"), Some(&serde_json::json!("integer")));
+    }
+}
