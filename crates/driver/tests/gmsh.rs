@@ -28,7 +28,12 @@ fn solve(scene: &Scene) -> Outcome {
         &MeshLimits::default(),
     )
     .unwrap();
-    assert_eq!(o.solution.status, QpStatus::Solved, "{:?}", o.report.residuals);
+    assert_eq!(
+        o.solution.status,
+        QpStatus::Solved,
+        "{:?}",
+        o.report.residuals
+    );
     o
 }
 
@@ -59,7 +64,10 @@ fn gmsh_hertz_matches_internal_mesh_and_johnson() {
     let cap = g.report.bodies.iter().find(|b| b.name == "cap").unwrap();
     let load = -cap.applied[1];
     let width = 2.0 * (1.0_f64 - 0.16).sqrt();
-    assert!((load / (0.0005885574526504614 * width) - 1.0).abs() < 1e-12, "load {load:e}");
+    assert!(
+        (load / (0.0005885574526504614 * width) - 1.0).abs() < 1e-12,
+        "load {load:e}"
+    );
     // Same load on both scenes, exactly (the group and the box select the same top side).
     let cap_i = i.report.bodies.iter().find(|b| b.name == "cap").unwrap();
     assert!((cap_i.applied[1] / cap.applied[1] - 1.0).abs() < 1e-12);
@@ -67,9 +75,15 @@ fn gmsh_hertz_matches_internal_mesh_and_johnson() {
     // Contact force: the cap is held in y by contact alone, so Σλ is the load up to mortar's
     // normal tilt (≤ (a/R)²/2 = 0.125 %), on either mesh.
     let force = g.report.contacts[0].normal_force;
-    assert!(force >= load * (1.0 - 1e-6) && force <= load * (1.0 + 0.00125), "{force:e} vs {load:e}");
+    assert!(
+        force >= load * (1.0 - 1e-6) && force <= load * (1.0 + 0.00125),
+        "{force:e} vs {load:e}"
+    );
     let force_i = i.report.contacts[0].normal_force;
-    assert!((force / force_i - 1.0).abs() < 0.00125, "{force:e} vs {force_i:e}");
+    assert!(
+        (force / force_i - 1.0).abs() < 0.00125,
+        "{force:e} vs {force_i:e}"
+    );
     // The block's support reaction carries the load down (equilibrium, round-off only).
     let block = g.report.bodies.iter().find(|b| b.name == "block").unwrap();
     assert!((block.reaction[1] / load - 1.0).abs() < 1e-6);
@@ -93,7 +107,11 @@ fn gmsh_hertz_matches_internal_mesh_and_johnson() {
     let a = acc.half_width.unwrap();
     let a_johnson = johnson_half_width(load);
     assert!((reference.half_width.unwrap() / a_johnson - 1.0).abs() < 1e-9);
-    println!("half-width {} (Johnson {a_johnson}), error {:.3} %", a.computed, 100.0 * a.error());
+    println!(
+        "half-width {} (Johnson {a_johnson}), error {:.3} %",
+        a.computed,
+        100.0 * a.error()
+    );
     assert!(a.error().abs() < 0.03, "half-width error {}", a.error());
     // And the internally meshed scene agrees with it within the same bound.
     let a_i = accuracy(&reference, &i.report).unwrap().half_width.unwrap();
@@ -130,7 +148,11 @@ fn binary_and_ascii_meshes_give_identical_results() {
     // solve's KKT tolerance); and both solves run the same backend with the same active set.
     let (a, b) = (solve(&ascii), solve(&binary));
     assert_eq!(a.solution.backend, b.solution.backend);
-    let scale = a.solution.displacement.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let scale = a
+        .solution
+        .displacement
+        .iter()
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
     let du = a
         .solution
         .displacement
@@ -138,7 +160,10 @@ fn binary_and_ascii_meshes_give_identical_results() {
         .zip(&b.solution.displacement)
         .map(|(x, y)| (x - y).abs())
         .fold(0.0, f64::max);
-    assert!(du <= 1e-9 * scale, "displacements differ by {du:e} (scale {scale:e})");
+    assert!(
+        du <= 1e-9 * scale,
+        "displacements differ by {du:e} (scale {scale:e})"
+    );
     let (fa, fb) = (
         a.report.contacts[0].normal_force,
         b.report.contacts[0].normal_force,
@@ -155,7 +180,11 @@ fn cli_solves_the_gmsh_fixture_and_refuses_a_missing_group() {
         .args(["check", fixture("gmsh/hertz.toml").to_str().unwrap()])
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     // A scene beside copies of the meshes, naming a group that block.msh does not define.
     for f in ["cap.msh", "block.msh"] {
         std::fs::copy(fixture(&format!("gmsh/{f}")), dir.join(f)).unwrap();
@@ -171,6 +200,9 @@ fn cli_solves_the_gmsh_fixture_and_refuses_a_missing_group() {
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("\"base\"") && err.contains("block.msh") && err.contains("\"bottom\""), "{err}");
+    assert!(
+        err.contains("\"base\"") && err.contains("block.msh") && err.contains("\"bottom\""),
+        "{err}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

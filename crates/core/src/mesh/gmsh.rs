@@ -171,7 +171,9 @@ pub enum GmshProblem {
         y: f64,
     },
     /// An element of (nearly) zero area, or a non-convex quadrilateral.
-    #[error("element {element} is degenerate (signed area {area:e}, or a non-convex quadrilateral)")]
+    #[error(
+        "element {element} is degenerate (signed area {area:e}, or a non-convex quadrilateral)"
+    )]
     Degenerate {
         /// Element tag.
         element: u64,
@@ -194,7 +196,9 @@ pub enum GmshProblem {
         total: usize,
     },
     /// An edge shared by more than two elements.
-    #[error("the edge between nodes {a} and {b} belongs to {count} elements (overlapping elements)")]
+    #[error(
+        "the edge between nodes {a} and {b} belongs to {count} elements (overlapping elements)"
+    )]
     NonManifold {
         /// Node tag.
         a: u64,
@@ -241,10 +245,7 @@ pub fn parse_msh(bytes: &[u8], label: &str) -> Result<ImportedMesh, GmshError> {
 pub fn physical_names(bytes: &[u8]) -> HashMap<(i32, i32), String> {
     let mut names = HashMap::new();
     let start_tag = b"$PhysicalNames";
-    let Some(start) = bytes
-        .windows(start_tag.len())
-        .position(|w| w == start_tag)
-    else {
+    let Some(start) = bytes.windows(start_tag.len()).position(|w| w == start_tag) else {
         return names;
     };
     let rest = &bytes[start + start_tag.len()..];

@@ -53,10 +53,18 @@ impl Dirichlet {
 impl Neumann {
     /// True when the traction acts on the boundary edge `[a, b]` (at `pa`, `pb`) of `body`'s
     /// mesh: an edge of its group, or an edge with both ends inside its box.
-    pub fn selects_edge(&self, body: &Body, [a, b]: [usize; 2], [pa, pb]: [Point; 2], tol: f64) -> bool {
+    pub fn selects_edge(
+        &self,
+        body: &Body,
+        [a, b]: [usize; 2],
+        [pa, pb]: [Point; 2],
+        tol: f64,
+    ) -> bool {
         match &self.group {
             Some(g) => body.group(g).is_some_and(|g| g.has_edge(a, b)),
-            None => geometry::in_box(pa, &self.region, tol) && geometry::in_box(pb, &self.region, tol),
+            None => {
+                geometry::in_box(pa, &self.region, tol) && geometry::in_box(pb, &self.region, tol)
+            }
         }
     }
 }

@@ -829,7 +829,10 @@ fn validate_contact(
                 if files.is_empty() {
                     format!("= {name:?} needs a body with `mesh` (a Gmsh file); both bodies are polygons")
                 } else {
-                    format!("= {name:?} is a physical group of neither body: {}", files.join("; "))
+                    format!(
+                        "= {name:?} is a physical group of neither body: {}",
+                        files.join("; ")
+                    )
                 },
             ));
         }
@@ -839,7 +842,10 @@ fn validate_contact(
                 return Err(SceneError::invalid(
                     &s,
                     "group",
-                    format!("= {name:?} holds no boundary edge of body {:?}", bodies[k].name),
+                    format!(
+                        "= {name:?} holds no boundary edge of body {:?}",
+                        bodies[k].name
+                    ),
                 ));
             }
         }
