@@ -299,6 +299,37 @@ fn two_pieces_are_refused() {
 }
 
 #[test]
+fn overlapping_elements_are_refused() {
+    // A fifth triangle over the first: edge 1–2 is used twice on the same side.
+    let mut t = square_triangles();
+    t.push((14, vec![1, 2, 5]));
+    let (p, message) = refused(&msh(&square_nodes(), &square_blocks(t), &GROUPS));
+    assert!(matches!(p, GmshProblem::NonManifold { .. }), "{p:?}");
+    assert!(message.contains("overlapping"), "{message}");
+}
+
+#[test]
+fn contact_groups_are_checked() {
+    let dir = Dir::new("contact");
+    let pair = |group: &str| {
+        format!(
+            "{SCENE}\n[[body]]\nname = \"base\"\npolygon = [[0, -1], [1, -1], [1, 0], [0, 0]]\n\
+             hmax = 0.5\nyoung = 1.0\npoisson = 0.3\n[[dirichlet]]\nbody = \"base\"\n\
+             region = [0, 1, -1, -1]\n[[contact]]\nbodies = [\"part\", \"base\"]\ngroup = {group:?}\n"
+        )
+    };
+    // The mesh body has "bottom": accepted (the polygon body is not restricted).
+    let scene = Scene::from_toml_in(&pair("bottom"), dir.path()).unwrap();
+    assert_eq!(scene.contacts[0].group.as_deref(), Some("bottom"));
+    // A group neither body has: the file and its groups are named.
+    let e = scene_error(&pair("floor"), &dir);
+    assert!(
+        e.contains("\"floor\" is a physical group of neither body") && e.contains("square.msh"),
+        "{e}"
+    );
+}
+
+#[test]
 fn garbage_and_truncated_files_are_refused_without_panic() {
     for text in [
         "hello".to_string(),

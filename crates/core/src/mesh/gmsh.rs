@@ -195,9 +195,10 @@ pub enum GmshProblem {
         /// All 2-D elements.
         total: usize,
     },
-    /// An edge shared by more than two elements.
+    /// An edge shared by more than two elements, or by two on the same side of it.
     #[error(
-        "the edge between nodes {a} and {b} belongs to {count} elements (overlapping elements)"
+        "the edge between nodes {a} and {b} belongs to {count} elements, two of them on the same \
+         side of it (overlapping or folded elements)"
     )]
     NonManifold {
         /// Node tag.
@@ -215,7 +216,8 @@ pub enum GmshProblem {
     Boundary {
         /// Loops found.
         loops: usize,
-        /// " touching itself at node N" when a boundary node starts two edges.
+        /// " touching itself at node N" when a boundary node starts two edges, " left open at
+        /// node N" when a boundary chain ends there.
         pinch: String,
     },
 }
@@ -533,6 +535,14 @@ fn import(bytes: &[u8], label: &str) -> Result<ImportedMesh, GmshProblem> {
             let (a, b) = (c[i], c[(i + 1) % n]);
             let e = edge_use.entry([a.min(b), a.max(b)]).or_insert((0, [a, b]));
             e.0 += 1;
+            // Two elements on the same side of an edge overlap (a folded mesh).
+            if e.0 == 2 && e.1 == [a, b] {
+                return Err(GmshProblem::NonManifold {
+                    a: tags[a],
+                    b: tags[b],
+                    count: 2,
+                });
+            }
         }
     }
     let mut boundary: Vec<[usize; 2]> = Vec::new();
@@ -571,7 +581,15 @@ fn import(bytes: &[u8], label: &str) -> Result<ImportedMesh, GmshProblem> {
         let mut this = Vec::new();
         while visited.insert(at) {
             this.push(at);
-            at = next[&at];
+            at = match next.get(&at) {
+                Some(&n) => n,
+                None => {
+                    return Err(GmshProblem::Boundary {
+                        loops,
+                        pinch: format!(" left open at node {}", tags[at]),
+                    })
+                }
+            };
         }
         if outline.is_empty() {
             outline = this;
@@ -584,7 +602,10 @@ fn import(bytes: &[u8], label: &str) -> Result<ImportedMesh, GmshProblem> {
         });
     }
     // Order the boundary edges along the loop (deterministic, like the internal mesher's).
-    let boundary: Vec<[usize; 2]> = outline.iter().map(|&a| [a, next[&a]]).collect();
+    let boundary: Vec<[usize; 2]> = outline
+        .iter()
+        .filter_map(|&a| next.get(&a).map(|&b| [a, b]))
+        .collect();
     let outline_points: Vec<Point> = outline.iter().map(|&a| nodes[a]).collect();
 
     // Groups in mesh numbering.

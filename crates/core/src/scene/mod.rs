@@ -15,7 +15,7 @@
 //!     region = [0, 1, 0, 0]
 //! "#).unwrap();
 //! assert_eq!(scene.bodies[0].name, "block");
-//! let err = Scene::from_toml("[[body]]\nname = 'b'\nyoung = -1.0").unwrap_err();
+//! let err = Scene::from_toml("[[body]]\nname = 'b'\nyoung = 1.0\npoisson = 0.3").unwrap_err();
 //! assert!(err.to_string().contains("polygon"));
 //! ```
 
