@@ -6,6 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
+use signorini_core::contact::contact_rows;
 use signorini_core::fem::{applied_loads, prescribed, Dofs};
 use signorini_core::geometry::signed_area;
 use signorini_core::mesh::gmsh::{parse_msh, GmshProblem};
@@ -327,6 +328,34 @@ fn contact_groups_are_checked() {
         e.contains("\"floor\" is a physical group of neither body") && e.contains("square.msh"),
         "{e}"
     );
+}
+
+#[test]
+fn a_contact_group_restricts_the_candidates() {
+    // The square rests on a block below it; the square is the slave.  Its side on the block is
+    // the group "bottom": without a group, or with "bottom", both bottom nodes get a row; with
+    // "top" (the far side) the square has no candidate on the interface, so no row.
+    let dir = Dir::new("candidates");
+    let scene = |group: Option<&str>| {
+        let line = group
+            .map(|g| format!("group = {g:?}\n"))
+            .unwrap_or_default();
+        let text = format!(
+            "[[body]]\nname = \"part\"\nmesh = \"square.msh\"\nyoung = 1.0\npoisson = 0.3\n\
+             [[body]]\nname = \"base\"\npolygon = [[0, -1], [1, -1], [1, 0], [0, 0]]\n\
+             hmax = 1.0\nyoung = 1.0\npoisson = 0.3\n[[dirichlet]]\nbody = \"base\"\n\
+             region = [0, 1, -1, -1]\n[[contact]]\nbodies = [\"part\", \"base\"]\n\
+             slave = \"part\"\n{line}"
+        );
+        Scene::from_toml_in(&text, dir.path()).unwrap()
+    };
+    let rows = |s: &Scene| {
+        let meshes = mesh_scene(s, &MeshLimits::default()).unwrap();
+        contact_rows(s, &meshes).unwrap()[0].rows.len()
+    };
+    assert_eq!(rows(&scene(None)), 2);
+    assert_eq!(rows(&scene(Some("bottom"))), 2);
+    assert_eq!(rows(&scene(Some("top"))), 0);
 }
 
 #[test]
