@@ -358,6 +358,33 @@ fn a_contact_group_restricts_the_candidates() {
     assert_eq!(rows(&scene(Some("top"))), 0);
 }
 
+/// Mutated files (bytes overwritten, deterministic pseudo-random) are read or refused, never a
+/// panic: a panic inside mshio is caught, and the checks after it index nothing unchecked.
+#[test]
+fn mutated_files_never_panic() {
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    let binary = std::fs::read(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/gmsh/cap-binary.msh"),
+    )
+    .unwrap();
+    for (base, cases) in [(square().into_bytes(), 3000), (binary, 100)] {
+        for _ in 0..cases {
+            let mut bytes = base.clone();
+            for _ in 0..1 + next() % 3 {
+                let at = (next() % bytes.len() as u64) as usize;
+                bytes[at] = b"0123456789.-e $\n"[(next() % 16) as usize];
+            }
+            let _ = parse_msh(&bytes, "mutated.msh");
+        }
+    }
+}
+
 #[test]
 fn garbage_and_truncated_files_are_refused_without_panic() {
     for text in [

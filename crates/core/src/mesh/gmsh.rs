@@ -332,8 +332,10 @@ fn import(bytes: &[u8], label: &str) -> Result<ImportedMesh, GmshProblem> {
                     t
                 }
                 None => {
-                    let t = (0..block.nodes.len() as u64).map(|i| next + i).collect();
-                    next += block.nodes.len() as u64;
+                    let t = (0..block.nodes.len() as u64)
+                        .map(|i| next.saturating_add(i))
+                        .collect();
+                    next = next.saturating_add(block.nodes.len() as u64);
                     t
                 }
             };
