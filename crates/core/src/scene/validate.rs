@@ -174,8 +174,9 @@ fn import_mesh(s: &str, file: &str, base: Option<&Path>) -> Result<ImportedMesh,
         ));
     };
     let path = base.join(file);
-    mesh::gmsh::read_msh(&path, &path.display().to_string())
-        .map_err(|e| SceneError::invalid(s, "mesh", e.to_string()))
+    mesh::gmsh::read_msh(&path, &path.display().to_string()).map_err(|e| {
+        SceneError::invalid(s, "mesh", format!("= {file:?} ({}) {}", e.path, e.problem))
+    })
 }
 
 /// The geometry of a body: polygon, hmax, element and the imported mesh, if any.
