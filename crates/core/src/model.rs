@@ -314,6 +314,22 @@ pub fn mesh_scene(scene: &Scene, limits: &MeshLimits) -> Result<Vec<Mesh>, Model
     let tol = scene.tolerance();
     let mut meshes = Vec::with_capacity(scene.bodies.len());
     for (b, body) in scene.bodies.iter().enumerate() {
+        // A Gmsh body brings its mesh: nothing to mesh, no break points (its groups select
+        // nodes and edges exactly).
+        if let Some(imported) = &body.imported {
+            let cells = imported.mesh.cells.len();
+            if cells > limits.max_elements {
+                return Err(ModelError::Mesh {
+                    body: body.name.clone(),
+                    source: mesh::MeshError::TooManyElements {
+                        estimated: cells,
+                        limit: limits.max_elements,
+                    },
+                });
+            }
+            meshes.push(imported.mesh.clone());
+            continue;
+        }
         let mut breaks: Vec<Point> = scene
             .bodies
             .iter()

@@ -239,6 +239,16 @@ pub fn preflight(scene: &Scene, limits: &MeshLimits) -> Result<Preflight, Prefli
         .bodies
         .iter()
         .map(|b| {
+            if let Some(m) = &b.imported {
+                // A Gmsh body's counts are exact.
+                let nodes = m.mesh.nodes.len();
+                return BodyEstimate {
+                    name: b.name.clone(),
+                    elements: m.mesh.cells.len(),
+                    nodes,
+                    dofs: nodes.saturating_mul(2),
+                };
+            }
             let nodes = estimate_nodes_refined(&b.polygon, b.hmax, &b.refine, b.element);
             BodyEstimate {
                 name: b.name.clone(),

@@ -345,12 +345,22 @@ fn contact_rows_with(
             }
         }
         let region = pair.region.as_ref();
-        let cand_k = candidates(
+        let mut cand_k = candidates(
             &meshes[k], &meshes[l], region, reach, tol, &inside_k, search,
         );
-        let cand_l = candidates(
+        let mut cand_l = candidates(
             &meshes[l], &meshes[k], region, reach, tol, &inside_l, search,
         );
+        // `group`: each body whose Gmsh mesh defines the group keeps only the group's nodes.
+        if let Some(name) = &pair.group {
+            for (cand, b) in [(&mut cand_k, k), (&mut cand_l, l)] {
+                if let Some(g) = scene.bodies[b].group(name) {
+                    for (n, c) in cand.iter_mut().enumerate() {
+                        *c = *c && g.has_node(n);
+                    }
+                }
+            }
+        }
         let count = |c: &[bool]| c.iter().filter(|x| **x).count();
         let (nk, nl) = (count(&cand_k), count(&cand_l));
         if let Some(r) = region {

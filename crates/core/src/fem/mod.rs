@@ -119,7 +119,7 @@ pub fn prescribed(
         let mut matched = false;
         for n in boundary_nodes(mesh) {
             let p = mesh.nodes[n];
-            if !geometry::in_box(p, &d.region, tol) {
+            if !d.selects_node(&scene.bodies[d.body], n, p, tol) {
                 continue;
             }
             matched = true;
@@ -171,7 +171,7 @@ pub fn applied_loads(scene: &Scene, meshes: &[Mesh], dofs: &Dofs) -> Result<Vec<
         let mut matched = false;
         for &[a, b] in &mesh.boundary {
             let (pa, pb) = (mesh.nodes[a], mesh.nodes[b]);
-            if !(geometry::in_box(pa, &nm.region, tol) && geometry::in_box(pb, &nm.region, tol)) {
+            if !nm.selects_edge(&scene.bodies[nm.body], [a, b], [pa, pb], tol) {
                 continue;
             }
             matched = true;

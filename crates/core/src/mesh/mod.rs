@@ -59,6 +59,7 @@ use serde::{Deserialize, Serialize};
 use crate::geometry::{bounding_box, distance, signed_area, Point};
 
 mod boundary;
+pub mod gmsh;
 mod lattice;
 mod quads;
 mod quality;

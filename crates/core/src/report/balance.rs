@@ -85,7 +85,7 @@ pub fn applied_loads(scene: &Scene, model: &Model) -> Vec<[f64; 2]> {
         };
         for &[a, b] in &mesh.boundary {
             let (pa, pb) = (mesh.nodes[a], mesh.nodes[b]);
-            if !(geometry::in_box(pa, &nm.region, tol) && geometry::in_box(pb, &nm.region, tol)) {
+            if !nm.selects_edge(&scene.bodies[nm.body], [a, b], [pa, pb], tol) {
                 continue;
             }
             // ∫ t ds over a straight edge of a linear field = length × mean of the end values.

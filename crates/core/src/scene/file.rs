@@ -91,13 +91,14 @@ pub struct ModelSection {
 pub struct BodySection {
     /// Unique name.
     pub name: String,
-    /// Vertices of a simple polygon, either orientation.
-    pub polygon: Vec<Vec<f64>>,
-    /// Largest element edge.
-    pub hmax: f64,
-    /// `"p1"` (default) or `"q1"`.
-    #[serde(default)]
-    pub element: ElementKind,
+    /// Vertices of a simple polygon, either orientation (not with `mesh`).
+    pub polygon: Option<Vec<Vec<f64>>>,
+    /// Largest element edge (with `polygon`; not with `mesh`).
+    pub hmax: Option<f64>,
+    /// A Gmsh MSH 4.1 file (ASCII or binary), relative to the scene file, instead of `polygon`.
+    pub mesh: Option<String>,
+    /// `"p1"` (default) or `"q1"`; not with `mesh` (the file's elements decide).
+    pub element: Option<ElementKind>,
     /// Young's modulus E.
     pub young: f64,
     /// Poisson's ratio ν.
@@ -125,8 +126,10 @@ pub struct RefineSection {
 pub struct DirichletSection {
     /// Body name.
     pub body: String,
-    /// Box `[x1, x2, y1, y2]`.
-    pub region: Vec<f64>,
+    /// Box `[x1, x2, y1, y2]` (or `group`).
+    pub region: Option<Vec<f64>>,
+    /// Physical group of the body's Gmsh mesh (or `region`).
+    pub group: Option<String>,
     /// Prescribed displacement, default `[0, 0]`.
     pub value: Option<Vec<f64>>,
     /// Constrained components, default both.
@@ -139,8 +142,10 @@ pub struct DirichletSection {
 pub struct NeumannSection {
     /// Body name.
     pub body: String,
-    /// Box `[x1, x2, y1, y2]`.
-    pub region: Vec<f64>,
+    /// Box `[x1, x2, y1, y2]` (or `group`).
+    pub region: Option<Vec<f64>>,
+    /// Physical group of the body's Gmsh mesh (or `region`).
+    pub group: Option<String>,
     /// Constant traction `[tx, ty]`.
     pub traction: Option<Vec<f64>>,
     /// Three non-collinear points of a linear traction field.
@@ -159,6 +164,9 @@ pub struct ContactSection {
     pub bodies: Vec<String>,
     /// Optional box limiting the candidate boundary nodes.
     pub region: Option<Vec<f64>>,
+    /// Optional physical group limiting the candidate nodes of each body of the pair whose Gmsh
+    /// mesh defines it (at least one must).
+    pub group: Option<String>,
     /// Optional slave side.
     pub slave: Option<String>,
     /// `"node-to-segment"` (default) or `"mortar"`.

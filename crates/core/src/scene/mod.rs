@@ -15,7 +15,7 @@
 //!     region = [0, 1, 0, 0]
 //! "#).unwrap();
 //! assert_eq!(scene.bodies[0].name, "block");
-//! let err = Scene::from_toml("[[body]]\nname = 'b'\nyoung = -1.0").unwrap_err();
+//! let err = Scene::from_toml("[[body]]\nname = 'b'\nyoung = 1.0\npoisson = 0.3").unwrap_err();
 //! assert!(err.to_string().contains("polygon"));
 //! ```
 
@@ -71,14 +71,25 @@ impl Scene {
             path: path.display().to_string(),
             source,
         })?;
-        Self::from_toml(&text)
+        let base = path.parent().unwrap_or(Path::new(""));
+        Self::from_toml_in(&text, base)
     }
 
-    /// Parses and validates a scene from TOML text.
+    /// Parses and validates a scene from TOML text.  A body with `mesh` (a Gmsh file, relative
+    /// to the scene file) is refused here, since text has no directory: use [`Scene::from_path`]
+    /// or [`Scene::from_toml_in`].
     pub fn from_toml(text: &str) -> Result<Self, SceneError> {
         let file: SceneFile =
             toml::from_str(text).map_err(|e| SceneError::Syntax(e.to_string()))?;
-        validate::validate(file)
+        validate::validate(file, None)
+    }
+
+    /// Parses and validates a scene from TOML text whose `mesh` paths are relative to `base`
+    /// (the directory of the scene file).
+    pub fn from_toml_in(text: &str, base: &Path) -> Result<Self, SceneError> {
+        let file: SceneFile =
+            toml::from_str(text).map_err(|e| SceneError::Syntax(e.to_string()))?;
+        validate::validate(file, Some(base))
     }
 
     /// Diagonal of the bounding box of all bodies: the scene's length scale.

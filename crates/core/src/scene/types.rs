@@ -1,6 +1,9 @@
 //! The validated values of a scene: bodies, supports, loads, contact pairs and probes.
 
-use crate::geometry::Point;
+use std::sync::Arc;
+
+use crate::geometry::{self, Point};
+use crate::mesh::gmsh::{ImportedMesh, MeshGroup};
 use crate::mesh::{ElementKind, Refinement};
 
 pub use super::file::Formulation;
@@ -10,9 +13,10 @@ pub use super::file::Formulation;
 pub struct Body {
     /// Unique name.
     pub name: String,
-    /// Vertices, counter-clockwise (reordered if given clockwise).
+    /// Vertices, counter-clockwise (reordered if given clockwise); for a Gmsh body its boundary
+    /// loop (every boundary node).
     pub polygon: Vec<Point>,
-    /// Largest element edge.
+    /// Largest element edge (for a Gmsh body: its longest element edge).
     pub hmax: f64,
     /// Element type.
     pub element: ElementKind,
@@ -24,6 +28,45 @@ pub struct Body {
     pub density: Option<f64>,
     /// Regions meshed finer than `hmax` (`[[body.refine]]`).
     pub refine: Vec<Refinement>,
+    /// The mesh read from the body's Gmsh file (`mesh = "…"`), used instead of meshing `polygon`.
+    pub imported: Option<Arc<ImportedMesh>>,
+}
+
+impl Body {
+    /// The physical group `name` of the body's Gmsh mesh (None for polygon bodies).
+    pub fn group(&self, name: &str) -> Option<&MeshGroup> {
+        self.imported.as_ref().and_then(|m| m.group(name))
+    }
+}
+
+impl Dirichlet {
+    /// True when the support holds boundary node `node` (at `p`) of `body`'s mesh: a node of
+    /// its group, or a node inside its box.
+    pub fn selects_node(&self, body: &Body, node: usize, p: Point, tol: f64) -> bool {
+        match &self.group {
+            Some(g) => body.group(g).is_some_and(|g| g.has_node(node)),
+            None => geometry::in_box(p, &self.region, tol),
+        }
+    }
+}
+
+impl Neumann {
+    /// True when the traction acts on the boundary edge `[a, b]` (at `pa`, `pb`) of `body`'s
+    /// mesh: an edge of its group, or an edge with both ends inside its box.
+    pub fn selects_edge(
+        &self,
+        body: &Body,
+        [a, b]: [usize; 2],
+        [pa, pb]: [Point; 2],
+        tol: f64,
+    ) -> bool {
+        match &self.group {
+            Some(g) => body.group(g).is_some_and(|g| g.has_edge(a, b)),
+            None => {
+                geometry::in_box(pa, &self.region, tol) && geometry::in_box(pb, &self.region, tol)
+            }
+        }
+    }
 }
 
 /// A prescribed displacement on the boundary nodes in a box.
@@ -31,8 +74,10 @@ pub struct Body {
 pub struct Dirichlet {
     /// Body index.
     pub body: usize,
-    /// Box `[x1, x2, y1, y2]`.
+    /// Box `[x1, x2, y1, y2]`; with `group`, the bounding box of the group's nodes.
     pub region: [f64; 4],
+    /// Physical group of the body's Gmsh mesh that selects the nodes instead of the box.
+    pub group: Option<String>,
     /// Prescribed `[ux, uy]`.
     pub value: [f64; 2],
     /// Which components are prescribed (`[x, y]`).
@@ -66,8 +111,10 @@ impl Traction {
 pub struct Neumann {
     /// Body index.
     pub body: usize,
-    /// Box `[x1, x2, y1, y2]`.
+    /// Box `[x1, x2, y1, y2]`; with `group`, the bounding box of the group's nodes.
     pub region: [f64; 4],
+    /// Physical group of the body's Gmsh mesh that selects the edges instead of the box.
+    pub group: Option<String>,
     /// The traction field (force per unit length and unit thickness).
     pub traction: Traction,
 }
@@ -79,6 +126,9 @@ pub struct ContactPair {
     pub bodies: [usize; 2],
     /// Optional box limiting candidate nodes.
     pub region: Option<[f64; 4]>,
+    /// Optional physical group limiting the candidate nodes of each body of the pair whose
+    /// Gmsh mesh defines it.
+    pub group: Option<String>,
     /// Slave body, when the scene names it.
     pub slave: Option<usize>,
     /// How the pair's rows are built.

@@ -12,8 +12,12 @@ use super::file::{
 };
 use super::types::{Body, ContactPair, Dirichlet, Neumann, Probe, Reference, Traction};
 use super::{Scene, SceneError, REGION_TOLERANCE};
+use std::path::Path;
+use std::sync::Arc;
+
 use crate::geometry::{self, Point};
-use crate::mesh::{ElementKind, Refinement};
+use crate::mesh::gmsh::ImportedMesh;
+use crate::mesh::{self, Cells, ElementKind, Refinement};
 
 /// Largest elastic stiffness coefficient, (λ + 2μ)·thickness in plane strain or
 /// E/(1 − ν²)·thickness in plane stress, and largest body force ρ·|g|·thickness·area of a body,
@@ -157,10 +161,84 @@ struct ModelContext {
     gravity: Option<[f64; 2]>,
 }
 
-fn validate_body(b: BodySection, model: &ModelContext) -> Result<Body, SceneError> {
+/// Reads a body's Gmsh file (`mesh = "…"`), relative to `base` (the scene file's directory).
+fn import_mesh(s: &str, file: &str, base: Option<&Path>) -> Result<ImportedMesh, SceneError> {
+    let Some(base) = base else {
+        return Err(SceneError::invalid(
+            s,
+            "mesh",
+            format!(
+                "= {file:?} is relative to the scene file, but this scene was given as text with \
+                 no file: read it with Scene::from_path or Scene::from_toml_in(text, directory)"
+            ),
+        ));
+    };
+    let path = base.join(file);
+    mesh::gmsh::read_msh(&path, &path.display().to_string()).map_err(|e| {
+        SceneError::invalid(s, "mesh", format!("= {file:?} ({}) {}", e.path, e.problem))
+    })
+}
+
+/// The geometry of a body: polygon, hmax, element and the imported mesh, if any.
+type BodyShape = (Vec<Point>, f64, ElementKind, Option<Arc<ImportedMesh>>);
+
+fn body_shape(b: &BodySection, s: &str, base: Option<&Path>) -> Result<BodyShape, SceneError> {
+    match (&b.polygon, &b.mesh) {
+        (Some(_), Some(_)) => Err(SceneError::invalid(
+            s,
+            "mesh",
+            "cannot be combined with `polygon`: a body is a polygon (meshed here) or a Gmsh mesh",
+        )),
+        (None, None) => Err(SceneError::invalid(
+            s,
+            "polygon",
+            "is missing: give `polygon` (with `hmax`) or `mesh` (a Gmsh .msh file)",
+        )),
+        (None, Some(file)) => {
+            for (given, key) in [
+                (b.hmax.is_some(), "hmax"),
+                (b.element.is_some(), "element"),
+                (!b.refine.is_empty(), "refine"),
+            ] {
+                if given {
+                    return Err(SceneError::invalid(
+                        s,
+                        key,
+                        "does not apply to a body with `mesh`: the Gmsh file fixes the elements",
+                    ));
+                }
+            }
+            let imported = import_mesh(s, file, base)?;
+            let element = match imported.mesh.cells {
+                Cells::Triangles(_) => ElementKind::P1,
+                Cells::Quads(_) => ElementKind::Q1,
+            };
+            let hmax = imported.mesh.max_edge();
+            Ok((
+                imported.outline.clone(),
+                hmax,
+                element,
+                Some(Arc::new(imported)),
+            ))
+        }
+        (Some(polygon), None) => {
+            let hmax = b.hmax.ok_or_else(|| {
+                SceneError::invalid(s, "hmax", "is missing: a `polygon` body needs `hmax`")
+            })?;
+            let polygon = points(s, "polygon", "vertex", polygon)?;
+            Ok((polygon, hmax, b.element.unwrap_or_default(), None))
+        }
+    }
+}
+
+fn validate_body(
+    b: BodySection,
+    model: &ModelContext,
+    base: Option<&Path>,
+) -> Result<Body, SceneError> {
     let s = body_label(&b.name);
     let tol_rel = REGION_TOLERANCE;
-    let polygon = points(&s, "polygon", "vertex", &b.polygon)?;
+    let (polygon, hmax, element, imported) = body_shape(&b, &s, base)?;
     if polygon.len() < 3 {
         return Err(SceneError::invalid(
             &s,
@@ -189,18 +267,22 @@ fn validate_body(b: BodySection, model: &ModelContext) -> Result<Body, SceneErro
             format!("has zero area ({area:e})"),
         ));
     }
-    if let Some((i, j)) = geometry::self_intersection(&polygon, tol_rel * size) {
-        return Err(SceneError::invalid(
-            &s,
-            "polygon",
-            format!("is not simple: edge {i} meets edge {j} (edges numbered from 0 at the first vertex)"),
-        ));
+    // A Gmsh outline is the boundary of a valid mesh (checked on import): no need to look for
+    // crossings among its many vertices.
+    if imported.is_none() {
+        if let Some((i, j)) = geometry::self_intersection(&polygon, tol_rel * size) {
+            return Err(SceneError::invalid(
+                &s,
+                "polygon",
+                format!("is not simple: edge {i} meets edge {j} (edges numbered from 0 at the first vertex)"),
+            ));
+        }
     }
-    if !(b.hmax.is_finite() && b.hmax > 0.0) {
+    if !(hmax.is_finite() && hmax > 0.0) {
         return Err(SceneError::invalid(
             &s,
             "hmax",
-            format!("must be positive and finite, got {}", b.hmax),
+            format!("must be positive and finite, got {hmax}"),
         ));
     }
     if !(b.young.is_finite() && b.young > 0.0) {
@@ -234,7 +316,10 @@ fn validate_body(b: BodySection, model: &ModelContext) -> Result<Body, SceneErro
             ),
         ));
     }
-    if b.element == ElementKind::Q1 && !is_axis_aligned_rectangle(&polygon, tol_rel * size) {
+    if imported.is_none()
+        && element == ElementKind::Q1
+        && !is_axis_aligned_rectangle(&polygon, tol_rel * size)
+    {
         return Err(SceneError::invalid(
             &s,
             "element",
@@ -290,13 +375,13 @@ fn validate_body(b: BodySection, model: &ModelContext) -> Result<Body, SceneErro
                 format!("must be positive and finite, got {}", r.hmax),
             ));
         }
-        if r.hmax >= b.hmax {
+        if r.hmax >= hmax {
             return Err(SceneError::invalid(
                 &section,
                 "hmax",
                 format!(
                     "= {} is not below the body's hmax {}: the region would not be refined",
-                    r.hmax, b.hmax
+                    r.hmax, hmax
                 ),
             ));
         }
@@ -324,12 +409,13 @@ fn validate_body(b: BodySection, model: &ModelContext) -> Result<Body, SceneErro
     Ok(Body {
         name: b.name,
         polygon,
-        hmax: b.hmax,
-        element: b.element,
+        hmax,
+        element,
         young: b.young,
         poisson: b.poisson,
         density: b.density,
         refine,
+        imported,
     })
 }
 
@@ -408,6 +494,89 @@ impl Names<'_> {
     }
 }
 
+/// What a `[[dirichlet]]` or `[[neumann]]` section acts on: its box, or the physical group of
+/// the body's Gmsh mesh (then the box is the group's bounding box).
+fn region_or_group(
+    s: &str,
+    region: Option<&[f64]>,
+    group: Option<&str>,
+    body: &Body,
+    edges: bool,
+) -> Result<([f64; 4], Option<String>), SceneError> {
+    match (region, group) {
+        (Some(_), Some(_)) => Err(SceneError::invalid(
+            s,
+            "group",
+            "cannot be combined with `region`: give one of them",
+        )),
+        (None, None) => Err(SceneError::invalid(
+            s,
+            "region",
+            "is missing: give `region` (a box [x1, x2, y1, y2]) or `group` (a physical group of \
+             the body's Gmsh mesh)",
+        )),
+        (Some(r), None) => Ok((check_region(s, r)?, None)),
+        (None, Some(name)) => {
+            let g = check_group(s, name, body)?;
+            let (mesh, path) = match &body.imported {
+                Some(m) => (&m.mesh, &m.path),
+                None => unreachable_group(s)?,
+            };
+            let on_boundary: Vec<usize> = crate::fem::boundary_nodes(mesh)
+                .into_iter()
+                .filter(|n| g.has_node(*n))
+                .collect();
+            if on_boundary.is_empty() || (edges && g.edges.is_empty()) {
+                return Err(SceneError::invalid(
+                    s,
+                    "group",
+                    format!(
+                        "= {name:?} holds no boundary {} of mesh file {path}",
+                        if edges { "edge" } else { "node" }
+                    ),
+                ));
+            }
+            let region = geometry::bounding_box(on_boundary.iter().map(|&n| &mesh.nodes[n]));
+            Ok((region, Some(name.to_string())))
+        }
+    }
+}
+
+/// Never reached ([`check_group`] refuses polygon bodies); an error rather than a panic.
+fn unreachable_group<T>(s: &str) -> Result<T, SceneError> {
+    Err(SceneError::invalid(s, "group", "needs a body with `mesh`"))
+}
+
+/// The physical group `name` of `body`'s Gmsh mesh; errors name the file and list its groups.
+fn check_group<'a>(
+    s: &str,
+    name: &str,
+    body: &'a Body,
+) -> Result<&'a crate::mesh::gmsh::MeshGroup, SceneError> {
+    let Some(m) = &body.imported else {
+        return Err(SceneError::invalid(
+            s,
+            "group",
+            format!(
+                "= {name:?} needs a body with `mesh` (a Gmsh file), but body {:?} is a polygon; \
+                 use `region`",
+                body.name
+            ),
+        ));
+    };
+    m.group(name).ok_or_else(|| {
+        SceneError::invalid(
+            s,
+            "group",
+            format!(
+                "= {name:?} is not a physical group of mesh file {} ({})",
+                m.path,
+                m.group_list()
+            ),
+        )
+    })
+}
+
 fn validate_dirichlet(
     i: usize,
     d: DirichletSection,
@@ -416,7 +585,13 @@ fn validate_dirichlet(
 ) -> Result<Dirichlet, SceneError> {
     let s = format!("dirichlet #{} (body {:?})", i + 1, d.body);
     let body = Names(bodies).find(&s, "body", &d.body)?;
-    let region = check_region(&s, &d.region)?;
+    let (region, group) = region_or_group(
+        &s,
+        d.region.as_deref(),
+        d.group.as_deref(),
+        &bodies[body],
+        false,
+    )?;
     let value = match &d.value {
         None => [0.0, 0.0],
         Some(v) => exact::<2>(&s, "value", v)?,
@@ -440,7 +615,7 @@ fn validate_dirichlet(
             [x == 1, y == 1]
         }
     };
-    if geometry::boundary_in_box(&bodies[body].polygon, &region, tol).is_none() {
+    if group.is_none() && geometry::boundary_in_box(&bodies[body].polygon, &region, tol).is_none() {
         return Err(SceneError::invalid(
             &s,
             "region",
@@ -453,6 +628,7 @@ fn validate_dirichlet(
     Ok(Dirichlet {
         body,
         region,
+        group,
         value,
         components,
     })
@@ -466,7 +642,13 @@ fn validate_neumann(
 ) -> Result<Neumann, SceneError> {
     let s = format!("neumann #{} (body {:?})", i + 1, n.body);
     let body = Names(bodies).find(&s, "body", &n.body)?;
-    let region = check_region(&s, &n.region)?;
+    let (region, group) = region_or_group(
+        &s,
+        n.region.as_deref(),
+        n.group.as_deref(),
+        &bodies[body],
+        true,
+    )?;
     let traction =
         match (n.traction, n.points, n.tx, n.ty) {
             (Some(t), None, None, None) => {
@@ -528,6 +710,7 @@ fn validate_neumann(
             }
         };
     match geometry::boundary_in_box(&bodies[body].polygon, &region, tol) {
+        _ if group.is_some() => {}
         // A box touching the boundary in a single point clips only O(tol) of it.
         Some(len) if len > 10.0 * tol => {}
         _ => {
@@ -544,6 +727,7 @@ fn validate_neumann(
     Ok(Neumann {
         body,
         region,
+        group,
         traction,
     })
 }
@@ -624,9 +808,53 @@ fn validate_contact(
             }
         }
     }
+    // A group restricts each body of the pair whose Gmsh mesh defines it; at least one must.
+    if let Some(name) = &c.group {
+        let holders: Vec<usize> = [a, b]
+            .into_iter()
+            .filter(|&k| bodies[k].group(name).is_some())
+            .collect();
+        if holders.is_empty() {
+            let files: Vec<String> = [a, b]
+                .iter()
+                .filter_map(|&k| {
+                    bodies[k]
+                        .imported
+                        .as_ref()
+                        .map(|m| format!("mesh file {} ({})", m.path, m.group_list()))
+                })
+                .collect();
+            return Err(SceneError::invalid(
+                &s,
+                "group",
+                if files.is_empty() {
+                    format!("= {name:?} needs a body with `mesh` (a Gmsh file); both bodies are polygons")
+                } else {
+                    format!(
+                        "= {name:?} is a physical group of neither body: {}",
+                        files.join("; ")
+                    )
+                },
+            ));
+        }
+        for k in holders {
+            let g = check_group(&s, name, &bodies[k])?;
+            if g.edges.is_empty() {
+                return Err(SceneError::invalid(
+                    &s,
+                    "group",
+                    format!(
+                        "= {name:?} holds no boundary edge of body {:?}",
+                        bodies[k].name
+                    ),
+                ));
+            }
+        }
+    }
     Ok(ContactPair {
         bodies: [a, b],
         region,
+        group: c.group,
         slave,
         formulation: c.formulation,
     })
@@ -672,7 +900,8 @@ fn validate_probe(
 fn check_dirichlet_conflicts(dirichlet: &[Dirichlet], bodies: &[Body]) -> Result<(), SceneError> {
     for (l, second) in dirichlet.iter().enumerate() {
         for (k, first) in dirichlet[..l].iter().enumerate() {
-            if first.body != second.body {
+            // Groups: the model finds conflicting values node by node (FemError::ConflictingDirichlet).
+            if first.body != second.body || first.group.is_some() || second.group.is_some() {
                 continue;
             }
             let Some(c) = (0..2).find(|&c| {
@@ -743,7 +972,28 @@ fn free_rigid_modes(body: usize, bodies: &[Body], dirichlet: &[Dirichlet], tol: 
         .max(f64::MIN_POSITIVE);
     let mut gram = nalgebra::Matrix3::<f64>::zeros();
     let n = polygon.len();
+    let mut add = |point: Point, d: &Dirichlet| {
+        let (x, y) = ((point[0] - centre[0]) / size, (point[1] - centre[1]) / size);
+        if d.components[0] {
+            let r = nalgebra::Vector3::new(1.0, 0.0, -y);
+            gram += r * r.transpose();
+        }
+        if d.components[1] {
+            let r = nalgebra::Vector3::new(0.0, 1.0, x);
+            gram += r * r.transpose();
+        }
+    };
     for d in dirichlet.iter().filter(|d| d.body == body) {
+        // A group holds exactly its (boundary) nodes.
+        if let (Some(name), Some(m)) = (&d.group, &bodies[body].imported) {
+            if let Some(g) = m.group(name) {
+                let boundary = crate::fem::boundary_nodes(&m.mesh);
+                for &node in g.nodes.iter().filter(|n| boundary.binary_search(n).is_ok()) {
+                    add(m.mesh.nodes[node], d);
+                }
+            }
+            continue;
+        }
         for i in 0..n {
             let Some((p, q)) =
                 geometry::clip_segment_to_box(polygon[i], polygon[(i + 1) % n], &d.region, tol)
@@ -751,15 +1001,7 @@ fn free_rigid_modes(body: usize, bodies: &[Body], dirichlet: &[Dirichlet], tol: 
                 continue;
             };
             for point in [p, q] {
-                let (x, y) = ((point[0] - centre[0]) / size, (point[1] - centre[1]) / size);
-                if d.components[0] {
-                    let r = nalgebra::Vector3::new(1.0, 0.0, -y);
-                    gram += r * r.transpose();
-                }
-                if d.components[1] {
-                    let r = nalgebra::Vector3::new(0.0, 1.0, x);
-                    gram += r * r.transpose();
-                }
+                add(point, d);
             }
         }
     }
@@ -771,7 +1013,7 @@ fn free_rigid_modes(body: usize, bodies: &[Body], dirichlet: &[Dirichlet], tol: 
         .count()
 }
 
-pub(super) fn validate(file: SceneFile) -> Result<Scene, SceneError> {
+pub(super) fn validate(file: SceneFile, base: Option<&Path>) -> Result<Scene, SceneError> {
     if let Some(title) = &file.title {
         check_text("scene", "title", title)?;
     }
@@ -798,7 +1040,7 @@ pub(super) fn validate(file: SceneFile) -> Result<Scene, SceneError> {
                 "is used by more than one body",
             ));
         }
-        bodies.push(validate_body(b, &model)?);
+        bodies.push(validate_body(b, &model, base)?);
     }
     let bbox = geometry::bounding_box(bodies.iter().flat_map(|b| b.polygon.iter()));
     let tol = REGION_TOLERANCE * (bbox[1] - bbox[0]).hypot(bbox[3] - bbox[2]);
