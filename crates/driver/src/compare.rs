@@ -54,6 +54,10 @@ pub struct CompareRow {
 /// `compare.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct CompareReport {
+    /// What the comparison can be traced to (program version, scene or QP files' SHA-256,
+    /// settings, cores); set by the CLI.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub provenance: Option<signorini_core::report::Provenance>,
     /// Scene title; for `compare --qp`, "QP from DIR" (with the exported scene's title when
     /// the directory's README.txt names one).
     pub scene: String,
@@ -119,6 +123,7 @@ pub fn compare(
         progress,
     )?;
     Ok(CompareReport {
+        provenance: None,
         scene: scene.title.clone(),
         source: None,
         dofs: model.free.len(),
@@ -351,6 +356,7 @@ pub fn compare_qp(
     }
     let source = files.dir.display().to_string();
     Ok(CompareReport {
+        provenance: None,
         scene: match &files.title {
             Some(title) => format!("QP from {source} (exported from \"{title}\")"),
             None => format!("QP from {source}"),

@@ -87,6 +87,26 @@ pub fn scene_sha256(path: Option<&Path>) -> Result<String, SceneError> {
     }
 }
 
+/// The provenance of a comparison of the QP read from the Matrix Market files in `dir`: as
+/// [`provenance`], with `scene_path` the directory and `scene_sha256` the SHA-256 of the bytes of
+/// its files `A.mtx`, `f.mtx`, `B.mtx`, `g.mtx` in that order.
+pub fn qp_provenance(dir: &Path, settings: BackendSettings) -> std::io::Result<Provenance> {
+    let mut bytes = Vec::new();
+    for name in ["A.mtx", "f.mtx", "B.mtx", "g.mtx"] {
+        bytes.extend(std::fs::read(dir.join(name))?);
+    }
+    Ok(Provenance {
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        commit: option_env!("SIGNORINI_COMMIT")
+            .filter(|c| !c.trim().is_empty())
+            .map(|c| c.trim().to_string()),
+        scene_path: Some(dir.display().to_string()),
+        scene_sha256: sha256_hex(&bytes),
+        settings,
+        cores: cores(),
+    })
+}
+
 /// The logical cores this process may use (1 when unknown).
 pub fn cores() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())

@@ -459,6 +459,24 @@ fn compare(
         }
     };
     bar.finish_and_clear();
+    let mut report = report;
+    let settings = signorini_core::report::BackendSettings {
+        backend: kinds
+            .iter()
+            .map(|k| k.name().to_string())
+            .collect::<Vec<_>>()
+            .join(","),
+        form: "primal".to_string(),
+        tolerance: options.tol,
+        time_limit_s: options.time_limit.map(|t| t.as_secs_f64()),
+        max_iter: options.max_iter,
+        chain: Vec::new(),
+    };
+    report.provenance = Some(match qp {
+        Some(dir) => signorini::contract::qp_provenance(dir, settings)
+            .with_context(|| format!("reading {} for its hash", dir.display()))?,
+        None => signorini::contract::provenance(common.scene.as_deref(), settings)?,
+    });
     let written = signorini::compare::write(out, &report)
         .with_context(|| format!("writing comparison to {}", out.display()))?;
     let mut con = Console::new();
