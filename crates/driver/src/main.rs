@@ -109,6 +109,10 @@ enum Command {
         /// Output directory (created if missing).
         #[arg(long, default_value = "out")]
         out: PathBuf,
+        /// Encoding of solution.vtu: binary (zlib-compressed, base64 appended data; small and
+        /// fast to read) or ascii (decimal text, several times larger).
+        #[arg(long, value_enum, default_value_t = signorini::output::VtuFormat::Binary)]
+        vtu: signorini::output::VtuFormat,
     },
     /// Mesh and assemble once, then solve the same QP with several backends and compare them.
     Compare {
@@ -249,6 +253,8 @@ struct SolveArgs<'a> {
     chain: &'a [String],
     tol: f64,
     time_limit_s: Option<f64>,
+    /// Encoding of solution.vtu.
+    vtu: signorini::output::VtuFormat,
 }
 
 fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) -> Result<Exit> {
@@ -301,7 +307,7 @@ fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) -> Result<Exi
         let mut backend = make_backend(kind)?;
         run::solve_scene(&scene, backend.as_mut(), &options, &limits(common))?
     };
-    let written = run::write_outputs(out, &scene, &outcome)
+    let written = run::write_outputs_with(out, &scene, &outcome, args.vtu)
         .with_context(|| format!("writing results to {}", out.display()))?;
     let r = &outcome.report;
     let mut con = Console::new();
@@ -736,6 +742,7 @@ fn main() -> ExitCode {
             tol,
             time_limit,
             out,
+            vtu,
         } => solve(
             common,
             &SolveArgs {
@@ -744,6 +751,7 @@ fn main() -> ExitCode {
                 chain,
                 tol: *tol,
                 time_limit_s: *time_limit,
+                vtu: *vtu,
             },
             out,
         ),
