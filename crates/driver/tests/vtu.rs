@@ -4,6 +4,8 @@
 //! form that parses back to the same `f64`; binary writes the bytes) — on a two-body P1 scene
 //! and a Q1 scene.
 
+#![allow(clippy::unwrap_used)]
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
