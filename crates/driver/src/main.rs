@@ -102,6 +102,10 @@ enum Command {
         /// Output directory (created if missing).
         #[arg(long, default_value = "out")]
         out: PathBuf,
+        /// Encoding of solution.vtu: binary (zlib-compressed, base64 appended data; small and
+        /// fast to read) or ascii (decimal text, several times larger).
+        #[arg(long, value_enum, default_value_t = signorini::output::VtuFormat::Binary)]
+        vtu: signorini::output::VtuFormat,
     },
     /// Mesh and assemble once, then solve the same QP with several backends and compare them.
     Compare {
@@ -295,6 +299,8 @@ struct SolveArgs<'a> {
     chain: &'a [BackendKind],
     tol: f64,
     time_limit_s: Option<f64>,
+    /// Encoding of solution.vtu.
+    vtu: signorini::output::VtuFormat,
 }
 
 fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) -> Result<Exit> {
@@ -357,7 +363,7 @@ fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) -> Result<Exi
         run::solve_scene(&scene, backend.as_mut(), &options, &limits(common))?
     };
     outcome.report.provenance = Some(provenance);
-    let written = run::write_outputs(out, &scene, &outcome)
+    let written = run::write_outputs_with(out, &scene, &outcome, args.vtu)
         .with_context(|| format!("writing results to {}", out.display()))?;
     let r = &outcome.report;
     let mut con = Console::new();
@@ -874,6 +880,7 @@ fn main() -> ExitCode {
             tol,
             time_limit,
             out,
+            vtu,
         } => solve(
             common,
             &SolveArgs {
@@ -882,6 +889,7 @@ fn main() -> ExitCode {
                 chain,
                 tol: *tol,
                 time_limit_s: *time_limit,
+                vtu: *vtu,
             },
             out,
         ),

@@ -14,7 +14,7 @@ use signorini_core::scene::{Scene, SceneError};
 use signorini_core::solve::{self, Solution, SolveError};
 
 use crate::outdir::{DirLock, OutputSet};
-use crate::output::{self, BodyField, OutputError};
+use crate::output::{self, BodyField, OutputError, VtuFormat};
 
 /// The scene run when none is given: the seed's Experiment 2b.
 pub const DEFAULT_SCENE: &str = include_str!("../../../fixtures/seed/exp2b.toml");
@@ -241,6 +241,17 @@ pub fn write_outputs(
     scene: &Scene,
     outcome: &Outcome,
 ) -> Result<Vec<PathBuf>, OutputError> {
+    write_outputs_with(dir, scene, outcome, VtuFormat::default())
+}
+
+/// [`write_outputs`] with `solution.vtu` in `vtu` ([`VtuFormat::Binary`] there;
+/// `signorini solve --vtu`).
+pub fn write_outputs_with(
+    dir: &Path,
+    scene: &Scene,
+    outcome: &Outcome,
+    vtu: VtuFormat,
+) -> Result<Vec<PathBuf>, OutputError> {
     let bodies: Vec<BodyField> = outcome
         .model
         .meshes
@@ -263,7 +274,9 @@ pub fn write_outputs(
         writeln!(w)
     })?;
     output::check_fields(&bodies)?;
-    set.write(SOLVE_FILES[1], |w| output::write_vtu_to(w, &bodies))?;
+    set.write(SOLVE_FILES[1], |w| {
+        output::write_vtu_to_with(w, &bodies, vtu)
+    })?;
     let svg = output::render_deformed_svg(&scene.title, &bodies)?;
     set.write(SOLVE_FILES[2], |w| w.write_all(svg.as_bytes()))?;
     if let Some(svg) = output::render_pressure_svg(&scene.title, &outcome.report)? {

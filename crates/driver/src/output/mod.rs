@@ -7,8 +7,9 @@
 //! [`crate::outdir`]); the writers here therefore also come as functions that write to any
 //! `Write` or return the document ([`write_vtu_to`], [`render_deformed_svg`]).
 //!
-//! * [`write_vtu`] writes one VTK XML UnstructuredGrid holding every body (see its docs for the
-//!   arrays and their layout).
+//! * [`write_vtu`] writes one VTK XML UnstructuredGrid holding every body, zlib-compressed
+//!   binary by default or ASCII ([`VtuFormat`], [`write_vtu_with`]; see its docs for the arrays
+//!   and their layout).
 //! * [`write_deformed_svg`] plots the undeformed and the magnified deformed meshes; the factor is
 //!   chosen by [`magnification`].
 //! * [`render_pressure_svg`] plots the contact pressure against the arc coordinate along each
@@ -33,7 +34,7 @@ mod tests;
 
 pub use pressure::render_pressure_svg;
 pub use svg::{magnification, render_deformed_svg, write_deformed_svg};
-pub use vtu::{write_vtu, write_vtu_to};
+pub use vtu::{write_vtu, write_vtu_to, write_vtu_to_with, write_vtu_with, VtuFormat};
 
 /// One body's fields for output.
 #[derive(Debug, Clone, Copy)]

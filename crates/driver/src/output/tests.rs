@@ -114,7 +114,8 @@ fn vtu_round_trips() {
     f0.u[2] = [0.1 + 0.2, -1.0 / 3.0 * 1e-300];
     let f1 = fields(&m1, 2.0e-3);
     let bodies = [body("upper", &m0, &f0), body("lower", &m1, &f1)];
-    write_vtu(&path, &bodies).unwrap();
+    // The text layout; tests/vtu.rs reads both encodings back with an independent reader.
+    write_vtu_with(&path, &bodies, VtuFormat::Ascii).unwrap();
     assert_eq!(dir_entries(dir.path()), ["solution.vtu"]);
 
     let text = std::fs::read_to_string(&path).unwrap();
@@ -349,25 +350,28 @@ fn svg_and_vtu_with_control_characters_in_names_parse_and_read_back() {
         assert!(texts.contains(&want.as_str()), "{want:?} not in {texts:?}");
     }
 
-    let vtu_path = dir.path().join("solution.vtu");
-    write_vtu(&vtu_path, &bodies).unwrap();
-    let vtu = std::fs::read_to_string(&vtu_path).unwrap();
-    let doc = roxmltree::Document::parse(&vtu).unwrap_or_else(|e| panic!("{e}\n{vtu}"));
-    let comment = doc
-        .root()
-        .children()
-        .find(|n| n.is_comment())
-        .and_then(|n| n.text())
-        .unwrap();
-    let names: Vec<&str> = comment
-        .lines()
-        .skip(1)
-        .filter_map(|l| l.split_once(" = ").map(|(_, name)| name))
-        .collect();
-    assert_eq!(
-        names,
-        [NASTY_READ.to_string(), format!("lower {NASTY_READ}")]
-    );
+    for format in [VtuFormat::Ascii, VtuFormat::Binary] {
+        let vtu_path = dir.path().join("solution.vtu");
+        write_vtu_with(&vtu_path, &bodies, format).unwrap();
+        let vtu = std::fs::read_to_string(&vtu_path).unwrap();
+        let doc = roxmltree::Document::parse(&vtu).unwrap_or_else(|e| panic!("{e}\n{vtu}"));
+        let comment = doc
+            .root()
+            .children()
+            .find(|n| n.is_comment())
+            .and_then(|n| n.text())
+            .unwrap();
+        let names: Vec<&str> = comment
+            .lines()
+            .skip(1)
+            .filter_map(|l| l.split_once(" = ").map(|(_, name)| name))
+            .collect();
+        assert_eq!(
+            names,
+            [NASTY_READ.to_string(), format!("lower {NASTY_READ}")],
+            "{format}"
+        );
+    }
 }
 
 #[test]
@@ -376,14 +380,17 @@ fn vtu_comment_stays_a_comment() {
     let m = tri_square(0.0, 0.0);
     let f = fields(&m, 1e-3);
     let path = dir.path().join("solution.vtu");
-    write_vtu(&path, &[body("a--b-->\n<VTKFile>-", &m, &f)]).unwrap();
-    let vtu = std::fs::read_to_string(&path).unwrap();
-    let doc = roxmltree::Document::parse(&vtu).unwrap();
-    assert_eq!(doc.root_element().tag_name().name(), "VTKFile");
-    assert_eq!(
-        doc.descendants()
-            .filter(|n| n.has_tag_name("VTKFile"))
-            .count(),
-        1
-    );
+    for format in [VtuFormat::Ascii, VtuFormat::Binary] {
+        write_vtu_with(&path, &[body("a--b-->\n<VTKFile>-", &m, &f)], format).unwrap();
+        let vtu = std::fs::read_to_string(&path).unwrap();
+        let doc = roxmltree::Document::parse(&vtu).unwrap();
+        assert_eq!(doc.root_element().tag_name().name(), "VTKFile");
+        assert_eq!(
+            doc.descendants()
+                .filter(|n| n.has_tag_name("VTKFile"))
+                .count(),
+            1,
+            "{format}"
+        );
+    }
 }
