@@ -387,6 +387,12 @@ pub fn validate_plan(scene: &Scene, plan: &StudyPlan) -> Result<(), StudyError> 
     if scene.reference.is_none() {
         return Err(StudyError::NoReference);
     }
+    if let Some(b) = scene.bodies.iter().find(|b| b.imported.is_some()) {
+        return Err(StudyError::Plan(format!(
+            "body \"{}\" takes its mesh from a file (`mesh`): a study changes every body's mesh size, which a mesh from a file does not have",
+            b.name
+        )));
+    }
     let err = |m: &str| Err(StudyError::Plan(m.to_string()));
     if plan.hmax.is_empty() {
         return err("a study needs at least one --hmax");

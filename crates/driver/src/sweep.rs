@@ -513,6 +513,21 @@ pub fn validate_plan(
             return plan_err(format!("--bodies names an unknown body \"{name}\""));
         }
     }
+    // A body meshed by Gmsh has no hmax to sweep: every point would repeat its mesh.
+    let swept = |b: &&signorini_core::scene::Body| {
+        plan.bodies.is_empty() || plan.bodies.contains(&b.name)
+    };
+    if let Some(b) = scene
+        .bodies
+        .iter()
+        .filter(swept)
+        .find(|b| b.imported.is_some())
+    {
+        return plan_err(format!(
+            "body \"{}\" takes its mesh from a file (`mesh`), so its hmax cannot be swept; name the polygon bodies to sweep with --bodies",
+            b.name
+        ));
+    }
     for &h in &plan.hmax {
         let s = with_hmax(scene, &plan.bodies, h);
         let total = s

@@ -206,3 +206,29 @@ fn cli_solves_the_gmsh_fixture_and_refuses_a_missing_group() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A sweep changes hmax, which a body meshed by Gmsh does not have: every point would repeat
+/// the same mesh, so the plan is refused (exit 1, naming the body) before anything is written.
+#[test]
+fn sweep_refuses_to_sweep_a_mesh_body() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = fixture("gmsh/hertz.toml");
+    let o = Command::new(env!("CARGO_BIN_EXE_signorini"))
+        .args([
+            "sweep",
+            scene.to_str().unwrap(),
+            "--hmax",
+            "0.1,0.05",
+            "--backends",
+            "clarabel",
+            "--out",
+            "s",
+        ])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("takes its mesh from a file"), "{err}");
+    assert!(!dir.path().join("s").exists());
+}
