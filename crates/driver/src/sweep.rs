@@ -514,9 +514,8 @@ pub fn validate_plan(
         }
     }
     // A body meshed by Gmsh has no hmax to sweep: every point would repeat its mesh.
-    let swept = |b: &&signorini_core::scene::Body| {
-        plan.bodies.is_empty() || plan.bodies.contains(&b.name)
-    };
+    let swept =
+        |b: &&signorini_core::scene::Body| plan.bodies.is_empty() || plan.bodies.contains(&b.name);
     if let Some(b) = scene
         .bodies
         .iter()
