@@ -169,3 +169,32 @@ fn check_accepts_every_fixture() {
         }
     }
 }
+
+/// docs/getting-started.md walks its scene through `check` and `solve`: the scene must stay
+/// valid and solved, writing the four files the guide lists, and the contact force it quotes is
+/// the applied load (traction 10 × width 0.5 = 5: the block is held vertically by the contact
+/// alone, so equilibrium fixes it; 1e-7 relative: the stationarity residual, ≤ 1e-9 per DOF of
+/// the force scale, summed over the ~10² DOFs of the interface region, as in
+/// contact_verification.rs).
+#[test]
+fn the_getting_started_scene_does_what_the_guide_says() {
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../docs/getting-started.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let o = signorini(&["check", scene.to_str().unwrap()], dir.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = signorini(
+        &["solve", scene.to_str().unwrap(), "--out", "out"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    for f in ["result.json", "solution.vtu", "deformed.svg", "pressure.svg"] {
+        assert!(dir.path().join("out").join(f).exists(), "{f}");
+    }
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("out/result.json")).unwrap())
+            .unwrap();
+    assert_eq!(r["status"], "solved");
+    let force = r["contacts"][0]["normal_force"].as_f64().unwrap();
+    assert!((force - 5.0).abs() < 1e-9 * 5.0 * 100.0, "{force}");
+    assert_eq!(r["contacts"][0]["formulation"], "mortar");
+}
