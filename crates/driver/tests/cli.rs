@@ -187,7 +187,12 @@ fn the_getting_started_scene_does_what_the_guide_says() {
         dir.path(),
     );
     assert!(o.status.success(), "{}", stderr(&o));
-    for f in ["result.json", "solution.vtu", "deformed.svg", "pressure.svg"] {
+    for f in [
+        "result.json",
+        "solution.vtu",
+        "deformed.svg",
+        "pressure.svg",
+    ] {
         assert!(dir.path().join("out").join(f).exists(), "{f}");
     }
     let r: serde_json::Value =
