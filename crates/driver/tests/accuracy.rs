@@ -5,8 +5,10 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod common;
+use common::signorini;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use signorini::auto::AutoBackend;
 use signorini::run;
@@ -18,14 +20,6 @@ use signorini_core::scene::{Formulation, Scene};
 
 fn fixture(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../fixtures/accuracy/{name}"))
-}
-
-fn signorini(args: &[&str], cwd: &Path) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run signorini")
 }
 
 /// Johnson's Hertz line contact for two equal cylinders' worth of material (the block is a

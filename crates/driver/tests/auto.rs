@@ -5,8 +5,11 @@
 // Helpers are test code too: a failed unwrap is a failed test.
 #![allow(clippy::unwrap_used)]
 
+mod common;
+use common::signorini;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 use std::time::{Duration, Instant};
 
 use signorini::auto::{plan, AutoBackend, Features};
@@ -20,14 +23,6 @@ use signorini_dual::{DualBackend, DualSettings};
 
 fn fixture(dir: &str, name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../fixtures/{dir}/{name}.toml"))
-}
-
-fn signorini(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run signorini")
 }
 
 fn stderr(o: &Output) -> String {

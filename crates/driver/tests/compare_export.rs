@@ -1,22 +1,16 @@
 //! `signorini compare` and `signorini export` end to end: every backend on one QP, and the
 //! exported Matrix Market files read back equal to the problem they came from.
 
+mod common;
+use common::signorini;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use signorini::run;
 use signorini_core::mesh::MeshLimits;
 
 fn fixture(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../fixtures/seed/{name}.toml"))
-}
-
-fn signorini(args: &[&str], cwd: &Path) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run signorini")
 }
 
 fn read_dense(path: &Path) -> Vec<f64> {

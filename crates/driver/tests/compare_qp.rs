@@ -6,8 +6,10 @@
 //! * malformed input is refused naming the file and the line, exit code 1, nothing written;
 //! * a QP with a singular A (no null space in the files) is an error row for the dual backends.
 
+mod common;
+use common::signorini;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use signorini::qp_files::read_qp_dir;
 
@@ -15,14 +17,6 @@ fn repo(path: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../..")
         .join(path)
-}
-
-fn signorini(args: &[&str], cwd: &Path) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run signorini")
 }
 
 fn json(path: &Path) -> serde_json::Value {

@@ -2,8 +2,10 @@
 //! a second run into a directory in use is refused, nothing temporary is left behind, and any
 //! text in a scene makes well-formed SVG and VTU.
 
+mod common;
+use common::signorini;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use signorini::backends::{make_backend, BackendKind};
 use signorini::compare;
@@ -13,14 +15,6 @@ use signorini::run::{self, Outcome};
 use signorini_core::mesh::MeshLimits;
 use signorini_core::qp::SolveOptions;
 use signorini_core::scene::Scene;
-
-fn signorini(args: &[&str], cwd: &Path) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run signorini")
-}
 
 /// The default scene (Experiment 2b), solved with clarabel.
 fn solved() -> (Scene, Outcome) {

@@ -2,21 +2,15 @@
 //! columns meaning what they say, and a refined mesh converging; existing results never lost,
 //! `--resume` refusing a file that is not this sweep's, and failed points giving exit code 2.
 
+mod common;
+use common::signorini;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use signorini::sweep::read_points;
 
 fn fixture(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../fixtures/seed/{name}.toml"))
-}
-
-fn signorini(args: &[&str], cwd: &Path) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run signorini")
 }
 
 #[test]

@@ -3,21 +3,15 @@
 //! damaged shards are refused naming the file and line without writing anything, and `--vtu`
 //! writes a ParaView collection whose every file exists and is XML.
 
+mod common;
+use common::signorini;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use signorini::sweep::{read_points, Point};
 
 fn fixture(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../fixtures/seed/{name}.toml"))
-}
-
-fn signorini(args: &[&str], cwd: &Path) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run signorini")
 }
 
 fn stderr(o: &std::process::Output) -> String {

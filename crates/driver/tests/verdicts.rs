@@ -2,16 +2,11 @@
 //! finite and the residuals meet the tolerance; each kind of failure has its own exit code
 //! (0 solved, 1 bad input or usage, 2 not solved, 3 I/O or resource error).
 
+mod common;
+use common::signorini;
+
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
-
-fn signorini(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run signorini")
-}
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

@@ -6,8 +6,10 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod common;
+use common::signorini;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use signorini::backends::{make_backend, BackendKind};
 use signorini::output::{self, BodyField, VtuFormat};
@@ -309,14 +311,6 @@ fn write_vtu_to_defaults_to_binary() {
     assert!(text.contains(r#"compressor="vtkZLibDataCompressor""#));
     assert!(text.contains(r#"<AppendedData encoding="base64">_"#));
     assert_eq!(VtuFormat::default(), VtuFormat::Binary);
-}
-
-fn signorini(args: &[&str], cwd: &Path) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_signorini"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run signorini")
 }
 
 /// `solve` writes binary by default, ASCII with `--vtu ascii`, and refuses other names listing
