@@ -161,38 +161,9 @@ fn run_backends(
     difference: fn(&[f64], &[f64]) -> f64,
     mut progress: impl FnMut(&str),
 ) -> Result<Runs, RunError> {
-    // Warm-up first (page faults of the first large allocation), then the median of three.
-    let floor_info = solve::floor(&qp.problem)
-        .map_err(solve::SolveError::from)?
-        .info;
-    let mut floors: Vec<Duration> = (0..3)
-        .map(|_| solve::floor_time(&qp.problem))
-        .collect::<Result<_, _>>()
-        .map_err(solve::SolveError::from)?;
-    floors.sort();
-    let floor_s = floors[1].as_secs_f64();
-
-    // A backend that cannot run on this problem (the dual form on a floating body, a dense
-    // matrix that does not fit) becomes a row with status "error"; the others still run.
-    let mut outcomes: Vec<Result<Solution, (String, String)>> = Vec::with_capacity(kinds.len());
-    for &kind in kinds {
-        progress(kind.name());
-        let mut backend = make_backend(kind).map_err(|e| {
-            RunError::Solve(solve::SolveError::Qp(
-                signorini_core::qp::QpError::Unavailable {
-                    backend: kind.name(),
-                    reason: e.to_string(),
-                },
-            ))
-        })?;
-        match solve::solve_scaled(model, qp, backend.as_mut(), options) {
-            Ok(solution) => outcomes.push(Ok(solution)),
-            Err(solve::SolveError::Qp(e)) => {
-                outcomes.push(Err((kind.name().to_string(), e.to_string())))
-            }
-            Err(e) => return Err(e.into()),
-        }
-    }
+    let floor = measure_floor(&qp.problem)?;
+    let floor_s = floor.seconds;
+    let outcomes = solve_each(model, qp, kinds, options, &mut progress)?;
     let solutions: Vec<&Solution> = outcomes.iter().filter_map(|o| o.as_ref().ok()).collect();
     let reference = solutions
         .iter()
@@ -231,11 +202,75 @@ fn run_backends(
         .collect();
     Ok(Runs {
         floor_s,
-        floor_ordering: floor_info.ordering.as_str().to_string(),
-        floor_nnz_l: floor_info.nnz_l,
+        floor_ordering: floor.ordering,
+        floor_nnz_l: floor.nnz_l,
         reference: reference.map(|r| solutions[r].backend.clone()),
         backends,
     })
+}
+
+/// The floor of a QP: one unconstrained factorisation + solve of its A, timed.
+#[derive(Debug, Clone)]
+pub(crate) struct Floor {
+    /// Median of three timed runs (after one warm-up), seconds.
+    pub seconds: f64,
+    /// Fill-reducing ordering of the factor (`amd` or `metis`).
+    pub ordering: String,
+    /// Nonzeros of the factor L.
+    pub nnz_l: usize,
+}
+
+/// Times the floor of `qp`: a warm-up first (page faults of the first large allocation), then
+/// the median of three.
+pub(crate) fn measure_floor(qp: &QpProblem) -> Result<Floor, RunError> {
+    let info = solve::floor(qp).map_err(solve::SolveError::from)?.info;
+    let mut floors: Vec<Duration> = (0..3)
+        .map(|_| solve::floor_time(qp))
+        .collect::<Result<_, _>>()
+        .map_err(solve::SolveError::from)?;
+    floors.sort();
+    Ok(Floor {
+        seconds: floors[1].as_secs_f64(),
+        ordering: info.ordering.as_str().to_string(),
+        nnz_l: info.nnz_l,
+    })
+}
+
+/// What one backend of [`solve_each`] ended with: its solution, or — when it could not run on
+/// the problem at all — its name and the reason.
+pub(crate) type BackendOutcome = Result<Solution, (String, String)>;
+
+/// Every backend of `kinds` on `qp`, in order; `progress` is told each backend's name first.
+/// A backend that cannot run on this problem (the dual form on a floating body, a dense matrix
+/// that does not fit) ends as `Err((name, reason))`; the others still run.  Only a failure that
+/// is not the backend's (the model's) stops the whole loop.
+pub(crate) fn solve_each(
+    model: &Model,
+    qp: &solve::ScaledQp,
+    kinds: &[BackendKind],
+    options: &SolveOptions,
+    mut progress: impl FnMut(&str),
+) -> Result<Vec<BackendOutcome>, RunError> {
+    let mut outcomes: Vec<BackendOutcome> = Vec::with_capacity(kinds.len());
+    for &kind in kinds {
+        progress(kind.name());
+        let mut backend = make_backend(kind).map_err(|e| {
+            RunError::Solve(solve::SolveError::Qp(
+                signorini_core::qp::QpError::Unavailable {
+                    backend: kind.name(),
+                    reason: e.to_string(),
+                },
+            ))
+        })?;
+        match solve::solve_scaled(model, qp, backend.as_mut(), options) {
+            Ok(solution) => outcomes.push(Ok(solution)),
+            Err(solve::SolveError::Qp(e)) => {
+                outcomes.push(Err((kind.name().to_string(), e.to_string())))
+            }
+            Err(e) => return Err(e.into()),
+        }
+    }
+    Ok(outcomes)
 }
 
 /// Largest componentwise difference max_i |a_i − b_i| (NaN when either holds a NaN): a QP read

@@ -16,4 +16,5 @@ pub mod plots;
 pub mod qp_files;
 pub mod run;
 pub mod study;
+pub mod suite;
 pub mod sweep;

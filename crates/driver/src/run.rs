@@ -134,24 +134,34 @@ pub fn solve_scene(
     let qp = solve::ScaledQp::new(prepared.qp);
     let solution = solve::solve_scaled(&prepared.model, &qp, backend, options)?;
     drop(qp);
-    let fields = report::body_fields(&prepared.model, &solution);
     let timings = Timings {
         mesh: prepared.mesh_s,
         assemble: prepared.assemble_s,
         solve: solution.solve_time.as_secs_f64(),
         total: start.elapsed().as_secs_f64(),
     };
-    let mut solution = solution;
-    let mut report = report::run_report(
-        scene,
-        &prepared.model,
-        &solution,
-        &fields,
-        options.tol,
-        timings,
-    );
-    // `solved` promises that every number written is finite: stresses and reactions are derived
-    // after the solve and may still overflow (E = 1e300 times a finite strain).
+    let (solution, fields, report) = finish(scene, &prepared.model, solution, options.tol, timings);
+    Ok(Outcome {
+        model: prepared.model,
+        solution,
+        fields,
+        report,
+    })
+}
+
+/// The report of a solution and its output fields, with `solved`'s promise kept: a solution the
+/// core's check passed whose derived numbers (stresses, reactions: computed after the solve, they
+/// may still overflow, E = 1e300 times a finite strain) are not all finite becomes
+/// `numerical_error`, the offending figure named in its message.
+pub fn finish(
+    scene: &Scene,
+    model: &Model,
+    mut solution: Solution,
+    tol: f64,
+    timings: Timings,
+) -> (Solution, Vec<BodyFields>, RunReport) {
+    let fields = report::body_fields(model, &solution);
+    let mut report = report::run_report(scene, model, &solution, &fields, tol, timings);
     if solution.status == QpStatus::Solved {
         if let Some(path) = first_non_finite(&report, &fields) {
             let note = format!("{path} is not finite in the scene's units");
@@ -164,12 +174,7 @@ pub fn solve_scene(
             report.message = solution.message.clone();
         }
     }
-    Ok(Outcome {
-        model: prepared.model,
-        solution,
-        fields,
-        report,
-    })
+    (solution, fields, report)
 }
 
 /// The first number of the report (as a JSON path) or of the output fields that is NaN or

@@ -1,0 +1,1 @@
+//! `--baseline OLD/suite.json`: which cases got slower, faster or changed status.

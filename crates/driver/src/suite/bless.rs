@@ -1,0 +1,1 @@
+//! `--bless`: expectations written from the most accurate answer.

@@ -1,0 +1,1 @@
+//! The suite as a table on the terminal.

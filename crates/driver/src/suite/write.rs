@@ -1,0 +1,1 @@
+//! The suite's files, written as one set.
