@@ -43,6 +43,8 @@ pub fn classify(error: &anyhow::Error) -> Exit {
         // A scene that cannot be read is the user's input (a wrong path), not the machine's.
         if cause.is::<signorini_core::scene::SceneError>()
             || matches!(cause.downcast_ref::<RunError>(), Some(RunError::Scene(_)))
+            || cause.is::<crate::suite::SuiteError>()
+            || cause.is::<crate::suite::baseline::BaselineError>()
         {
             return Exit::Input;
         }

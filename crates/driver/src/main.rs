@@ -172,6 +172,10 @@ enum Command {
         #[arg(long, default_value = "out")]
         out: PathBuf,
     },
+    /// Run every scene of a directory (recursively) through every backend and check each answer
+    /// against the scene's stored expectation NAME.expected.json; write suite.json, suite.csv,
+    /// suite.xml (JUnit) and suite.svg (performance profile).  Exit 2 when a case regressed.
+    Suite(SuiteArgs),
     /// Write the scene's QP (A, f, B, g as Matrix Market) and its DOF and row maps.
     Export {
         #[command(flatten)]
@@ -237,6 +241,59 @@ struct SweepArgs {
     /// Output directory for sweep.csv and the plots (created if missing).
     #[arg(long, default_value = "out")]
     out: PathBuf,
+}
+
+/// `signorini suite DIR …`: the options of a suite run.
+#[derive(clap::Args)]
+struct SuiteArgs {
+    /// Directory of scenes (*.toml, searched recursively), each with NAME.expected.json beside
+    /// it (e.g. fixtures/seed, fixtures/hard).
+    dir: PathBuf,
+    /// Comma-separated backends [default: every one compiled in: clarabel, osqp, dual-pgs,
+    /// dual-uzawa, dual-ssn, pdas].
+    #[arg(long, value_delimiter = ',', value_parser = ChoiceParser::<BackendKind>::new())]
+    backends: Vec<BackendKind>,
+    /// Relative KKT tolerance every backend is asked to meet (the expectations were blessed at
+    /// 1e-9: a looser tolerance may move answers beyond their rtol).
+    #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
+    tol: f64,
+    /// Seconds each backend may take on each case; it then stops with status time-limit (a
+    /// failure, counted at this time in the shifted geometric means).
+    #[arg(long, default_value_t = 10.0, value_parser = parse_time_limit)]
+    time_limit: f64,
+    /// Largest total number of elements a scene may ask for before it is refused.
+    #[arg(long, default_value_t = 5_000_000)]
+    max_elements: usize,
+    /// Write or refresh every case's expectation from the most accurate backend that solved it
+    /// (tolerances and reasons of existing files kept; only changed files rewritten).
+    #[arg(long)]
+    bless: bool,
+    /// An earlier run's suite.json: report which cases got slower or faster (time ÷ floor) or
+    /// changed status.
+    #[arg(long, value_name = "SUITE_JSON")]
+    baseline: Option<PathBuf>,
+    /// With --baseline: the factor of time ÷ floor beyond which a case is slower or faster.
+    #[arg(long, default_value_t = signorini::suite::baseline::DEFAULT_FACTOR, value_parser = parse_factor, requires = "baseline")]
+    factor: f64,
+    /// With --baseline: exit 2 when a case got slower (by default slower cases are reported only).
+    #[arg(long, requires = "baseline")]
+    fail_slower: bool,
+    /// Output directory for suite.json, suite.csv, suite.xml and suite.svg (created if missing).
+    #[arg(long, default_value = "out")]
+    out: PathBuf,
+}
+
+/// A factor > 1.
+fn parse_factor(text: &str) -> Result<f64, String> {
+    let f: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a number"))?;
+    if f.is_finite() && f > 1.0 {
+        Ok(f)
+    } else {
+        Err(format!("must be a number above 1, got {text}"))
+    }
 }
 
 /// `I/N` with 1 ≤ I ≤ N.
@@ -505,6 +562,158 @@ fn compare(
         warn(format_args!("error: not solved by {}", failed.join(", ")));
         Ok(Exit::NotSolved)
     }
+}
+
+/// Every backend compiled in, for `suite`.
+const SUITE_BACKENDS: [BackendKind; 6] = [
+    BackendKind::Clarabel,
+    BackendKind::Osqp,
+    BackendKind::DualPgs,
+    BackendKind::DualUzawa,
+    BackendKind::DualSsn,
+    BackendKind::Pdas,
+];
+
+fn suite(args: &SuiteArgs) -> Result<Exit> {
+    use signorini::suite::{self, bless::Change};
+    let backends = if args.backends.is_empty() {
+        SUITE_BACKENDS
+            .into_iter()
+            .filter(|k| k.available())
+            .collect()
+    } else {
+        parse_backends(&args.backends, &[])?
+    };
+    let settings = suite::SuiteSettings {
+        backends,
+        solve: SolveOptions {
+            tol: args.tol,
+            time_limit: time_limit(Some(args.time_limit)),
+            ..SolveOptions::default()
+        },
+        limits: MeshLimits {
+            max_elements: args.max_elements,
+            ..MeshLimits::default()
+        },
+    };
+    let bar = indicatif::ProgressBar::new(0).with_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} cases  {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let mut report = suite::run(&args.dir, &settings, |step| {
+        bar.set_length(step.cases as u64);
+        bar.set_position(step.case as u64);
+        bar.set_message(format!("{}: {}", step.name, step.what));
+    })?;
+    bar.finish_and_clear();
+    let settings_report = signorini_core::report::BackendSettings {
+        backend: report.backends.join(","),
+        form: "primal".to_string(),
+        tolerance: settings.solve.tol,
+        time_limit_s: settings.solve.time_limit.map(|t| t.as_secs_f64()),
+        max_iter: settings.solve.max_iter,
+        chain: Vec::new(),
+    };
+    report.provenance = Some(signorini::contract::provenance(None, settings_report)?);
+    if let Some(p) = report.provenance.as_mut() {
+        // The suite's scenes are many: each case records its own file's hash.
+        p.scene_path = Some(args.dir.display().to_string());
+        p.scene_sha256 = String::new();
+    }
+    if let Some(path) = &args.baseline {
+        report.baseline = Some(suite::baseline::compare(&report, path, args.factor)?);
+    }
+    let mut blessed = Vec::new();
+    if args.bless {
+        blessed = suite::bless::blessings(&report)?;
+        suite::bless::write(&blessed).context("writing the expectations")?;
+    }
+    let written = suite::write::write(&args.out, &report)
+        .with_context(|| format!("writing the suite's files to {}", args.out.display()))?;
+    let mut con = Console::new();
+    for line in suite::table::table(&report).lines() {
+        con.line(line)?;
+    }
+    if let Some(b) = &report.baseline {
+        con.line("")?;
+        for line in suite::baseline::text(b, report.tolerance).lines() {
+            con.line(line)?;
+        }
+    }
+    if args.bless {
+        con.line("")?;
+        for b in &blessed {
+            let path = b.path.display();
+            match &b.change {
+                Change::New => con.line(format_args!("  blessed {path} (new)"))?,
+                Change::Changed(what) => {
+                    con.line(format_args!("  blessed {path} (changed):"))?;
+                    for w in what {
+                        con.line(format_args!("      {w}"))?;
+                    }
+                }
+                Change::Unchanged => {}
+                Change::Skipped(why) => {
+                    con.line(format_args!("  not blessed {}: {why}", b.case))?
+                }
+            }
+        }
+        let unchanged = blessed
+            .iter()
+            .filter(|b| b.change == Change::Unchanged)
+            .count();
+        con.line(format_args!(
+            "  {unchanged} expectations unchanged (within their tolerances)"
+        ))?;
+    }
+    for p in &written {
+        con.line(format_args!("  wrote {}", p.display()))?;
+    }
+    con.finish()?;
+    let errors: Vec<&str> = report
+        .cases
+        .iter()
+        .filter(|c| c.error.is_some())
+        .map(|c| c.name.as_str())
+        .collect();
+    if args.bless {
+        if errors.is_empty() {
+            return Ok(Exit::Success);
+        }
+        warn(format_args!(
+            "error: could not run, so not blessed: {}",
+            errors.join(", ")
+        ));
+        return Ok(Exit::NotSolved);
+    }
+    let regressed = report.regressions();
+    let unchecked: Vec<&str> = report
+        .cases
+        .iter()
+        .filter(|c| c.error.is_none() && c.expectation.is_none())
+        .map(|c| c.name.as_str())
+        .collect();
+    let slower = report.baseline.as_ref().map_or(0, |b| b.slower());
+    let mut code = Exit::Success;
+    if !regressed.is_empty() {
+        warn(format_args!("error: regressed: {}", regressed.join(", ")));
+        code = Exit::NotSolved;
+    }
+    if !unchecked.is_empty() {
+        warn(format_args!(
+            "error: no expectation, nothing checked (run with --bless): {}",
+            unchecked.join(", ")
+        ));
+        code = Exit::NotSolved;
+    }
+    if args.fail_slower && slower > 0 {
+        warn(format_args!(
+            "error: {slower} runs slower than the baseline by more than {}×",
+            args.factor
+        ));
+        code = Exit::NotSolved;
+    }
+    Ok(code)
 }
 
 fn sweep(args: &SweepArgs) -> Result<Exit> {
@@ -942,6 +1151,7 @@ fn main() -> ExitCode {
             },
             out,
         ),
+        Command::Suite(args) => suite(args),
         Command::Check { common } => check(common),
         Command::Schema { document } => schema(*document),
     };

@@ -37,7 +37,7 @@ fn close(measured: f64, expected: f64, rtol: f64, scale: f64) -> bool {
 /// the tolerance.
 fn mismatch(what: &str, measured: f64, expected: f64, rtol: f64, scale: f64) -> String {
     format!(
-        "{what} {measured:.9e}, expected {expected:.9e} (difference {:.1e} of the scale {scale:.3e}, rtol {rtol:.0e})",
+        "{what}: {measured:.9e}, expected {expected:.9e} (difference {:.1e} of the scale {scale:.3e}, rtol {rtol:.0e})",
         (measured - expected).abs() / scale
     )
 }
@@ -84,7 +84,7 @@ pub fn compare_figures(
     }
     if measured.contact_forces.len() != expected.contact_forces.len() {
         out.push(format!(
-            "{} contact pairs, expected {}",
+            "contact pairs: {}, expected {}",
             measured.contact_forces.len(),
             expected.contact_forces.len()
         ));
@@ -98,7 +98,7 @@ pub fn compare_figures(
             let pair = format!("pair {} ({}–{})", i + 1, e.bodies[0], e.bodies[1]);
             if m.bodies != e.bodies {
                 out.push(format!(
-                    "pair {} joins {}–{}, expected {}–{}",
+                    "pair {} bodies: {}–{}, expected {}–{}",
                     i + 1,
                     m.bodies[0],
                     m.bodies[1],
@@ -122,14 +122,14 @@ pub fn compare_figures(
     }
     if measured.probes.len() != expected.probes.len() {
         out.push(format!(
-            "{} probes, expected {}",
+            "probes: {}, expected {}",
             measured.probes.len(),
             expected.probes.len()
         ));
     } else {
         for (m, e) in measured.probes.iter().zip(&expected.probes) {
             if m.name != e.name {
-                out.push(format!("probe \"{}\", expected \"{}\"", m.name, e.name));
+                out.push(format!("probe names: \"{}\", expected \"{}\"", m.name, e.name));
                 continue;
             }
             let magnitude = e.displacement[0].hypot(e.displacement[1]);
@@ -200,7 +200,7 @@ pub fn check(
             }
             None => (
                 Verdict::Fail,
-                vec![format!("status {}, expected solved", answer.status)],
+                vec![format!("status: {}, expected solved", answer.status)],
             ),
         };
     }
@@ -312,10 +312,10 @@ mod tests {
     fn changed_structure_fails_by_name() {
         let mut f = figures();
         f.contact_forces.clear();
-        assert!(verdict("x", "solved", &f).1[0].contains("0 contact pairs, expected 1"));
+        assert!(verdict("x", "solved", &f).1[0].contains("contact pairs: 0, expected 1"));
         let mut f = figures();
         f.probes[0].name = "other".into();
-        assert!(verdict("x", "solved", &f).1[0].contains("probe \"other\", expected \"tip\""));
+        assert!(verdict("x", "solved", &f).1[0].contains("probe names: \"other\", expected \"tip\""));
     }
 
     #[test]
@@ -339,7 +339,7 @@ mod tests {
         assert_eq!(v, Verdict::Fail);
         assert_eq!(
             notes,
-            vec!["status time-limit, expected solved".to_string()]
+            vec!["status: time-limit, expected solved".to_string()]
         );
     }
 

@@ -154,6 +154,7 @@ pub fn run(
         backends,
         cases,
         summary,
+        baseline: None,
     })
 }
 
@@ -177,6 +178,7 @@ pub fn run_case(
         title: String::new(),
         dofs: 0,
         constraints: 0,
+        load: f64::NAN,
         floor_s: f64::NAN,
         expectation: None,
         error: None,
@@ -215,6 +217,7 @@ pub fn run_case(
     case.dofs = model.free.len();
     case.constraints = model.rows();
     let load: f64 = model.load.iter().map(|f| f.abs()).sum();
+    case.load = load;
     let floor = match measure_floor(&qp) {
         Ok(f) => f,
         Err(e) => return failed_case(case, e.to_string()),

@@ -115,6 +115,8 @@ pub struct CaseReport {
     pub dofs: usize,
     /// Contact rows.
     pub constraints: usize,
+    /// The problem's load Σ|fᵢ| (free DOFs): the floor of a pair force's scale in the check.
+    pub load: f64,
     /// One unconstrained factorisation + solve of A, seconds (median of three; NaN when the
     /// case could not be prepared).
     pub floor_s: f64,
@@ -144,7 +146,8 @@ pub struct BackendSummary {
     pub backend: String,
     /// Cases run (cases without contact rows, where no backend runs, are not counted).
     pub cases: usize,
-    /// Cases answered `solved` with every figure within tolerance.
+    /// Cases answered correctly: `solved` with every figure within tolerance, or a non-solved
+    /// status on a scene expected to have no solution (see [`crate::suite::summary`]).
     pub correct: usize,
     /// `correct` ÷ `cases` (NaN when no case).
     pub success_rate: f64,
@@ -181,6 +184,9 @@ pub struct SuiteReport {
     pub cases: Vec<CaseReport>,
     /// One per backend, in the order of `backends`.
     pub summary: Vec<BackendSummary>,
+    /// The comparison with an earlier run (`--baseline`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub baseline: Option<super::baseline::BaselineReport>,
 }
 
 impl SuiteReport {

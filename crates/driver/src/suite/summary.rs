@@ -1,7 +1,9 @@
 //! Per-backend figures of a suite, as qpbenchmark reports a solver over a test set.
 //!
-//! * **Success rate**: the fraction of cases a backend answered `solved` with every figure
-//!   within tolerance (verdict `pass` or `unexpected-pass`; an expected failure is no success).
+//! * **Success rate**: the fraction of cases a backend answered correctly: verdict `pass` or
+//!   `unexpected-pass` (`solved` with every figure within tolerance, or — on a scene without a
+//!   solution — a non-solved status); an expected failure is no success; a case without
+//!   expectation counts by its status alone.
 //! * **Shifted geometric mean** of the solve time, `sgm(t) = exp(mean ln(tᵢ + s)) − s`, shift
 //!   s = 10 ms: a geometric mean that small times cannot dominate.  A case the backend did not
 //!   answer correctly counts at the time limit (qpbenchmark's rule; without a time limit, at
@@ -51,8 +53,11 @@ pub fn summarise(
                     Verdict::UnexpectedPass => xpass += 1,
                     Verdict::Pass | Verdict::Unchecked => {}
                 }
-                let ok = run.status == "solved"
-                    && matches!(run.verdict, Verdict::Pass | Verdict::UnexpectedPass);
+                let ok = match run.verdict {
+                    Verdict::Pass | Verdict::UnexpectedPass => true,
+                    Verdict::Unchecked => run.status == "solved",
+                    Verdict::Fail | Verdict::ExpectedFailure => false,
+                };
                 if ok {
                     correct += 1;
                 }
