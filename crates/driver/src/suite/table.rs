@@ -7,7 +7,7 @@
 use super::report::{CaseReport, CaseRun, SuiteReport, Verdict};
 
 /// Width of a backend column.
-const CELL: usize = 16;
+const CELL: usize = 17;
 
 /// The figure a note is about: its text before `: ` (`objective`, `max |u|`, `pair 1 (a–b)
 /// normal force`, `probe "tip" ux`), or the whole note.
@@ -52,7 +52,9 @@ pub fn cell(run: &CaseRun) -> String {
 fn row(case: &CaseReport, backends: &[String], name_width: usize) -> String {
     let mut line = format!("  {:<name_width$}", case.name);
     if let Some(error) = &case.error {
-        line.push_str(&format!(" ✗ error: {error}"));
+        // The first line only (a TOML error quotes the file below it); the details list has all.
+        let first = error.lines().next().unwrap_or("");
+        line.push_str(&format!(" ✗ error: {first}"));
         return line;
     }
     if let [only] = case.runs.as_slice() {
