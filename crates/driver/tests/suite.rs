@@ -11,6 +11,7 @@
 //!   documented; `--bless` writes, reports and leaves unchanged files alone; the JUnit file
 //!   parses and counts what the report counts; `--baseline` reports slower cases and status
 //!   changes.
+#![allow(clippy::unwrap_used)]
 
 mod common;
 use common::signorini;
@@ -177,7 +178,10 @@ fn a_broken_expectation_fails_naming_the_case_and_the_figure() {
     };
     let run = |o: &Path| {
         let a = args(o);
-        signorini(&a.iter().map(String::as_str).collect::<Vec<_>>(), dir.path())
+        signorini(
+            &a.iter().map(String::as_str).collect::<Vec<_>>(),
+            dir.path(),
+        )
     };
     let o = run(&out);
     assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
@@ -254,7 +258,10 @@ fn expected_failures_and_unexpected_passes() {
     let (stdout, stderr) = text(&o);
     assert_eq!(o.status.code(), Some(2), "{stdout}\n{stderr}");
     assert!(stderr.contains("regressed: stiffness-contrast"), "{stderr}");
-    assert!(stdout.contains("status: inaccurate, expected solved"), "{stdout}");
+    assert!(
+        stdout.contains("status: inaccurate, expected solved"),
+        "{stdout}"
+    );
     // clarabel listed as failing but solving: reported, not a regression.
     e["expected_failures"]["clarabel"] = serde_json::json!({"why": "test"});
     e["expected_failures"]["osqp"] = serde_json::json!({});
@@ -264,7 +271,9 @@ fn expected_failures_and_unexpected_passes() {
     assert_eq!(o.status.code(), Some(0), "{stdout}\n{stderr}");
     assert!(stdout.contains("✓!"), "{stdout}");
     assert!(
-        stdout.contains("stiffness-contrast / clarabel: solved within tolerance though expected to fail: test"),
+        stdout.contains(
+            "stiffness-contrast / clarabel: solved within tolerance though expected to fail: test"
+        ),
         "{stdout}"
     );
 }
@@ -419,7 +428,10 @@ fn baseline_reports_slower_cases_and_status_changes() {
     // Slower is reported, not a failure, unless asked.
     assert_eq!(o.status.code(), Some(0), "{stdout}\n{stderr}");
     assert!(stdout.contains("exp6a: slower ×"), "{stdout}");
-    assert!(stdout.contains("exp2b: status max-iterations → solved"), "{stdout}");
+    assert!(
+        stdout.contains("exp2b: status max-iterations → solved"),
+        "{stdout}"
+    );
     let report = json(&dir.path().join("new/suite.json"));
     assert_eq!(report["baseline"]["changes"].as_array().unwrap().len(), 2);
     let mut strict = args.to_vec();
@@ -433,7 +445,10 @@ fn baseline_reports_slower_cases_and_status_changes() {
     );
     let (_, stderr) = text(&o);
     assert_eq!(o.status.code(), Some(1), "{stderr}");
-    assert!(stderr.contains("exp2b.toml is not a suite.json"), "{stderr}");
+    assert!(
+        stderr.contains("exp2b.toml is not a suite.json"),
+        "{stderr}"
+    );
 }
 
 #[test]
@@ -449,7 +464,11 @@ fn bad_input_is_refused_naming_it() {
     assert!(stderr.contains("holds no scene"), "{stderr}");
     // A broken scene or expectation is that case's failure; the others still run.
     let dir = scratch(&["seed/exp2b", "seed/exp2c"]);
-    std::fs::write(dir.path().join("exp2c.expected.json"), "{\"status\": \"solved\", \"rtol\": {\"objetive\": 1}}").unwrap();
+    std::fs::write(
+        dir.path().join("exp2c.expected.json"),
+        "{\"status\": \"solved\", \"rtol\": {\"objetive\": 1}}",
+    )
+    .unwrap();
     std::fs::write(dir.path().join("broken.toml"), "title = 3").unwrap();
     let o = signorini(
         &["suite", ".", "--backends", "pdas", "--out", "out"],

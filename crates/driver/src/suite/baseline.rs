@@ -267,10 +267,16 @@ pub fn text(b: &BaselineReport, tolerance: f64) -> String {
             };
             let what = match &c.change {
                 ChangeKind::Slower { before, after } => {
-                    format!("slower ×{:.2} (÷floor {before:.2} → {after:.2})", after / before)
+                    format!(
+                        "slower ×{:.2} (÷floor {before:.2} → {after:.2})",
+                        after / before
+                    )
                 }
                 ChangeKind::Faster { before, after } => {
-                    format!("faster ×{:.2} (÷floor {before:.2} → {after:.2})", before / after)
+                    format!(
+                        "faster ×{:.2} (÷floor {before:.2} → {after:.2})",
+                        before / after
+                    )
                 }
                 ChangeKind::Status { before, after } => format!("status {before} → {after}"),
             };

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 
 use super::check;
 use super::expectation::{
-    self, Blessed, ExpectedFailure, ExpectedStatus, Expectation, ExpectationError, Tolerances,
+    self, Blessed, Expectation, ExpectationError, ExpectedFailure, ExpectedStatus,
 };
 use super::report::{CaseReport, SuiteReport};
 use crate::output::OutputError;
@@ -46,15 +46,17 @@ pub struct Blessing {
 }
 
 /// The expectation a case's runs give, keeping `old`'s tolerances and reasons.
-pub fn expectation_from(case: &CaseReport, tolerance: f64, old: Option<&Expectation>) -> Expectation {
+pub fn expectation_from(
+    case: &CaseReport,
+    tolerance: f64,
+    old: Option<&Expectation>,
+) -> Expectation {
     let best = case
         .runs
         .iter()
         .filter(|r| r.status == "solved")
         .min_by(|a, b| a.residuals.worst().total_cmp(&b.residuals.worst()));
-    let mut expected_failures = old
-        .map(|o| o.expected_failures.clone())
-        .unwrap_or_default();
+    let mut expected_failures = old.map(|o| o.expected_failures.clone()).unwrap_or_default();
     let (status, figures, blessed) = match best {
         Some(run) => {
             for r in &case.runs {
@@ -92,7 +94,7 @@ pub fn expectation_from(case: &CaseReport, tolerance: f64, old: Option<&Expectat
         scene: case.title.clone(),
         status,
         figures,
-        rtol: old.map(|o| o.rtol.clone()).unwrap_or_else(Tolerances::default),
+        rtol: old.map(|o| o.rtol.clone()).unwrap_or_default(),
         expected_failures,
         blessed,
     }
@@ -114,7 +116,13 @@ pub fn differences(old: &Expectation, new: &Expectation, load: f64) -> Vec<Strin
     }
     let keys = |e: &Expectation| e.expected_failures.keys().cloned().collect::<Vec<_>>();
     if keys(old) != keys(new) {
-        let list = |v: Vec<String>| if v.is_empty() { "none".to_string() } else { v.join(", ") };
+        let list = |v: Vec<String>| {
+            if v.is_empty() {
+                "none".to_string()
+            } else {
+                v.join(", ")
+            }
+        };
         out.push(format!(
             "expected failures {} → {}",
             list(keys(old)),

@@ -129,7 +129,10 @@ pub fn compare_figures(
     } else {
         for (m, e) in measured.probes.iter().zip(&expected.probes) {
             if m.name != e.name {
-                out.push(format!("probe names: \"{}\", expected \"{}\"", m.name, e.name));
+                out.push(format!(
+                    "probe names: \"{}\", expected \"{}\"",
+                    m.name, e.name
+                ));
                 continue;
             }
             let magnitude = e.displacement[0].hypot(e.displacement[1]);
@@ -315,7 +318,9 @@ mod tests {
         assert!(verdict("x", "solved", &f).1[0].contains("contact pairs: 0, expected 1"));
         let mut f = figures();
         f.probes[0].name = "other".into();
-        assert!(verdict("x", "solved", &f).1[0].contains("probe names: \"other\", expected \"tip\""));
+        assert!(
+            verdict("x", "solved", &f).1[0].contains("probe names: \"other\", expected \"tip\"")
+        );
     }
 
     #[test]

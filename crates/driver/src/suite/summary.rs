@@ -68,16 +68,12 @@ pub fn summarise(
                         .filter(|t| t.is_finite())
                         .fold(0.0, f64::max)
                 });
-                let t = if ok && run.solve_s.is_finite() {
+                let spent = if run.solve_s.is_finite() {
                     run.solve_s
                 } else {
-                    penalty.max(
-                        run.solve_s
-                            .is_finite()
-                            .then_some(run.solve_s)
-                            .unwrap_or(0.0),
-                    )
+                    0.0
                 };
+                let t = if ok { spent } else { penalty.max(spent) };
                 times.push(t);
                 if case.floor_s.is_finite() && case.floor_s > 0.0 {
                     ratios.push(t / case.floor_s);

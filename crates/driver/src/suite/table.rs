@@ -149,7 +149,14 @@ pub fn table(report: &SuiteReport) -> String {
     }
     t.push_str(&format!(
         "\n  {:<12} {:>7} {:>9} {:>8} {:>9} {:>12} {:>10} {:>9}\n",
-        "backend", "success", "regress.", "exp.fail", "unexp.ok", "sgm time ms", "×best", "sgm ÷floor"
+        "backend",
+        "success",
+        "regress.",
+        "exp.fail",
+        "unexp.ok",
+        "sgm time ms",
+        "×best",
+        "sgm ÷floor"
     ));
     for s in &report.summary {
         t.push_str(&format!(
