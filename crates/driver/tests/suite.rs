@@ -482,3 +482,61 @@ fn bad_input_is_refused_naming_it() {
     assert!(row.contains('✓'), "{stdout}");
     assert!(!dir.path().join("out/.signorini-stage").exists());
 }
+
+/// The figures of a committed expectation.
+fn figures(fixture: &str) -> serde_json::Value {
+    json(&repo(&format!("fixtures/{fixture}.expected.json")))["figures"].clone()
+}
+
+fn force(f: &serde_json::Value, pair: usize) -> f64 {
+    f["contact_forces"][pair]["normal_force"].as_f64().unwrap()
+}
+
+fn num(f: &serde_json::Value, key: &str) -> f64 {
+    f[key].as_f64().unwrap()
+}
+
+/// The committed expectations were blessed from the program's answers; these are checks of them
+/// against physics, independent of any backend: exact answers and scaling laws stated in the
+/// fixtures' headers.  Tolerances: 1e-8 relative where the answer is exact for the elements
+/// (linear fields, equilibrium), i.e. the KKT tolerance 1e-9 with a margin of ten.
+#[test]
+fn committed_expectations_agree_with_physics() {
+    let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
+    // SI units: E ×1e10 (Pa), traction ×1e10 (1e6 Pa vs 1e-4): u ×1e-4, forces ×1e10, energy
+    // ×1e6 — the same problem in other units.
+    let (si, b) = (figures("hard/si-units"), figures("seed/exp2b"));
+    assert!(rel(num(&si, "max_displacement"), 1e-4 * num(&b, "max_displacement")) < 1e-8);
+    assert!(rel(force(&si, 0), 1e10 * force(&b, 0)) < 1e-8);
+    assert!(rel(num(&si, "objective"), 1e6 * num(&b, "objective")) < 1e-8);
+    // A block held up by contact alone carries its whole load 1e-4 (× length 1) to the support.
+    assert!(rel(force(&figures("hard/floating"), 0), 1e-4) < 1e-8);
+    // Initial overlap (uniaxial strain, exact for P1): force p = 1e-5 over length 1; the largest
+    // displacement is the upper block's bottom, pushed out: δ − p / M_lower.
+    let o = figures("hard/initial-overlap");
+    assert!(rel(force(&o, 0), 1e-5) < 1e-8);
+    let m = |e: f64, nu: f64| e * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    let exact = 0.05 - 1e-5 / m(0.0012, 0.34);
+    assert!(rel(num(&o, "max_displacement"), exact) < 1e-8, "{o}");
+    // A long strip on a foundation, floating: contact carries p L = 1e-3 × 3.
+    for strip in ["hard/strip-thin-floating", "hard/strip-thick-floating"] {
+        assert!(rel(force(&figures(strip), 0), 3e-3) < 1e-8, "{strip}");
+    }
+    // Open gaps and bodies pulled apart: no force; exp2c (load upward) likewise.
+    for open in ["hard/gap-open", "hard/pulling-apart", "seed/exp2c"] {
+        assert_eq!(force(&figures(open), 0), 0.0, "{open}");
+    }
+    // exp6b's prescribed edge: the probe sits on it, (−0.08, 0) exactly.
+    let p = &figures("seed/exp6b")["probes"];
+    let edge = p
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == "middle-right")
+        .unwrap();
+    assert_eq!(edge["displacement"], serde_json::json!([-0.08, 0.0]));
+    // The scene without a solution has no figures.
+    let free = json(&repo("fixtures/hard/floating-free.expected.json"));
+    assert_eq!(free["status"], "not-solved");
+    assert!(free.get("figures").is_none());
+}
