@@ -261,6 +261,10 @@ struct SuiteArgs {
     /// failure, counted at this time in the shifted geometric means).
     #[arg(long, default_value_t = 10.0, value_parser = parse_time_limit)]
     time_limit: f64,
+    /// Solves timed per backend and case; the median is reported.  Only solves that succeed in
+    /// under a second are repeated (longer ones are not dominated by timer noise).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
+    repeat: u32,
     /// Largest total number of elements a scene may ask for before it is refused.
     #[arg(long, default_value_t = 5_000_000)]
     max_elements: usize,
@@ -595,6 +599,7 @@ fn suite(args: &SuiteArgs) -> Result<Exit> {
             max_elements: args.max_elements,
             ..MeshLimits::default()
         },
+        repeat: args.repeat as usize,
     };
     let bar = indicatif::ProgressBar::new(0).with_style(
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} cases  {msg}")

@@ -43,6 +43,7 @@ fn settings(backends: &[BackendKind]) -> SuiteSettings {
             ..SolveOptions::default()
         },
         limits: MeshLimits::default(),
+        repeat: 1,
     }
 }
 

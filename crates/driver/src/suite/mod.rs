@@ -48,7 +48,14 @@ pub struct SuiteSettings {
     pub solve: SolveOptions,
     /// Mesh size limits.
     pub limits: MeshLimits,
+    /// Solves timed per backend and case (at least 1); the median is reported (see
+    /// [`REPEAT_BELOW_S`]).
+    pub repeat: usize,
 }
+
+/// Only a solve that succeeded in less than this many seconds is repeated: longer times are not
+/// dominated by the timer's and the scheduler's noise, and repeating them would cost much.
+pub const REPEAT_BELOW_S: f64 = 1.0;
 
 /// Why a suite could not start.
 #[derive(Debug, thiserror::Error)]
@@ -151,6 +158,7 @@ pub fn run(
         dir: dir.display().to_string(),
         tolerance: settings.solve.tol,
         time_limit_s,
+        repeat: settings.repeat,
         backends,
         cases,
         summary,
@@ -247,7 +255,10 @@ pub fn run_case(
             &settings.solve,
             &mut progress,
         ) {
-            Ok(o) => o,
+            Ok(mut o) => {
+                repeat_timing(model, &qp, settings, &mut o);
+                o
+            }
             Err(e) => return failed_case(case, e.to_string()),
         }
     };
@@ -282,6 +293,38 @@ pub fn run_case(
         run.notes = notes;
     }
     case
+}
+
+/// Re-runs each backend whose first solve succeeded in less than [`REPEAT_BELOW_S`] until it
+/// has `settings.repeat` timings, and reports their median as its solve time (the answer kept
+/// is the first one: the backends are deterministic).
+fn repeat_timing(
+    model: &signorini_core::model::Model,
+    qp: &solve::ScaledQp,
+    settings: &SuiteSettings,
+    outcomes: &mut [crate::compare::BackendOutcome],
+) {
+    if settings.repeat <= 1 {
+        return;
+    }
+    for (kind, outcome) in settings.backends.iter().zip(outcomes.iter_mut()) {
+        let Ok(first) = outcome else { continue };
+        if first.status != signorini_core::qp::QpStatus::Solved
+            || first.solve_time.as_secs_f64() >= REPEAT_BELOW_S
+        {
+            continue;
+        }
+        let mut times = vec![first.solve_time];
+        for _ in 1..settings.repeat {
+            let Ok(mut backend) = make_backend(*kind) else { break };
+            match solve::solve_scaled(model, qp, backend.as_mut(), &settings.solve) {
+                Ok(again) => times.push(again.solve_time),
+                Err(_) => break,
+            }
+        }
+        times.sort();
+        first.solve_time = times[times.len() / 2];
+    }
 }
 
 /// The figures of a report: objective, largest displacement, pair forces, probes.

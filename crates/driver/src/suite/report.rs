@@ -178,6 +178,9 @@ pub struct SuiteReport {
     pub tolerance: f64,
     /// Seconds each backend could take per case (null: none).
     pub time_limit_s: Option<f64>,
+    /// Solves timed per backend and case (their median is reported; only solves under a second
+    /// are repeated).
+    pub repeat: usize,
     /// The backends, in the order run.
     pub backends: Vec<String>,
     /// One per scene, sorted by name.
