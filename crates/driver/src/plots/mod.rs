@@ -21,6 +21,7 @@ use serde::{Deserialize, Deserializer};
 use crate::output::OutputError;
 
 pub mod accuracy;
+pub mod profile;
 mod render;
 
 use render::{Curve, Figure};
