@@ -52,7 +52,7 @@ pub enum BackendKind {
     )]
     Pdas,
     /// clarabel on the condensed dual (`"clarabel/dual"`, see
-    /// [`CondensedDual`](signorini_core::qp::CondensedDual)).
+    /// [`CondensedDual`]).
     #[value(name = "clarabel/dual", help = "clarabel on the condensed dual")]
     ClarabelDual,
     /// OSQP on the condensed dual (`"osqp/dual"`).

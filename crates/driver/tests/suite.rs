@@ -507,7 +507,12 @@ fn committed_expectations_agree_with_physics() {
     // SI units: E ×1e10 (Pa), traction ×1e10 (1e6 Pa vs 1e-4): u ×1e-4, forces ×1e10, energy
     // ×1e6 — the same problem in other units.
     let (si, b) = (figures("hard/si-units"), figures("seed/exp2b"));
-    assert!(rel(num(&si, "max_displacement"), 1e-4 * num(&b, "max_displacement")) < 1e-8);
+    assert!(
+        rel(
+            num(&si, "max_displacement"),
+            1e-4 * num(&b, "max_displacement")
+        ) < 1e-8
+    );
     assert!(rel(force(&si, 0), 1e10 * force(&b, 0)) < 1e-8);
     assert!(rel(num(&si, "objective"), 1e6 * num(&b, "objective")) < 1e-8);
     // A block held up by contact alone carries its whole load 1e-4 (× length 1) to the support.

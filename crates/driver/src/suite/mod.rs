@@ -6,9 +6,9 @@
 //! * [`run_case`] reads a scene and its expectation ([`expectation`]), meshes and assembles it
 //!   once, times the floor ([`crate::compare`]'s: one factorisation + solve of A), solves the same
 //!   QP with each backend and checks each answer ([`check`]).
-//! * [`run`] does so for every case; [`summary`] condenses the backends' results as qpbenchmark
+//! * [`run()`] does so for every case; [`summary`] condenses the backends' results as qpbenchmark
 //!   does; [`bless`] writes expectations from the answers; [`baseline`] compares with an earlier
-//!   run's `suite.json`; [`table`], [`junit`] and [`write`] present the outcome.
+//!   run's `suite.json`; [`table`], [`junit`] and [`write`](mod@write) present the outcome.
 //!
 //! Nothing a case does stops the suite: a scene that cannot be read or meshed, or an expectation
 //! that cannot be parsed, is that case's error (a regression), and the other cases still run.
@@ -316,7 +316,9 @@ fn repeat_timing(
         }
         let mut times = vec![first.solve_time];
         for _ in 1..settings.repeat {
-            let Ok(mut backend) = make_backend(*kind) else { break };
+            let Ok(mut backend) = make_backend(*kind) else {
+                break;
+            };
             match solve::solve_scaled(model, qp, backend.as_mut(), &settings.solve) {
                 Ok(again) => times.push(again.solve_time),
                 Err(_) => break,
