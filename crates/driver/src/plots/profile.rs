@@ -5,8 +5,9 @@
 //! The profile's cases are the suite's cases where the backends run: a case that could not run
 //! at all ([`CaseReport::error`](crate::suite::report::CaseReport::error)) and a case without
 //! contact rows (a single `cholesky` run) are left out.  On a case, a backend's answer is
-//! *correct* when its status is `solved` and its verdict `pass` or `unexpected-pass` (as the
-//! summary's success rate counts, [`crate::suite::summary`]), with a finite solve time.  Its
+//! *correct* as the summary's success rate counts it ([`CaseRun::correct`]: verdict `pass` or
+//! `unexpected-pass` — on a scene without solution, a refusal passes —, or `solved` without an
+//! expectation), with a finite solve time.  Its
 //! ratio is its time over the best correct time of any backend on that case (1 for the fastest;
 //! a backend without a correct answer has none).  The profile of backend s is the step function
 //!
@@ -27,7 +28,7 @@ use plotters::prelude::*;
 use crate::output::chart_style::{LEGEND_FONT, LEGEND_ROW, MARGIN, X_LABELS, Y_LABELS};
 use crate::output::svg::PALETTE;
 use crate::output::{xml_sanitize, OutputError};
-use crate::suite::report::{CaseReport, CaseRun, SuiteReport, Verdict};
+use crate::suite::report::{CaseReport, CaseRun, SuiteReport};
 
 /// Canvas size in pixels (as the sweep's figures).
 const SIZE: (u32, u32) = (900, 620);
@@ -44,10 +45,7 @@ const TAU_ROOM: f64 = 1.25;
 
 /// Whether a run is a correct answer with a usable time (see the module's docs).
 fn correct(run: &CaseRun) -> bool {
-    run.status == "solved"
-        && matches!(run.verdict, Verdict::Pass | Verdict::UnexpectedPass)
-        && run.solve_s.is_finite()
-        && run.solve_s >= 0.0
+    run.correct() && run.solve_s.is_finite() && run.solve_s >= 0.0
 }
 
 /// Whether the case belongs to the profile: it ran, and some backend of the suite ran on it.
@@ -315,6 +313,7 @@ pub fn render_profile_svg(report: &SuiteReport) -> Result<Option<String>, Output
 mod tests {
     use super::*;
     use crate::suite::report::Figures;
+    use crate::suite::report::Verdict;
     use signorini_core::qp::KktResiduals;
 
     fn run(backend: &str, status: &str, solve_s: f64, verdict: Verdict) -> CaseRun {
@@ -388,12 +387,12 @@ mod tests {
                     run(C, "solved", 5.0, Pass),
                 ],
             ),
-            // Nobody correct: a pass not `solved`, an unchecked run, a run that could not run.
+            // Nobody correct: an expected failure, a wrong answer, a run that could not run.
             case(
                 "d",
                 vec![
-                    run("A", "inaccurate", 1.0, Pass),
-                    run("B", "solved", 1.0, Unchecked),
+                    run("A", "inaccurate", 1.0, ExpectedFailure),
+                    run("B", "solved", 1.0, Fail),
                     run(C, "error", f64::NAN, Fail),
                 ],
             ),

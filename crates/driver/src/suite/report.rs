@@ -99,6 +99,20 @@ pub struct CaseRun {
     pub message: Option<String>,
 }
 
+impl CaseRun {
+    /// Whether the run answered correctly: verdict `pass` or `unexpected-pass` (`solved` within
+    /// tolerance, or — on a scene without a solution — a non-solved status), or, without an
+    /// expectation to check against, `solved`.  The success rate and the performance profile
+    /// count these.
+    pub fn correct(&self) -> bool {
+        match self.verdict {
+            Verdict::Pass | Verdict::UnexpectedPass => true,
+            Verdict::Unchecked => self.status == "solved",
+            Verdict::Fail | Verdict::ExpectedFailure => false,
+        }
+    }
+}
+
 /// One scene of the suite.
 #[derive(Debug, Clone, Serialize)]
 pub struct CaseReport {

@@ -53,11 +53,7 @@ pub fn summarise(
                     Verdict::UnexpectedPass => xpass += 1,
                     Verdict::Pass | Verdict::Unchecked => {}
                 }
-                let ok = match run.verdict {
-                    Verdict::Pass | Verdict::UnexpectedPass => true,
-                    Verdict::Unchecked => run.status == "solved",
-                    Verdict::Fail | Verdict::ExpectedFailure => false,
-                };
+                let ok = run.correct();
                 if ok {
                     correct += 1;
                 }
