@@ -1,5 +1,6 @@
-//! The published contract: the JSON Schemas of the scene file and of `result.json`
-//! (`signorini schema scene|result`), generated from the Rust types that read and write them so
+//! The published contract: the JSON Schemas of the scene file, of `result.json`, of a suite's
+//! expectation file and of `suite.json` (`signorini schema scene|result|expectation|suite`),
+//! generated from the Rust types that read and write them so
 //! that they cannot drift; and the provenance a result records (program, scene file hash, backend
 //! settings, machine).
 
@@ -21,6 +22,10 @@ pub enum Document {
     Scene,
     /// `result.json`, written by `signorini solve`.
     Result,
+    /// `NAME.expected.json`, read (and written by `--bless`) by `signorini suite`.
+    Expectation,
+    /// `suite.json`, written by `signorini suite`.
+    Suite,
 }
 
 /// The JSON Schema (draft 2020-12) of `document`.
@@ -28,6 +33,8 @@ pub fn schema(document: Document) -> Schema {
     match document {
         Document::Scene => scene_schema(),
         Document::Result => result_schema(),
+        Document::Expectation => expectation_schema(),
+        Document::Suite => suite_schema(),
     }
 }
 
@@ -55,6 +62,31 @@ pub fn result_schema() -> Schema {
         .into_generator()
         .into_root_schema_for::<RunReport>();
     schema.insert("title".into(), "signorini result.json".into());
+    schema
+}
+
+/// The JSON Schema of a suite's expectation file: the deserialisation contract of
+/// [`Expectation`](crate::suite::expectation::Expectation) (unknown keys refused).  Value
+/// ranges (tolerances in (0, 1), finite figures) are checked when the suite reads the file.
+pub fn expectation_schema() -> Schema {
+    let mut schema = SchemaSettings::draft2020_12()
+        .for_deserialize()
+        .into_generator()
+        .into_root_schema_for::<crate::suite::expectation::Expectation>();
+    schema.insert("title".into(), "signorini suite expectation (NAME.expected.json)".into());
+    schema
+}
+
+/// The JSON Schema of `suite.json`: the serialisation contract of
+/// [`SuiteReport`](crate::suite::report::SuiteReport); numbers may be `null` (see
+/// [`result_schema`]).
+pub fn suite_schema() -> Schema {
+    let mut schema = SchemaSettings::draft2020_12()
+        .for_serialize()
+        .with_transform(RecursiveTransform(nullable_numbers))
+        .into_generator()
+        .into_root_schema_for::<crate::suite::report::SuiteReport>();
+    schema.insert("title".into(), "signorini suite.json".into());
     schema
 }
 

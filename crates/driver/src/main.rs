@@ -189,8 +189,9 @@ enum Command {
         #[command(flatten)]
         common: Common,
     },
-    /// Print the JSON Schema (draft 2020-12) of the scene file or of result.json, generated
-    /// from the program's own types (see docs/scene.md).
+    /// Print the JSON Schema (draft 2020-12) of the scene file, result.json, a suite's
+    /// NAME.expected.json or suite.json, generated from the program's own types (see
+    /// docs/scene.md).
     Schema {
         /// Which document.
         #[arg(value_enum)]

@@ -296,3 +296,96 @@ fn backend_names_are_listed_and_typos_get_suggestions() {
     let r = solve(dir.path(), &["--backend", " dual-ssn/dual "]);
     assert_eq!(r["backend"], "dual-ssn");
 }
+
+/// Every committed expectation satisfies `signorini schema expectation`, which refuses a
+/// misspelt key and a status that does not exist.
+#[test]
+fn every_expectation_satisfies_its_schema() {
+    let validator = schema("expectation");
+    let mut checked = 0;
+    for sub in ["seed", "hard"] {
+        for entry in std::fs::read_dir(fixtures().join(sub)).unwrap() {
+            let path = entry.unwrap().path();
+            if path.to_string_lossy().ends_with(".expected.json") {
+                let value: Value =
+                    serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+                let errs = errors(&validator, &value);
+                assert!(errs.is_empty(), "{}: {errs:?}", path.display());
+                checked += 1;
+            }
+        }
+    }
+    // One per seed (19) and hard (18) scene.
+    assert_eq!(checked, 37);
+    let bad = serde_json::json!({"status": "solved", "rtol": {"objetive": 1e-3}});
+    assert!(!errors(&validator, &bad).is_empty());
+    let bad = serde_json::json!({"status": "perhaps"});
+    assert!(!errors(&validator, &bad).is_empty());
+    assert!(errors(&validator, &serde_json::json!({"status": "not-solved"})).is_empty());
+}
+
+/// A suite.json with every part present — a regression, an expected failure, a scene without
+/// solution, a case error, a linear-solve case, a baseline — satisfies `signorini schema suite`.
+#[test]
+fn suite_json_satisfies_its_schema() {
+    let dir = tempfile::tempdir().unwrap();
+    for f in [
+        "hard/floating-free",
+        "hard/inert-rows",
+        "hard/stiffness-contrast",
+        "seed/exp2b",
+    ] {
+        let scene = fixtures().join(format!("{f}.toml"));
+        let name = scene.file_name().unwrap().to_owned();
+        std::fs::copy(&scene, dir.path().join(&name)).unwrap();
+        let expected = fixtures().join(format!("{f}.expected.json"));
+        let target = dir.path().join(expected.file_name().unwrap());
+        std::fs::copy(&expected, target).unwrap();
+    }
+    // exp2b's expectation broken (a regression), a scene that does not parse (a case error).
+    let path = dir.path().join("exp2b.expected.json");
+    let mut e: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    e["figures"]["max_displacement"] = serde_json::json!(1.0);
+    std::fs::write(&path, e.to_string()).unwrap();
+    std::fs::write(dir.path().join("broken.toml"), "[[body]]").unwrap();
+    let backends = if cfg!(feature = "osqp") {
+        "clarabel,osqp,pdas"
+    } else {
+        "clarabel,pdas"
+    };
+    let o = signorini(
+        &["suite", ".", "--backends", backends, "--out", "a"],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let o = signorini(
+        &[
+            "suite",
+            ".",
+            "--backends",
+            backends,
+            "--out",
+            "b",
+            "--baseline",
+            "a/suite.json",
+        ],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("b/suite.json")).unwrap())
+            .unwrap();
+    assert!(report["baseline"].is_object());
+    let errs = errors(&schema("suite"), &report);
+    assert!(errs.is_empty(), "{errs:?}");
+    // The schema is not vacuous: a verdict that does not exist is refused.
+    let mut bad = report.clone();
+    let case = bad["cases"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|c| c["name"] == "exp2b")
+        .unwrap();
+    case["runs"][0]["verdict"] = serde_json::json!("maybe");
+    assert!(!errors(&schema("suite"), &bad).is_empty());
+}

@@ -15,6 +15,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::report::SuiteReport;
@@ -73,7 +74,7 @@ struct OldRun {
 }
 
 /// What changed for one backend on one case.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 #[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum ChangeKind {
     /// Time ÷ floor grew by more than the factor.
@@ -100,7 +101,7 @@ pub enum ChangeKind {
 }
 
 /// One change against the baseline.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 pub struct BaselineChange {
     /// The case.
     pub case: String,
@@ -114,7 +115,7 @@ pub struct BaselineChange {
 }
 
 /// The comparison with a baseline (`suite.json`'s `baseline`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct BaselineReport {
     /// The baseline file.
     pub path: String,

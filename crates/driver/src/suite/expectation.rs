@@ -32,6 +32,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::report::Figures;
@@ -47,7 +48,7 @@ pub const DEFAULT_RTOL: f64 = 1e-6;
 pub const SUFFIX: &str = ".expected.json";
 
 /// What a scene is expected to end with.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum ExpectedStatus {
     /// The scene has a solution, which the figures describe.
@@ -57,7 +58,7 @@ pub enum ExpectedStatus {
 }
 
 /// Relative tolerances of an expectation's figures.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Tolerances {
     /// For every figure without a key of its own.
@@ -131,7 +132,7 @@ impl Tolerances {
 }
 
 /// A backend known not to solve the scene.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ExpectedFailure {
     /// The status it ended with when the expectation was blessed (informational: another
@@ -144,7 +145,7 @@ pub struct ExpectedFailure {
 }
 
 /// Where the expectation's figures came from.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Blessed {
     /// The backend whose answer was stored (the solved one with the smallest residuals).
@@ -156,7 +157,7 @@ pub struct Blessed {
 }
 
 /// The content of `NAME.expected.json`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Expectation {
     /// The scene's title when blessed (informational).

@@ -1,10 +1,11 @@
 //! What a suite run measured and concluded: the content of `suite.json`.
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use signorini_core::qp::KktResiduals;
 
 /// How one backend's answer on one case compares with the case's expectation.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Verdict {
     /// Solved, and every figure within its tolerance of the expectation.
@@ -35,7 +36,7 @@ impl Verdict {
 }
 
 /// The normal force a contact pair transmits.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PairForce {
     /// The pair's body names, as in the scene.
@@ -45,7 +46,7 @@ pub struct PairForce {
 }
 
 /// A probe's displacement.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ProbeValue {
     /// The probe's name, as in the scene.
@@ -55,7 +56,7 @@ pub struct ProbeValue {
 }
 
 /// The figures of an answer that an expectation holds and a run is checked against.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Figures {
     /// ½uᵀAu − fᵀu.
@@ -69,7 +70,7 @@ pub struct Figures {
 }
 
 /// One backend on one case.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct CaseRun {
     /// Backend name (`cholesky` for a case without contact rows: one linear solve).
     pub backend: String,
@@ -114,7 +115,7 @@ impl CaseRun {
 }
 
 /// One scene of the suite.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct CaseReport {
     /// The case's name: the scene's path relative to the suite directory, without `.toml`
     /// (`exp1`, `strips/thin`).
@@ -154,7 +155,7 @@ impl CaseReport {
 }
 
 /// One backend over the whole suite, as qpbenchmark summarises a solver.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct BackendSummary {
     /// Backend name.
     pub backend: String,
@@ -181,7 +182,7 @@ pub struct BackendSummary {
 }
 
 /// `suite.json`.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct SuiteReport {
     /// Where the run can be traced to: program version, settings, cores.
     #[serde(skip_serializing_if = "Option::is_none")]
