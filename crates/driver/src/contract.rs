@@ -73,7 +73,10 @@ pub fn expectation_schema() -> Schema {
         .for_deserialize()
         .into_generator()
         .into_root_schema_for::<crate::suite::expectation::Expectation>();
-    schema.insert("title".into(), "signorini suite expectation (NAME.expected.json)".into());
+    schema.insert(
+        "title".into(),
+        "signorini suite expectation (NAME.expected.json)".into(),
+    );
     schema
 }
 

@@ -602,6 +602,12 @@ fn suite(args: &SuiteArgs) -> Result<Exit> {
         },
         repeat: args.repeat as usize,
     };
+    // A bad baseline is refused before anything runs.
+    let baseline = args
+        .baseline
+        .as_deref()
+        .map(suite::baseline::Baseline::read)
+        .transpose()?;
     let bar = indicatif::ProgressBar::new(0).with_style(
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} cases  {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
@@ -626,8 +632,8 @@ fn suite(args: &SuiteArgs) -> Result<Exit> {
         p.scene_path = Some(args.dir.display().to_string());
         p.scene_sha256 = String::new();
     }
-    if let Some(path) = &args.baseline {
-        report.baseline = Some(suite::baseline::compare(&report, path, args.factor)?);
+    if let Some(baseline) = &baseline {
+        report.baseline = Some(suite::baseline::compare(&report, baseline, args.factor));
     }
     let mut blessed = Vec::new();
     if args.bless {

@@ -450,6 +450,22 @@ fn baseline_reports_slower_cases_and_status_changes() {
         stderr.contains("exp2b.toml is not a suite.json"),
         "{stderr}"
     );
+    assert!(!dir.path().join("x").exists(), "refused, yet ran and wrote");
+}
+
+#[test]
+fn a_scene_file_is_a_suite_of_one() {
+    let dir = scratch(&["seed/exp2b"]);
+    let o = signorini(
+        &["suite", "exp2b.toml", "--backends", "pdas", "--out", "out"],
+        dir.path(),
+    );
+    let (stdout, stderr) = text(&o);
+    assert_eq!(o.status.code(), Some(0), "{stdout}\n{stderr}");
+    let report = json(&dir.path().join("out/suite.json"));
+    assert_eq!(report["cases"].as_array().unwrap().len(), 1);
+    assert_eq!(report["cases"][0]["name"], "exp2b");
+    assert_eq!(report["cases"][0]["runs"][0]["verdict"], "pass");
 }
 
 #[test]

@@ -30,7 +30,7 @@ pub const DEFAULT_FACTOR: f64 = 1.5;
 #[derive(Debug, thiserror::Error)]
 pub enum BaselineError {
     /// The file could not be read.
-    #[error("cannot read the baseline {path}: {source}")]
+    #[error("cannot read the baseline {}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
@@ -38,7 +38,7 @@ pub enum BaselineError {
         source: std::io::Error,
     },
     /// Not a `suite.json`.
-    #[error("{path} is not a suite.json of `signorini suite`: {source}")]
+    #[error("{} is not a suite.json of `signorini suite`", path.display())]
     Parse {
         /// The file.
         path: PathBuf,
@@ -141,20 +141,35 @@ impl BaselineReport {
     }
 }
 
-/// Compares `report` with the baseline at `path` (see the module's docs).
-pub fn compare(
-    report: &SuiteReport,
-    path: &Path,
-    factor: f64,
-) -> Result<BaselineReport, BaselineError> {
-    let text = std::fs::read_to_string(path).map_err(|source| BaselineError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let old: OldSuite = serde_json::from_str(&text).map_err(|source| BaselineError::Parse {
-        path: path.to_path_buf(),
-        source,
-    })?;
+/// An earlier run's `suite.json`, read (before the suite runs, so that a bad file is refused
+/// at once).
+#[derive(Debug, Clone)]
+pub struct Baseline {
+    path: PathBuf,
+    old: OldSuite,
+}
+
+impl Baseline {
+    /// Reads the `suite.json` at `path`.
+    pub fn read(path: &Path) -> Result<Baseline, BaselineError> {
+        let text = std::fs::read_to_string(path).map_err(|source| BaselineError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let old: OldSuite = serde_json::from_str(&text).map_err(|source| BaselineError::Parse {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Ok(Baseline {
+            path: path.to_path_buf(),
+            old,
+        })
+    }
+}
+
+/// Compares `report` with `baseline` (see the module's docs).
+pub fn compare(report: &SuiteReport, baseline: &Baseline, factor: f64) -> BaselineReport {
+    let (old, path) = (&baseline.old, &baseline.path);
     let old_cases: BTreeMap<&str, &OldCase> =
         old.cases.iter().map(|c| (c.name.as_str(), c)).collect();
     let mut changes = Vec::new();
@@ -232,14 +247,14 @@ pub fn compare(
         .filter(|c| !names.contains(c.name.as_str()))
         .map(|c| c.name.clone())
         .collect();
-    Ok(BaselineReport {
+    BaselineReport {
         path: path.display().to_string(),
         factor,
         tolerance: old.tolerance,
         changes,
         new_cases,
         missing_cases,
-    })
+    }
 }
 
 /// The comparison as text, grouped by backend.

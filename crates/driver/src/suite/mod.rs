@@ -61,7 +61,7 @@ pub const REPEAT_BELOW_S: f64 = 1.0;
 #[derive(Debug, thiserror::Error)]
 pub enum SuiteError {
     /// The directory could not be listed.
-    #[error("cannot read the suite directory {path}: {source}")]
+    #[error("cannot read the suite directory {}", path.display())]
     Io {
         /// The directory.
         path: PathBuf,
@@ -73,8 +73,12 @@ pub enum SuiteError {
     Empty(PathBuf),
 }
 
-/// Every `*.toml` file under `dir` (recursively; hidden entries skipped), sorted by path.
+/// Every `*.toml` file under `dir` (recursively; hidden entries skipped), sorted by path; `dir`
+/// itself when it is a scene file (a suite of one).
 pub fn discover(dir: &Path) -> Result<Vec<PathBuf>, SuiteError> {
+    if dir.is_file() && dir.extension().is_some_and(|e| e == "toml") {
+        return Ok(vec![dir.to_path_buf()]);
+    }
     fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), SuiteError> {
         let io = |source| SuiteError::Io {
             path: dir.to_path_buf(),
@@ -104,9 +108,13 @@ pub fn discover(dir: &Path) -> Result<Vec<PathBuf>, SuiteError> {
 }
 
 /// The case name of `scene` in the suite at `dir`: its relative path with `/` separators and
-/// without `.toml`.
+/// without `.toml` (its file stem when the suite is the scene file itself).
 pub fn case_name(dir: &Path, scene: &Path) -> String {
-    let rel = scene.strip_prefix(dir).unwrap_or(scene).with_extension("");
+    let rel = match scene.strip_prefix(dir) {
+        Ok(rel) if !rel.as_os_str().is_empty() => rel,
+        _ => Path::new(scene.file_name().unwrap_or(scene.as_os_str())),
+    }
+    .with_extension("");
     rel.components()
         .map(|c| c.as_os_str().to_string_lossy().into_owned())
         .collect::<Vec<_>>()
@@ -262,8 +270,14 @@ pub fn run_case(
             Err(e) => return failed_case(case, e.to_string()),
         }
     };
-    for outcome in outcomes {
-        let run = match outcome {
+    for (i, outcome) in outcomes.into_iter().enumerate() {
+        // Named as asked (`auto` stays `auto`, whichever backend it chose).
+        let name = if model.rows() == 0 {
+            "cholesky"
+        } else {
+            settings.backends[i].name()
+        };
+        let mut run = match outcome {
             Ok(solution) => {
                 let timings = Timings {
                     mesh: mesh_s,
@@ -275,8 +289,9 @@ pub fn run_case(
                     run::finish(&scene, model, solution, settings.solve.tol, timings);
                 measured_run(&solution, &report, floor.seconds)
             }
-            Err((backend, message)) => error_run(&backend, &message),
+            Err((_, message)) => error_run(name, &message),
         };
+        run.backend = name.to_string();
         case.runs.push(run);
     }
     for run in &mut case.runs {
