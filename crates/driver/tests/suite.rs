@@ -434,7 +434,16 @@ fn baseline_reports_slower_cases_and_status_changes() {
         "{stdout}"
     );
     let report = json(&dir.path().join("new/suite.json"));
-    assert_eq!(report["baseline"]["changes"].as_array().unwrap().len(), 2);
+    // The two doctored changes are there (others may be timing noise of a loaded machine: not
+    // asserted either way).
+    let changes = report["baseline"]["changes"].as_array().unwrap();
+    let has = |case: &str, backend: &str, kind: &str| {
+        changes
+            .iter()
+            .any(|c| c["case"] == case && c["backend"] == backend && c["kind"] == kind)
+    };
+    assert!(has("exp6a", "clarabel", "slower"), "{changes:?}");
+    assert!(has("exp2b", "pdas", "status"), "{changes:?}");
     let mut strict = args.to_vec();
     strict.push("--fail-slower");
     let o = signorini(&strict, dir.path());
