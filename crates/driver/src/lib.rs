@@ -1,7 +1,8 @@
-//! The `signorini` command-line driver: solve, compare, sweep, export and check a scene.
+//! The `signorini` command-line driver: solve, compare, sweep, study, suite, export and check.
 //!
 //! The library half holds the steps of a run (each one function with one job) so that tests can
-//! call them; `main.rs` only parses the command line.
+//! call them; the binary (`src/bin/signorini/`) parses the command line in `main.rs` and hands
+//! each subcommand to its handler in `commands/`.
 
 pub mod auto;
 pub mod backends;

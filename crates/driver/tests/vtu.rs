@@ -352,7 +352,7 @@ fn solve_vtu_flag() {
         assert_eq!(grid.types.len(), n_cells, "{args:?}");
     }
     let o = signorini(&["solve", "--vtu", "binry", "--out", "x"], tmp.path());
-    // A usage error is exit code 1 (the program's convention, see main.rs).
+    // A usage error is exit code 1 (the program's convention, see src/bin/signorini/main.rs).
     assert_eq!(o.status.code(), Some(1));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(

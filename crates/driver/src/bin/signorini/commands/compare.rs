@@ -1,0 +1,95 @@
+//! `signorini compare`: one scene (or QP files), every backend, compare.json and compare.csv.
+
+use anyhow::{Context, Result};
+use signorini::backends::{BackendKind, Form};
+use signorini::exit::Exit;
+use signorini::run;
+use signorini_core::qp::SolveOptions;
+
+use crate::args::{limits, parse_backends, time_limit, Common};
+use crate::console::{warn, Console};
+
+pub(crate) fn compare(
+    common: &Common,
+    names: &[BackendKind],
+    forms: &[Form],
+    tol: f64,
+    time_limit_s: Option<f64>,
+    out: &std::path::Path,
+    qp: Option<&std::path::Path>,
+) -> Result<Exit> {
+    let kinds = parse_backends(names, forms)?;
+    let options = SolveOptions {
+        tol,
+        time_limit: time_limit(time_limit_s),
+        ..SolveOptions::default()
+    };
+    let bar = indicatif::ProgressBar::new(kinds.len() as u64).with_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let progress = |name: &str| {
+        bar.set_message(name.to_string());
+        bar.inc(1);
+    };
+    let report = match qp {
+        Some(dir) => {
+            use signorini::compare::QpCompareError;
+            // Each cause as its own error, so that `classify` sees it (a transparent wrapper
+            // would hide it): refused files exit 1, a factor that does not fit exits 3.
+            signorini::compare::compare_qp(dir, &kinds, &options, progress).map_err(
+                |e| match e {
+                    QpCompareError::Files(e) => anyhow::Error::new(e),
+                    QpCompareError::Preflight(e) => anyhow::Error::new(e),
+                    QpCompareError::Run(e) => anyhow::Error::new(e),
+                    e @ QpCompareError::NoRows(_) => anyhow::Error::new(e),
+                },
+            )?
+        }
+        None => {
+            let scene = run::load_scene(common.scene.as_deref())?;
+            signorini::compare::compare(&scene, &kinds, &options, &limits(common), progress)?
+        }
+    };
+    bar.finish_and_clear();
+    let mut report = report;
+    let settings = signorini_core::report::BackendSettings {
+        backend: kinds
+            .iter()
+            .map(|k| k.name().to_string())
+            .collect::<Vec<_>>()
+            .join(","),
+        form: "primal".to_string(),
+        tolerance: options.tol,
+        time_limit_s: options.time_limit.map(|t| t.as_secs_f64()),
+        max_iter: options.max_iter,
+        chain: Vec::new(),
+    };
+    report.provenance = Some(match qp {
+        Some(dir) => signorini::contract::qp_provenance(dir, settings)
+            .with_context(|| format!("reading {} for its hash", dir.display()))?,
+        None => signorini::contract::provenance(common.scene.as_deref(), settings)?,
+    });
+    let written = signorini::compare::write(out, &report)
+        .with_context(|| format!("writing comparison to {}", out.display()))?;
+    let mut con = Console::new();
+    for line in signorini::compare::table(&report).lines() {
+        con.line(line)?;
+    }
+    for p in &written {
+        con.line(format_args!("  wrote {}", p.display()))?;
+    }
+    con.finish()?;
+    let failed: Vec<&str> = report
+        .backends
+        .iter()
+        .filter(|r| r.status != "solved")
+        .map(|r| r.backend.as_str())
+        .collect();
+    if failed.is_empty() {
+        Ok(Exit::Success)
+    } else {
+        warn(format_args!("error: not solved by {}", failed.join(", ")));
+        Ok(Exit::NotSolved)
+    }
+}

@@ -1,0 +1,141 @@
+//! `signorini solve`: one scene, one backend (or auto's chain), result.json and the files beside it.
+
+use anyhow::{Context, Result};
+use signorini::auto::AutoBackend;
+use signorini::backends::{make_backend, BackendKind, Form};
+use signorini::exit::Exit;
+use signorini::run;
+use signorini_core::qp::{QpStatus, SolveOptions};
+
+use crate::args::{limits, parse_backends, time_limit, Common};
+use crate::console::{warn, Console};
+
+/// What `solve` was asked to run.
+pub(crate) struct SolveArgs<'a> {
+    pub(crate) backend: BackendKind,
+    pub(crate) form: Option<Form>,
+    pub(crate) chain: &'a [BackendKind],
+    pub(crate) tol: f64,
+    pub(crate) time_limit_s: Option<f64>,
+    /// Encoding of solution.vtu.
+    pub(crate) vtu: signorini::output::VtuFormat,
+}
+
+pub(crate) fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) -> Result<Exit> {
+    let mut kind = args.backend;
+    if let Some(form) = args.form {
+        kind = kind.with_form(form)?;
+    }
+    anyhow::ensure!(
+        kind.available(),
+        "backend \"{kind}\" is not compiled in; rebuild with `--features osqp`"
+    );
+    anyhow::ensure!(
+        args.chain.is_empty() || kind == BackendKind::Auto,
+        "--chain is for --backend auto, not {kind}"
+    );
+    let scene = run::load_scene(common.scene.as_deref())?;
+    let options = SolveOptions {
+        tol: args.tol,
+        time_limit: time_limit(args.time_limit_s),
+        ..SolveOptions::default()
+    };
+    let settings = signorini_core::report::BackendSettings {
+        backend: kind.name().to_string(),
+        form: kind.form().name().to_string(),
+        tolerance: options.tol,
+        time_limit_s: options.time_limit.map(|t| t.as_secs_f64()),
+        max_iter: options.max_iter,
+        chain: args.chain.iter().map(|k| k.name().to_string()).collect(),
+    };
+    let provenance = signorini::contract::provenance(common.scene.as_deref(), settings)?;
+    let mut outcome = if kind == BackendKind::Auto {
+        let mut auto = if args.chain.is_empty() {
+            AutoBackend::default()
+        } else {
+            let kinds = parse_backends(args.chain, &[])?;
+            anyhow::ensure!(
+                !kinds.contains(&BackendKind::Auto),
+                "--chain cannot hold auto itself"
+            );
+            AutoBackend::with_kinds(kinds, "the chain given by --chain")
+        };
+        let result = run::solve_scene(&scene, &mut auto, &options, &limits(common));
+        if let Some(record) = auto.record() {
+            for attempt in &record.attempts {
+                warn(attempt.line());
+            }
+            warn(format_args!(
+                "auto: chose {}: {}",
+                record.chosen.as_deref().unwrap_or("none"),
+                record.reason
+            ));
+        }
+        let mut outcome = result?;
+        if let Some(record) = auto.record() {
+            record.annotate(&mut outcome.report);
+        }
+        outcome
+    } else {
+        let mut backend = make_backend(kind)?;
+        run::solve_scene(&scene, backend.as_mut(), &options, &limits(common))?
+    };
+    outcome.report.provenance = Some(provenance);
+    let written = run::write_outputs_with(out, &scene, &outcome, args.vtu)
+        .with_context(|| format!("writing results to {}", out.display()))?;
+    let r = &outcome.report;
+    let mut con = Console::new();
+    con.line(&r.scene)?;
+    con.line(format_args!(
+        "  {} DOFs, {} contact rows ({} active); backend {}: {} in {} iterations",
+        r.dofs, r.constraints, r.active_constraints, r.backend, r.status, r.iterations
+    ))?;
+    for b in &r.bodies {
+        con.line(format_args!(
+            "  body {:<10} {:>7} nodes {:>7} elements  max |u| = {:.6e}  reaction = [{:.4e}, {:.4e}]",
+            b.name, b.nodes, b.elements, b.max_displacement, b.reaction[0], b.reaction[1]
+        ))?;
+    }
+    for c in &r.contacts {
+        if c.constraints > 0 {
+            con.line(format_args!(
+                "  contact {} – {} (slave {}): normal force {:.6e}",
+                c.bodies[0], c.bodies[1], c.slave, c.normal_force
+            ))?;
+        }
+    }
+    con.line(format_args!(
+        "  residuals: penetration {:.2e}, stationarity {:.2e}, complementarity {:.2e}, min multiplier {:.2e}",
+        r.residuals.max_penetration,
+        r.residuals.stationarity,
+        r.residuals.complementarity,
+        r.residuals.min_multiplier
+    ))?;
+    con.line(format_args!(
+        "  time: mesh {:.4} s, assemble {:.4} s, solve {:.4} s, total {:.4} s",
+        r.timing_s.mesh, r.timing_s.assemble, r.timing_s.solve, r.timing_s.total
+    ))?;
+    for p in &written {
+        con.line(format_args!("  wrote {}", p.display()))?;
+    }
+    con.finish()?;
+    for w in &r.warnings {
+        warn(format_args!("warning: {}", w.message));
+    }
+    if outcome.solution.status == QpStatus::Solved {
+        Ok(Exit::Success)
+    } else {
+        warn(format_args!(
+            "error: status {} (backend said {}){}",
+            outcome.solution.status,
+            outcome.solution.backend_status,
+            outcome
+                .solution
+                .message
+                .as_deref()
+                .map(|m| format!(": {m}"))
+                .unwrap_or_default()
+        ));
+        Ok(Exit::NotSolved)
+    }
+}

@@ -1,0 +1,124 @@
+//! `signorini study`: discretisation error against time for a scene with a reference.
+
+use anyhow::Result;
+use signorini::backends::BackendKind;
+use signorini::exit::Exit;
+use signorini::run;
+use signorini_core::qp::SolveOptions;
+
+use crate::args::{limits, Common};
+use crate::console::{warn, Console};
+
+/// What `study` was asked to run.
+pub(crate) struct StudyArgs<'a> {
+    pub(crate) hmax: &'a [f64],
+    pub(crate) formulations: &'a [signorini_core::scene::Formulation],
+    pub(crate) meshes: &'a [signorini::study::MeshKind],
+    pub(crate) elements: &'a [signorini_core::mesh::ElementKind],
+    pub(crate) backend: BackendKind,
+    pub(crate) tol: f64,
+    pub(crate) overwrite: bool,
+}
+
+pub(crate) fn study(common: &Common, args: &StudyArgs, out: &std::path::Path) -> Result<Exit> {
+    let backend = args.backend;
+    anyhow::ensure!(
+        backend.available(),
+        "backend \"{backend}\" is not compiled in; rebuild with `--features osqp`"
+    );
+    let scene = run::load_scene(common.scene.as_deref())?;
+    let plan = signorini::study::StudyPlan {
+        hmax: args.hmax.to_vec(),
+        formulations: args.formulations.to_vec(),
+        meshes: args.meshes.to_vec(),
+        elements: args.elements.to_vec(),
+        backend,
+        overwrite: args.overwrite,
+    };
+    let options = SolveOptions {
+        tol: args.tol,
+        ..SolveOptions::default()
+    };
+    let bar = indicatif::ProgressBar::new(0).with_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} [{elapsed}] {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let outcome = signorini::study::study(
+        &scene,
+        &plan,
+        &options,
+        &limits(common),
+        out,
+        |done, total, what| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+            bar.set_message(what.to_string());
+        },
+    )?;
+    bar.finish_and_clear();
+    let mut con = Console::new();
+    con.line(format_args!(
+        "{}: {} points",
+        scene.title,
+        outcome.points.len()
+    ))?;
+    for s in &outcome.skipped {
+        con.line(format_args!(
+            "  skipped {}: does not apply ({})",
+            s.combination, s.reason
+        ))?;
+    }
+    con.line(format_args!(
+        "  {:<32} {:>8} {:>9} {:<11} {:>9} {:>10} {:>10} {:>10} {:>10}",
+        "combination", "hmax", "dofs", "status", "total s", "err a", "err p0", "err pmax", "patch"
+    ))?;
+    let e = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:+.2e}"));
+    for p in &outcome.points {
+        con.line(format_args!(
+            "  {:<32} {:>8} {:>9} {:<11} {:>9.4} {:>10} {:>10} {:>10} {:>10}",
+            p.combination(),
+            p.hmax,
+            p.dofs,
+            p.status,
+            p.total_s,
+            e(p.error_half_width),
+            e(p.error_peak_pressure),
+            e(p.error_peak_nodal_pressure),
+            e(p.pressure_deviation)
+        ))?;
+    }
+    con.line("  convergence rates (|error| ~ h^rate, solved points):")?;
+    for r in &outcome.rates {
+        con.line(format_args!(
+            "    {:<32} {:<36} {}",
+            r.combination,
+            r.measure,
+            r.rate
+                .map_or("-".to_string(), |v| format!("{v:.2} ({} meshes)", r.points))
+        ))?;
+    }
+    con.line(format_args!("  wrote {}", outcome.csv.display()))?;
+    if let Some(p) = &outcome.plot {
+        con.line(format_args!("  wrote {}", p.display()))?;
+    }
+    con.finish()?;
+    if outcome.failed == 0 {
+        Ok(Exit::Success)
+    } else {
+        for p in outcome.points.iter().filter(|p| !p.solved()) {
+            warn(format_args!(
+                "not solved: {} hmax {}: {} {}",
+                p.combination(),
+                p.hmax,
+                p.status,
+                p.message
+            ));
+        }
+        warn(format_args!(
+            "error: study: {} of {} points not solved",
+            outcome.failed,
+            outcome.points.len()
+        ));
+        Ok(Exit::NotSolved)
+    }
+}

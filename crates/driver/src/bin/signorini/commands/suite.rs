@@ -1,0 +1,170 @@
+//! `signorini suite`: a directory of scenes through every backend, checked against their expectations.
+
+use anyhow::{Context, Result};
+use signorini::backends::BackendKind;
+use signorini::exit::Exit;
+use signorini_core::mesh::MeshLimits;
+use signorini_core::qp::SolveOptions;
+
+use crate::args::{parse_backends, time_limit};
+use crate::console::{warn, Console};
+use crate::SuiteArgs;
+
+/// Every backend compiled in, for `suite`.
+pub(crate) const SUITE_BACKENDS: [BackendKind; 6] = [
+    BackendKind::Clarabel,
+    BackendKind::Osqp,
+    BackendKind::DualPgs,
+    BackendKind::DualUzawa,
+    BackendKind::DualSsn,
+    BackendKind::Pdas,
+];
+
+pub(crate) fn suite(args: &SuiteArgs) -> Result<Exit> {
+    use signorini::suite::{self, bless::Change};
+    let backends = if args.backends.is_empty() {
+        SUITE_BACKENDS
+            .into_iter()
+            .filter(|k| k.available())
+            .collect()
+    } else {
+        parse_backends(&args.backends, &[])?
+    };
+    let settings = suite::SuiteSettings {
+        backends,
+        solve: SolveOptions {
+            tol: args.tol,
+            time_limit: time_limit(Some(args.time_limit)),
+            ..SolveOptions::default()
+        },
+        limits: MeshLimits {
+            max_elements: args.max_elements,
+            ..MeshLimits::default()
+        },
+        repeat: args.repeat as usize,
+    };
+    // A bad baseline is refused before anything runs.
+    let baseline = args
+        .baseline
+        .as_deref()
+        .map(suite::baseline::Baseline::read)
+        .transpose()?;
+    let bar = indicatif::ProgressBar::new(0).with_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} cases  {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let mut report = suite::run(&args.dir, &settings, |step| {
+        bar.set_length(step.cases as u64);
+        bar.set_position(step.case as u64);
+        bar.set_message(format!("{}: {}", step.name, step.what));
+    })?;
+    bar.finish_and_clear();
+    let settings_report = signorini_core::report::BackendSettings {
+        backend: report.backends.join(","),
+        form: "primal".to_string(),
+        tolerance: settings.solve.tol,
+        time_limit_s: settings.solve.time_limit.map(|t| t.as_secs_f64()),
+        max_iter: settings.solve.max_iter,
+        chain: Vec::new(),
+    };
+    report.provenance = Some(signorini::contract::provenance(None, settings_report)?);
+    if let Some(p) = report.provenance.as_mut() {
+        // The suite's scenes are many: each case records its own file's hash.
+        p.scene_path = Some(args.dir.display().to_string());
+        p.scene_sha256 = String::new();
+    }
+    if let Some(baseline) = &baseline {
+        report.baseline = Some(suite::baseline::compare(&report, baseline, args.factor));
+    }
+    let mut blessed = Vec::new();
+    if args.bless {
+        blessed = suite::bless::blessings(&report)?;
+        suite::bless::write(&blessed).context("writing the expectations")?;
+    }
+    let written = suite::write::write(&args.out, &report)
+        .with_context(|| format!("writing the suite's files to {}", args.out.display()))?;
+    let mut con = Console::new();
+    for line in suite::table::table(&report).lines() {
+        con.line(line)?;
+    }
+    if let Some(b) = &report.baseline {
+        con.line("")?;
+        for line in suite::baseline::text(b, report.tolerance).lines() {
+            con.line(line)?;
+        }
+    }
+    if args.bless {
+        con.line("")?;
+        for b in &blessed {
+            let path = b.path.display();
+            match &b.change {
+                Change::New => con.line(format_args!("  blessed {path} (new)"))?,
+                Change::Changed(what) => {
+                    con.line(format_args!("  blessed {path} (changed):"))?;
+                    for w in what {
+                        con.line(format_args!("      {w}"))?;
+                    }
+                }
+                Change::Unchanged => {}
+                Change::Skipped(why) => {
+                    con.line(format_args!("  not blessed {}: {why}", b.case))?
+                }
+            }
+        }
+        let unchanged = blessed
+            .iter()
+            .filter(|b| b.change == Change::Unchanged)
+            .count();
+        con.line(format_args!(
+            "  {unchanged} expectations unchanged (within their tolerances)"
+        ))?;
+    }
+    for p in &written {
+        con.line(format_args!("  wrote {}", p.display()))?;
+    }
+    con.finish()?;
+    let errors: Vec<&str> = report
+        .cases
+        .iter()
+        .filter(|c| c.error.is_some())
+        .map(|c| c.name.as_str())
+        .collect();
+    if args.bless {
+        if errors.is_empty() {
+            return Ok(Exit::Success);
+        }
+        warn(format_args!(
+            "error: could not run, so not blessed: {}",
+            errors.join(", ")
+        ));
+        return Ok(Exit::NotSolved);
+    }
+    let regressed = report.regressions();
+    let unchecked: Vec<&str> = report
+        .cases
+        .iter()
+        .filter(|c| c.error.is_none() && c.expectation.is_none())
+        .map(|c| c.name.as_str())
+        .collect();
+    let slower = report.baseline.as_ref().map_or(0, |b| b.slower());
+    let mut code = Exit::Success;
+    if !regressed.is_empty() {
+        warn(format_args!("error: regressed: {}", regressed.join(", ")));
+        code = Exit::NotSolved;
+    }
+    if !unchecked.is_empty() {
+        warn(format_args!(
+            "error: no expectation, nothing checked (run with --bless): {}",
+            unchecked.join(", ")
+        ));
+        code = Exit::NotSolved;
+    }
+    if args.fail_slower && slower > 0 {
+        warn(format_args!(
+            "error: {slower} runs slower than the baseline by more than {}×",
+            args.factor
+        ));
+        code = Exit::NotSolved;
+    }
+    Ok(code)
+}
