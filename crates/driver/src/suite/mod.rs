@@ -174,6 +174,17 @@ pub fn run(
     })
 }
 
+/// The SHA-256 of a suite's scenes: of the text holding one line `NAME SHA256` per case, in
+/// order (`suite.json`'s `provenance.scene_sha256`): equal for two runs exactly when they ran
+/// the same scene files under the same names.
+pub fn suite_sha256(cases: &[CaseReport]) -> String {
+    let list: String = cases
+        .iter()
+        .map(|c| format!("{} {}\n", c.name, c.sha256))
+        .collect();
+    crate::contract::sha256_hex(list.as_bytes())
+}
+
 /// A case that could not run: its `error`, no run.
 fn failed_case(mut case: CaseReport, error: String) -> CaseReport {
     case.error = Some(error);

@@ -69,9 +69,10 @@ pub(crate) fn suite(args: &SuiteArgs) -> Result<Exit> {
     };
     report.provenance = Some(signorini::contract::provenance(None, settings_report)?);
     if let Some(p) = report.provenance.as_mut() {
-        // The suite's scenes are many: each case records its own file's hash.
+        // The suite's scenes are many: each case records its own file's hash, and the suite's
+        // is that of the list of cases with theirs (see suite::suite_sha256).
         p.scene_path = Some(args.dir.display().to_string());
-        p.scene_sha256 = String::new();
+        p.scene_sha256 = suite::suite_sha256(&report.cases);
     }
     if let Some(baseline) = &baseline {
         report.baseline = Some(suite::baseline::compare(&report, baseline, args.factor));
