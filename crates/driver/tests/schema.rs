@@ -303,7 +303,7 @@ fn backend_names_are_listed_and_typos_get_suggestions() {
 fn every_expectation_satisfies_its_schema() {
     let validator = schema("expectation");
     let mut checked = 0;
-    for sub in ["seed", "hard"] {
+    for sub in ["seed", "hard", "gmsh"] {
         for entry in std::fs::read_dir(fixtures().join(sub)).unwrap() {
             let path = entry.unwrap().path();
             if path.to_string_lossy().ends_with(".expected.json") {
@@ -315,8 +315,8 @@ fn every_expectation_satisfies_its_schema() {
             }
         }
     }
-    // One per seed (19) and hard (18) scene.
-    assert_eq!(checked, 37);
+    // One per seed (19), hard (18) and gmsh (1) scene.
+    assert_eq!(checked, 38);
     let bad = serde_json::json!({"status": "solved", "rtol": {"objetive": 1e-3}});
     assert!(!errors(&validator, &bad).is_empty());
     let bad = serde_json::json!({"status": "perhaps"});
