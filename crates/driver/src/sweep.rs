@@ -872,6 +872,8 @@ pub fn sweep(
         hmax: hmaxes.clone(),
         backends: backends.iter().map(|b| b.name().to_string()).collect(),
         tols: tols.clone(),
+        repeat: Some(plan.repeat),
+        time_limit_s: plan.time_limit.map(|t| t.as_secs_f64()),
         shard,
         points: plan_total,
         complete: false,

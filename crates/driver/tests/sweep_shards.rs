@@ -209,6 +209,14 @@ fn merge_refuses_foreign_missing_duplicated_or_damaged_shards() {
         cwd,
     );
     assert!(o.status.success(), "{}", stderr(&o));
+    // Shard 2/3 timed with other repeats (its times are not the others' kind).
+    let o = run_sweep(
+        fixture("exp2b").to_str().unwrap(),
+        &["--shard", "2/3", "--repeat", "2"],
+        "rep2",
+        cwd,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
     // Shard 3/3 with a damaged row: its line 3 loses its last field.
     copy_dir(&cwd.join("s3"), &cwd.join("bad3"));
     let csv = cwd.join("bad3/sweep.csv");
@@ -261,6 +269,14 @@ fn merge_refuses_foreign_missing_duplicated_or_damaged_shards() {
             format!(
                 "other2/shard.json: line {}",
                 line_of(&cwd.join("other2/shard.json"), "\"scene_hash\"")
+            ),
+        ),
+        (
+            "other repeats",
+            vec!["s1", "rep2", "s3"],
+            format!(
+                "rep2/shard.json: line {}: --repeat 2 (vs 1)",
+                line_of(&cwd.join("rep2/shard.json"), "\"repeat\"")
             ),
         ),
         (

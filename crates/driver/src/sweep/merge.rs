@@ -201,6 +201,30 @@ fn same_study(
             format!("the tolerances {:?} (vs {:?})", m.tols, f.tols),
         ));
     }
+    // Times measured with other repeats or another limit (which decides which backends are
+    // skipped on finer meshes) are not one sweep's.
+    let shown = |x: Option<String>| x.unwrap_or_else(|| "unrecorded".to_string());
+    if m.repeat != f.repeat {
+        return Err(differ(
+            "repeat",
+            format!(
+                "--repeat {} (vs {})",
+                shown(m.repeat.map(|r| r.to_string())),
+                shown(f.repeat.map(|r| r.to_string()))
+            ),
+        ));
+    }
+    if m.time_limit_s.map(f64::to_bits) != f.time_limit_s.map(f64::to_bits) {
+        let limit = |t: Option<f64>| t.map_or("none".to_string(), |t| format!("{t} s"));
+        return Err(differ(
+            "time_limit_s",
+            format!(
+                "--time-limit {} (vs {})",
+                limit(m.time_limit_s),
+                limit(f.time_limit_s)
+            ),
+        ));
+    }
     if m.shard.count != f.shard.count {
         return Err(differ(
             "shard",

@@ -115,6 +115,12 @@ pub struct Manifest {
     pub backends: Vec<String>,
     /// The tolerances, tightest first.
     pub tols: Vec<f64>,
+    /// Runs per point (`--repeat`; absent in manifests of earlier versions).
+    #[serde(default)]
+    pub repeat: Option<usize>,
+    /// The time limit of one solve in seconds (`--time-limit`; absent: none).
+    #[serde(default)]
+    pub time_limit_s: Option<f64>,
     /// This shard.
     pub shard: Shard,
     /// The number of points of the whole plan.
