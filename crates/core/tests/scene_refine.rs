@@ -184,3 +184,21 @@ fn equal_refine_boxes_keep_the_interface_conforming() {
         assert!(!a.contains(&1.01) && a.contains(&1.6), "{element}: {a:?}");
     }
 }
+
+/// A refine size below the mesher's coordinate resolution (its snapping grid is 2⁻³⁴ of the
+/// body's extent) was refused by the mesher as a "degenerate polygon" whose edges cross: true,
+/// but it named neither the table nor the key.  Validation now refuses it, naming both and the
+/// smallest size that can be meshed; a size just above that limit still meshes.
+#[test]
+fn refine_hmax_below_the_coordinate_resolution_is_refused_by_name() {
+    let (section, key, reason) = invalid(&with_refine("region = [1.2, 1.2, 1, 1]\nhmax = 1e-13"));
+    assert_eq!(key, "hmax");
+    assert!(section.contains("refine #1"), "{section}");
+    assert!(reason.contains("resolution"), "{reason}");
+    // The limit is relative to the body's extent (the upper body is 2 wide: 1.9e-9); a point of
+    // its bottom edge refined to 2e-9, just above the limit (the size grows by 1.25 per element away from it) meshes.
+    let scene = Scene::from_toml(&with_refine("region = [1.2, 1.2, 1, 1]\nhmax = 2e-9")).unwrap();
+    if let Err(e) = mesh_scene(&scene, &MeshLimits::default()) {
+        panic!("{e}");
+    }
+}

@@ -67,6 +67,12 @@ mod sizing;
 mod triangles;
 
 pub use boundary::box_crossings;
+
+/// The smallest element size the P1 mesher resolves, relative to a body's extent (the larger
+/// side of its bounding box): sixteen steps of the grid its coordinates are snapped to (2⁻³⁴ of
+/// the extent), ≈ 9.3e-10.  Below it, distinct boundary points snap together and the outline
+/// degenerates; validation refuses such sizes by name.
+pub const MIN_RELATIVE_SIZE: f64 = 16.0 / (1u64 << 34) as f64;
 pub use sizing::GRADING;
 
 /// Element type of a body.

@@ -385,6 +385,19 @@ fn validate_body(
                 ),
             ));
         }
+        let extent = (bbox[1] - bbox[0]).max(bbox[3] - bbox[2]);
+        let smallest = crate::mesh::MIN_RELATIVE_SIZE * extent;
+        if r.hmax < smallest {
+            return Err(SceneError::invalid(
+                &section,
+                "hmax",
+                format!(
+                    "= {:e} is below the mesher's coordinate resolution: element sizes must be \
+                     at least {smallest:.2e} (2⁻³⁰ of the body's extent {extent})",
+                    r.hmax
+                ),
+            ));
+        }
         let tol = tol_rel * size;
         if region[1] < bbox[0] - tol
             || region[0] > bbox[1] + tol
