@@ -44,6 +44,7 @@ fn settings(backends: &[BackendKind]) -> SuiteSettings {
         },
         limits: MeshLimits::default(),
         repeat: 1,
+        only: Vec::new(),
     }
 }
 
@@ -475,6 +476,41 @@ fn a_scene_file_is_a_suite_of_one() {
     assert_eq!(report["cases"].as_array().unwrap().len(), 1);
     assert_eq!(report["cases"][0]["name"], "exp2b");
     assert_eq!(report["cases"][0]["runs"][0]["verdict"], "pass");
+}
+
+#[test]
+fn only_runs_the_cases_named() {
+    let dir = scratch(&["seed/exp2b", "seed/exp2c", "seed/exp4"]);
+    let o = signorini(
+        &[
+            "suite",
+            ".",
+            "--backends",
+            "pdas",
+            "--only",
+            "2c,exp4",
+            "--out",
+            "out",
+        ],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    let report = json(&dir.path().join("out/suite.json"));
+    let names: Vec<&str> = report["cases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["exp2c", "exp4"]);
+    // Selecting nothing is a usage error that lists the cases.
+    let o = signorini(&["suite", ".", "--only", "strip", "--out", "x"], dir.path());
+    let (_, stderr) = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("\"strip\"") && stderr.contains("exp2b, exp2c, exp4"),
+        "{stderr}"
+    );
 }
 
 #[test]

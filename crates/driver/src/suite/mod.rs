@@ -51,6 +51,8 @@ pub struct SuiteSettings {
     /// Solves timed per backend and case (at least 1); the median is reported (see
     /// [`REPEAT_BELOW_S`]).
     pub repeat: usize,
+    /// Run only the cases whose name contains one of these texts (empty: every case).
+    pub only: Vec<String>,
 }
 
 /// Only a solve that succeeded in less than this many seconds is repeated: longer times are not
@@ -71,6 +73,16 @@ pub enum SuiteError {
     /// The directory holds no scene.
     #[error("{0} holds no scene (*.toml), nor does any directory below it")]
     Empty(PathBuf),
+    /// `only` selects no case.
+    #[error("no case of {dir} has a name containing {only}; its cases: {cases}")]
+    NoneSelected {
+        /// The suite directory.
+        dir: PathBuf,
+        /// The texts asked for, quoted.
+        only: String,
+        /// The suite's case names.
+        cases: String,
+    },
 }
 
 /// Every `*.toml` file under `dir` (recursively; hidden entries skipped), sorted by path; `dir`
@@ -141,15 +153,42 @@ pub fn run(
     settings: &SuiteSettings,
     mut progress: impl FnMut(Step<'_>),
 ) -> Result<SuiteReport, SuiteError> {
-    let scenes = discover(dir)?;
+    let all: Vec<(PathBuf, String)> = discover(dir)?
+        .into_iter()
+        .map(|p| {
+            let name = case_name(dir, &p);
+            (p, name)
+        })
+        .collect();
+    let scenes: Vec<&(PathBuf, String)> = all
+        .iter()
+        .filter(|(_, name)| {
+            settings.only.is_empty() || settings.only.iter().any(|o| name.contains(o.as_str()))
+        })
+        .collect();
+    if scenes.is_empty() {
+        return Err(SuiteError::NoneSelected {
+            dir: dir.to_path_buf(),
+            only: settings
+                .only
+                .iter()
+                .map(|o| format!("\"{o}\""))
+                .collect::<Vec<_>>()
+                .join(" or "),
+            cases: all
+                .iter()
+                .map(|(_, n)| n.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+        });
+    }
     let mut cases = Vec::with_capacity(scenes.len());
-    for (i, path) in scenes.iter().enumerate() {
-        let name = case_name(dir, path);
-        cases.push(run_case(path, &name, settings, |what| {
+    for (i, (path, name)) in scenes.iter().enumerate() {
+        cases.push(run_case(path, name, settings, |what| {
             progress(Step {
                 case: i,
                 cases: scenes.len(),
-                name: &name,
+                name,
                 what,
             })
         }));

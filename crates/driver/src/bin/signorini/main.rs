@@ -233,6 +233,10 @@ struct SuiteArgs {
     /// under a second are repeated (longer ones are not dominated by timer noise).
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
     repeat: u32,
+    /// Run only the cases whose name contains one of these texts (comma-separated), e.g.
+    /// `--only strip,contrast`.
+    #[arg(long, value_delimiter = ',')]
+    only: Vec<String>,
     /// Largest total number of elements a scene may ask for before it is refused.
     #[arg(long, default_value_t = 5_000_000)]
     max_elements: usize,

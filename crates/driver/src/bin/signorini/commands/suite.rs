@@ -42,6 +42,7 @@ pub(crate) fn suite(args: &SuiteArgs) -> Result<Exit> {
             ..MeshLimits::default()
         },
         repeat: args.repeat as usize,
+        only: args.only.clone(),
     };
     // A bad baseline is refused before anything runs.
     let baseline = args
