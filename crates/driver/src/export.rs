@@ -4,8 +4,10 @@
 //! Files: `A.mtx` (stiffness, coordinate real general, both triangles), `f.mtx` (load, array),
 //! `B.mtx` (contact rows, coordinate), `g.mtx` (gaps, array), `dofs.csv` (unknown → body, node,
 //! component, coordinates), `rows.csv` (row → pair, slave body and node, position, gap) and
-//! `README.txt` stating the problem `min ½xᵀAx − fᵀx s.t. Bx ≤ g`.  Values are the user's units
-//! (not the internal nondimensional ones).
+//! `README.txt` stating the problem `min ½xᵀAx − fᵀx s.t. Bx ≤ g`; when A is singular (a body
+//! held by contact alone), also `N.mtx`, a basis of A's null space (the floating bodies'
+//! rigid-body modes, array n×k), which the dual backends need.  Values are the user's units (not
+//! the internal nondimensional ones).
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -28,16 +30,35 @@ fn write_dense(w: &mut dyn Write, v: &[f64]) -> std::io::Result<()> {
     Ok(())
 }
 
-/// The exported files; `README.txt` (moved into place last) marks a complete set.
-pub const EXPORT_FILES: [&str; 7] = [
+/// The exported files; `README.txt` (moved into place last) marks a complete set; `N.mtx` only
+/// when A is singular (an earlier export's is removed otherwise).
+pub const EXPORT_FILES: [&str; 8] = [
     "A.mtx",
     "f.mtx",
     "B.mtx",
     "g.mtx",
+    "N.mtx",
     "dofs.csv",
     "rows.csv",
     "README.txt",
 ];
+
+/// A basis of k vectors of length n as a Matrix Market array n×k (column-major).
+fn write_columns(w: &mut dyn Write, columns: &[Vec<f64>]) -> std::io::Result<()> {
+    let n = columns.first().map_or(0, Vec::len);
+    writeln!(w, "%%MatrixMarket matrix array real general")?;
+    writeln!(
+        w,
+        "% written by signorini: a basis of the null space of A, one column per mode"
+    )?;
+    writeln!(w, "{n} {}", columns.len())?;
+    for c in columns {
+        for x in c {
+            writeln!(w, "{x:e}")?;
+        }
+    }
+    Ok(())
+}
 
 /// Writes the exported files into `dir` (created if missing) as one output set (see
 /// [`crate::outdir`]): under the directory's lock, staged and moved into place together, so a
@@ -61,6 +82,9 @@ pub fn export(
         sprs::io::write_matrix_market_to_bufwrite(w, &qp.constraints)
     })?;
     put("g.mtx", &mut |w| write_dense(w, &qp.gap))?;
+    if !qp.kernel.is_empty() {
+        put("N.mtx", &mut |w| write_columns(w, &qp.kernel))?;
+    }
     put("dofs.csv", &mut |w| {
         let mut csv = csv::Writer::from_writer(w);
         csv.write_record(["unknown", "body", "node", "component", "x", "y"])?;
@@ -137,7 +161,8 @@ pub fn export(
         if !qp.kernel.is_empty() {
             writeln!(
                 w,
-                "A is singular: {} rigid-body mode(s) of floating bodies are held only by contact.",
+                "A is singular: {} rigid-body mode(s) of floating bodies are held only by contact; N.mtx holds a basis of A's null space (n x {}).",
+                qp.kernel.len(),
                 qp.kernel.len()
             )?;
         }

@@ -15,6 +15,11 @@
 //! [`SYMMETRY_TOLERANCE`] · max|A| and is then replaced by (A + Aᵀ)/2.  Duplicate coordinate
 //! entries are summed.  Vectors may be n×1 or 1×n, `array` or `coordinate`.  NaN and infinite
 //! values are refused.  `dofs.csv` and `rows.csv`, if present, are not read.
+//!
+//! An optional `N.mtx` (array n×k, as `export` writes for a body held by contact alone) is a
+//! basis of A's null space: each column must be nonzero and satisfy
+//! ‖A v‖∞ ≤ [`NULL_SPACE_TOLERANCE`] · ‖A‖∞ · ‖v‖∞; the dual backends need it when A is
+//! singular.
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -33,6 +38,15 @@ pub const SYMMETRY_TOLERANCE: f64 = 1e-10;
 
 /// The files of a QP directory, in the order they are read.
 pub const QP_FILES: [&str; 4] = ["A.mtx", "f.mtx", "B.mtx", "g.mtx"];
+
+/// The optional null-space basis of A.
+pub const KERNEL_FILE: &str = "N.mtx";
+
+/// A column v of `N.mtx` counts as in A's null space when ‖A v‖∞ ≤ this · ‖A‖∞ · ‖v‖∞ (‖A‖∞ the
+/// largest row sum of |A|).  A rigid-body mode of an assembled stiffness gives round-off only,
+/// ~1e-15 of that bound's scale; a vector outside the null space gives O(1).  1e-8 sits far from
+/// both.
+pub const NULL_SPACE_TOLERANCE: f64 = 1e-8;
 
 /// Why a QP directory was refused: the file, the line when one line is at fault, and the reason.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -59,7 +73,7 @@ impl fmt::Display for QpFileError {
 pub struct QpFiles {
     /// The directory read.
     pub dir: PathBuf,
-    /// The problem (no kernel: the files do not carry one).
+    /// The problem, with the null space of `N.mtx` when the directory has one.
     pub qp: QpProblem,
     /// The `Scene:` line of `README.txt` when the directory is an export of signorini.
     pub title: Option<String>,
@@ -367,6 +381,52 @@ fn to_vector(m: &Mtx, name: &str, expected: usize, what: &str) -> Result<Vec<f64
     Ok(v)
 }
 
+/// The columns of `N.mtx`, each checked to lie in A's null space (see [`NULL_SPACE_TOLERANCE`]).
+fn kernel(m: &Mtx, a: &CscMatrix) -> Result<Vec<Vec<f64>>, QpFileError> {
+    let n = a.rows();
+    if m.rows != n || m.cols == 0 || m.cols > n {
+        return Err(m.error(
+            Some(m.size_line),
+            format!(
+                "N must be n×k with n = {n} (A is {n}×{n}) and 1 ≤ k ≤ n, not {}×{}",
+                m.rows, m.cols
+            ),
+        ));
+    }
+    let mut columns = vec![vec![0.0; n]; m.cols];
+    for &(i, j, x, _) in &m.entries {
+        columns[j][i] += x;
+        if m.symmetric && i != j {
+            return Err(m.error(None, "N cannot be `symmetric`: it is n×k"));
+        }
+    }
+    let norm_a = (0..n)
+        .map(|i| {
+            a.outer_view(i)
+                .map_or(0.0, |c| c.iter().map(|(_, v)| v.abs()).sum::<f64>())
+        })
+        .fold(0.0_f64, f64::max);
+    for (j, v) in columns.iter().enumerate() {
+        let largest = v.iter().fold(0.0_f64, |s, x| s.max(x.abs()));
+        if largest == 0.0 {
+            return Err(m.error(None, format!("column {} of N is zero", j + 1)));
+        }
+        let av = signorini_core::qp::mat_vec(a, v);
+        let residual = av.iter().fold(0.0_f64, |s, x| s.max(x.abs()));
+        let allowed = NULL_SPACE_TOLERANCE * norm_a * largest;
+        if residual > allowed {
+            return Err(m.error(
+                None,
+                format!(
+                    "column {} of N is not in A's null space: ‖A v‖∞ = {residual:e} > {NULL_SPACE_TOLERANCE:e} · ‖A‖∞ · ‖v‖∞ = {allowed:e}",
+                    j + 1
+                ),
+            ));
+        }
+    }
+    Ok(columns)
+}
+
 /// A's checks: square, symmetric (a `general` file to [`SYMMETRY_TOLERANCE`], then symmetrised),
 /// nonnegative diagonal (a necessary condition of positive semidefiniteness).
 fn stiffness(m: &Mtx) -> Result<CscMatrix, QpFileError> {
@@ -489,7 +549,14 @@ pub fn read_qp_dir(dir: &Path) -> Result<QpFiles, QpFileError> {
         m,
         &format!("B ({}) has {m} rows", b.path.display()),
     )?;
+    let kernel_path = dir.join(KERNEL_FILE);
+    let kernel = if kernel_path.exists() {
+        kernel(&read_mtx(&kernel_path)?, &stiffness)?
+    } else {
+        Vec::new()
+    };
     let qp = QpProblem::try_new(stiffness, load, constraints, gap)
+        .and_then(|qp| qp.with_kernel(kernel))
         .map_err(|e| refuse(dir, None, e.to_string()))?;
     let title = std::fs::read_to_string(dir.join("README.txt"))
         .ok()

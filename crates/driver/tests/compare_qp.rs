@@ -4,7 +4,9 @@
 //! * the spring chain written by `scripts/qp-from-scipy.py` (fixtures/qp/spring-chain) gives its
 //!   hand-known optimum from every backend;
 //! * malformed input is refused naming the file and the line, exit code 1, nothing written;
-//! * a QP with a singular A (no null space in the files) is an error row for the dual backends.
+//! * a QP with a singular A is solved by every backend when `N.mtx` (written by `export`) gives
+//!   its null space, and is an error row for the dual backends without it; a wrong N.mtx is
+//!   refused.
 
 mod common;
 use common::signorini;
@@ -411,11 +413,13 @@ fn qp_and_a_scene_together_are_refused() {
     assert!(!dir.path().join("c").exists());
 }
 
-/// A floating body's QP: A is singular and the files carry no null space.  The primal backends
-/// solve it; the dual ones, which need A⁻¹ or the rigid-body modes, are error rows saying so;
-/// the comparison still finishes (exit 2, "not solved"), it does not crash.
+/// A floating body's QP: A is singular.  `export` writes its null space as N.mtx, with which
+/// every backend — the dual ones included — solves it, to the objective of `compare` on the
+/// scene itself.  Without N.mtx, the primal backends solve it and the dual ones (which need A⁻¹
+/// or the rigid-body modes) are error rows saying so; the comparison still finishes (exit 2),
+/// it does not crash.  A wrong N.mtx is refused naming the file.
 #[test]
-fn a_singular_a_without_null_space_is_an_error_row_for_the_dual_backends() {
+fn a_singular_a_needs_its_null_space_for_the_dual_backends() {
     let dir = tempfile::tempdir().unwrap();
     let scene = repo("fixtures/hard/floating.toml");
     let o = signorini(
@@ -423,25 +427,49 @@ fn a_singular_a_without_null_space_is_an_error_row_for_the_dual_backends() {
         dir.path(),
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let o = signorini(
-        &[
-            "compare",
-            "--qp",
-            "x",
-            "--backends",
-            "clarabel,pdas,dual-pgs,dual-ssn,clarabel/dual",
-            "--out",
-            "c",
-        ],
-        dir.path(),
+    assert!(dir.path().join("x/N.mtx").exists());
+    // (clarabel/dual is left out: the condensed dual needs A⁻¹ and refuses a floating body
+    // whatever the files carry.)
+    let backends = "clarabel,pdas,dual-pgs,dual-ssn";
+    let compare = |args: &[&str]| {
+        let mut all = vec!["compare", "--backends", backends];
+        all.extend_from_slice(args);
+        signorini(&all, dir.path())
+    };
+    let o = compare(&["--qp", "x", "--out", "c"]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
     );
+    let o = compare(&[scene.to_str().unwrap(), "--out", "s"]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let files = json(&dir.path().join("c/compare.json"));
+    let direct = json(&dir.path().join("s/compare.json"));
+    let reference = direct["backends"][0]["objective"].as_f64().unwrap();
+    for r in files["backends"].as_array().unwrap() {
+        assert_eq!(r["status"], "solved", "{r}");
+        // Both solved to tol 1e-9: the objectives agree far better than 1e-6.
+        let o = r["objective"].as_f64().unwrap();
+        assert!((o - reference).abs() <= 1e-6 * reference.abs(), "{r}");
+    }
+
+    // Without the null space: error rows for the dual backends.
+    std::fs::remove_file(dir.path().join("x/N.mtx")).unwrap();
+    let o = compare(&["--qp", "x", "--out", "c2"]);
     assert_eq!(
         o.status.code(),
         Some(2),
         "{}",
         String::from_utf8_lossy(&o.stderr)
     );
-    let report = json(&dir.path().join("c/compare.json"));
+    let report = json(&dir.path().join("c2/compare.json"));
     let rows = report["backends"].as_array().unwrap();
     for r in &rows[..2] {
         assert_eq!(r["status"], "solved", "{r}");
@@ -451,8 +479,32 @@ fn a_singular_a_without_null_space_is_an_error_row_for_the_dual_backends() {
         assert!(r["objective"].is_null(), "{r}");
         let message = r["message"].as_str().unwrap();
         assert!(
-            message.contains("A is singular and QP files carry no null space"),
+            message.contains("A is singular and the QP files carry no null space (N.mtx)"),
             "{message}"
         );
     }
+
+    // A vector that is not in A's null space (a unit vector: A's column, O(1)), or of the
+    // wrong length, is refused naming N.mtx.
+    let n = report["dofs"].as_u64().unwrap() as usize;
+    let mut text = format!("%%MatrixMarket matrix array real general\n{n} 1\n1\n");
+    text.push_str(&"0\n".repeat(n - 1));
+    std::fs::write(dir.path().join("x/N.mtx"), &text).unwrap();
+    let o = compare(&["--qp", "x", "--out", "c3"]);
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("N.mtx") && err.contains("not in A's null space"),
+        "{err}"
+    );
+    std::fs::write(
+        dir.path().join("x/N.mtx"),
+        "%%MatrixMarket matrix array real general\n2 1\n1\n0\n",
+    )
+    .unwrap();
+    let o = compare(&["--qp", "x", "--out", "c3"]);
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("N must be n×k"), "{err}");
+    assert!(!dir.path().join("c3").exists());
 }
