@@ -48,15 +48,6 @@ fn settings(backends: &[BackendKind]) -> SuiteSettings {
     }
 }
 
-const ALL: [BackendKind; 6] = [
-    BackendKind::Clarabel,
-    BackendKind::Osqp,
-    BackendKind::DualPgs,
-    BackendKind::DualUzawa,
-    BackendKind::DualSsn,
-    BackendKind::Pdas,
-];
-
 /// A scratch suite: the named fixtures (scene and expectation) copied into a temporary
 /// directory.
 fn scratch(fixtures: &[&str]) -> tempfile::TempDir {
@@ -82,7 +73,12 @@ fn text(o: &std::process::Output) -> (String, String) {
 
 #[test]
 fn the_seed_suite_passes_through_the_library() {
-    let report = suite::run(&repo("fixtures/seed"), &settings(&ALL), |_| {}).unwrap();
+    let report = suite::run(
+        &repo("fixtures/seed"),
+        &settings(&suite::DEFAULT_BACKENDS),
+        |_| {},
+    )
+    .unwrap();
     assert_eq!(report.cases.len(), 19);
     for case in &report.cases {
         assert!(case.error.is_none(), "{}: {:?}", case.name, case.error);

@@ -312,41 +312,8 @@ pub fn render_profile_svg(report: &SuiteReport) -> Result<Option<String>, Output
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::suite::report::Figures;
     use crate::suite::report::Verdict;
-    use signorini_core::qp::KktResiduals;
-
-    fn run(backend: &str, status: &str, solve_s: f64, verdict: Verdict) -> CaseRun {
-        CaseRun {
-            backend: backend.to_string(),
-            status: status.to_string(),
-            backend_status: status.to_string(),
-            iterations: 3,
-            solve_s,
-            ratio_to_floor: solve_s / 0.1,
-            figures: Figures::default(),
-            residuals: KktResiduals::default(),
-            verdict,
-            notes: Vec::new(),
-            message: None,
-        }
-    }
-
-    fn case(name: &str, runs: Vec<CaseRun>) -> CaseReport {
-        CaseReport {
-            name: name.to_string(),
-            scene: format!("{name}.toml"),
-            sha256: String::new(),
-            title: String::new(),
-            dofs: 10,
-            constraints: 3,
-            load: 1.0,
-            floor_s: 0.1,
-            expectation: Some(format!("{name}.expected.json")),
-            error: None,
-            runs,
-        }
-    }
+    use crate::suite::sample::{case, run};
 
     /// Backend C's name needs escaping in the SVG.
     const C: &str = "c<&>";

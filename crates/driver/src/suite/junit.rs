@@ -383,46 +383,13 @@ pub fn junit_xml(report: &SuiteReport) -> String {
 mod tests {
     use super::*;
     use crate::output::xml_sanitize;
-    use crate::suite::report::Figures;
-    use signorini_core::qp::KktResiduals;
+    use crate::suite::sample::{case, run};
 
     /// A backend name that needs escaping everywhere it appears.
     const NASTY_BACKEND: &str = "dual<&>\"'";
     /// A case name with every character class that needs care: markup, quotes, a control
     /// character XML forbids (U+0001), tab, newline, carriage return, non-ASCII.
     const NASTY_CASE: &str = "strips/thin<&\"'>\u{1}\ttab\nnl\rcr é";
-
-    fn run(backend: &str, status: &str, solve_s: f64, verdict: Verdict) -> CaseRun {
-        CaseRun {
-            backend: backend.to_string(),
-            status: status.to_string(),
-            backend_status: status.to_string(),
-            iterations: 7,
-            solve_s,
-            ratio_to_floor: solve_s / 0.01,
-            figures: Figures::default(),
-            residuals: KktResiduals::default(),
-            verdict,
-            notes: Vec::new(),
-            message: None,
-        }
-    }
-
-    fn case(name: &str, runs: Vec<CaseRun>) -> CaseReport {
-        CaseReport {
-            name: name.to_string(),
-            scene: format!("suite/{name}.toml"),
-            sha256: String::new(),
-            title: String::new(),
-            dofs: 10,
-            constraints: 2,
-            load: 1.0,
-            floor_s: 0.01,
-            expectation: None,
-            error: None,
-            runs,
-        }
-    }
 
     /// Every verdict, a case error, a no-contact case, nasty names and messages.
     fn report() -> SuiteReport {

@@ -32,12 +32,25 @@ pub mod check;
 pub mod expectation;
 pub mod junit;
 pub mod report;
+#[cfg(test)]
+pub(crate) mod sample;
 pub mod summary;
 pub mod table;
 pub mod write;
 
 use expectation::Expectation;
 use report::{CaseReport, CaseRun, Figures, PairForce, ProbeValue, SuiteReport, Verdict};
+
+/// The backends a suite runs when none are named: every method, each in its own form (those
+/// not compiled in are left out by the caller, see [`BackendKind::available`]).
+pub const DEFAULT_BACKENDS: [BackendKind; 6] = [
+    BackendKind::Clarabel,
+    BackendKind::Osqp,
+    BackendKind::DualPgs,
+    BackendKind::DualUzawa,
+    BackendKind::DualSsn,
+    BackendKind::Pdas,
+];
 
 /// What every case is run with.
 #[derive(Debug, Clone)]

@@ -1,7 +1,6 @@
 //! `signorini suite`: a directory of scenes through every backend, checked against their expectations.
 
 use anyhow::{Context, Result};
-use signorini::backends::BackendKind;
 use signorini::exit::Exit;
 use signorini_core::mesh::MeshLimits;
 use signorini_core::qp::SolveOptions;
@@ -10,20 +9,10 @@ use crate::args::{parse_backends, time_limit};
 use crate::console::{warn, Console};
 use crate::SuiteArgs;
 
-/// Every backend compiled in, for `suite`.
-pub(crate) const SUITE_BACKENDS: [BackendKind; 6] = [
-    BackendKind::Clarabel,
-    BackendKind::Osqp,
-    BackendKind::DualPgs,
-    BackendKind::DualUzawa,
-    BackendKind::DualSsn,
-    BackendKind::Pdas,
-];
-
 pub(crate) fn suite(args: &SuiteArgs) -> Result<Exit> {
     use signorini::suite::{self, bless::Change};
     let backends = if args.backends.is_empty() {
-        SUITE_BACKENDS
+        suite::DEFAULT_BACKENDS
             .into_iter()
             .filter(|k| k.available())
             .collect()
