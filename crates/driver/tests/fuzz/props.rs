@@ -458,6 +458,19 @@ fn lifted_contrast(scene: &Scene, bodies: [usize; 2]) -> bool {
         .any(|d| d.body == stiff && d.value.iter().any(|v| *v != 0.0))
 }
 
+/// Whether a body outside the pair is loaded (a traction, gravity on a third body, or a
+/// non-zero prescribed displacement): its load is in ‖f‖₁, hence in the length scale Xᵢ of the
+/// pair's rows, although it need not reach them (a known gap, see `KNOWN_GAPS` in fuzz.rs).
+fn loaded_elsewhere(scene: &Scene, bodies: [usize; 2]) -> bool {
+    let other = |b: usize| !bodies.contains(&b);
+    scene.neumann.iter().any(|n| other(n.body))
+        || (scene.gravity.is_some() && (0..scene.bodies.len()).any(other))
+        || scene
+            .dirichlet
+            .iter()
+            .any(|d| other(d.body) && d.value.iter().any(|v| *v != 0.0))
+}
+
 fn distance_to_edges(p: [f64; 2], edges: &[([f64; 2], [f64; 2])]) -> f64 {
     edges
         .iter()
@@ -498,6 +511,9 @@ fn interpenetration(scene: &Scene, outcome: &run::Outcome) -> Option<String> {
         if umax > 0.1 * smaller {
             continue;
         }
+        // The contact rows themselves (Bx ≤ g, the linearised constraints, not the deformed
+        // geometry) violated by more than the allowance below: not a discretisation effect.
+        let rows_violated = outcome.report.residuals.max_penetration;
         // Mortar rows enforce each slave node's gap only as a dual-basis-weighted mean over the
         // node's support (∫ψ_j g ≥ 0), so a slave node itself may end inside the master by a
         // fraction of the displacement varying across that support (a soft master sagging under
@@ -540,8 +556,16 @@ fn interpenetration(scene: &Scene, outcome: &run::Outcome) -> Option<String> {
                     scene.bodies[b].name,
                     if lifted_contrast(scene, pair.bodies) {
                         "; a prescribed displacement on a body 1e20× stiffer than its partner"
+                            .to_string()
+                    } else if rows_violated > tol && loaded_elsewhere(scene, pair.bodies) {
+                        format!(
+                            "; the rows themselves are violated by {rows_violated:.3e}, \
+                             relative_penetration {:.1e}: the row length scale counts a load \
+                             on another body",
+                            outcome.report.residuals.relative_penetration
+                        )
                     } else {
-                        ""
+                        String::new()
                     }
                 ));
             }
