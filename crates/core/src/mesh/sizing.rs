@@ -378,7 +378,8 @@ impl SizeField {
             .map(|(r, h)| {
                 let w = (r[1].min(root[1]) - r[0].max(root[0])).max(0.0);
                 let t = (r[3].min(root[3]) - r[2].max(root[2])).max(0.0);
-                let inside = r[0] <= root[1] && root[0] <= r[1] && r[2] <= root[3] && root[2] <= r[3];
+                let inside =
+                    r[0] <= root[1] && root[0] <= r[1] && r[2] <= root[3] && root[2] <= r[3];
                 if !inside {
                     return 0.0;
                 }
