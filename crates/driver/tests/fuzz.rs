@@ -12,7 +12,8 @@
 //! * accepted scenes write well-formed files.
 //!
 //! `fuzz_scenes` runs `PROPTEST_CASES` cases (default 300; proptest shrinks a failure to a
-//! minimal scene).  `fuzz_cases_replay` replays every scene saved under `tests/fuzz-cases/`.
+//! minimal scene).  `fuzz_cases_replay` replays every scene saved under `tests/fuzz-cases/`
+//! (a scene headed `# fuzz-known-hang: WHY` is listed and skipped until its fix lands).
 //! `fuzz_survey` (ignored; `scripts/fuzz.sh N`) runs N cases without stopping at a failure,
 //! shrinks one example of each property that fails, and prints a summary.
 //!
@@ -170,6 +171,16 @@ fn fuzz_cases_replay() {
             .toml
             .lines()
             .any(|l| l.starts_with("# fuzz-kind: finishes"));
+        // A saved hang whose fix is open (`# fuzz-known-hang: WHY`): skipped, not muted for the
+        // generated cases; remove the header when the fix lands.
+        if let Some(why) = case
+            .toml
+            .lines()
+            .find_map(|l| l.strip_prefix("# fuzz-known-hang:"))
+        {
+            println!("skipped, known hang ({}): {}", why.trim(), path.display());
+            continue;
+        }
         if hangs && KNOWN_GAPS.iter().any(|(p, _)| *p == "finishes") {
             println!(
                 "skipped while `finishes` is a known gap: {}",
