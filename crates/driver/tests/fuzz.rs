@@ -64,8 +64,11 @@ use signorini::backends::BackendKind;
 ///     modulus ~10¹² E) pushed up by 3.7e-3 (fuzz-cases/dual-uzawa-rows-violated-under-
 ///     incompressible-lifting.toml): dual-uzawa stops after 10 iterations with the rows violated
 ///     by 1.0e-3 (clarabel, osqp, dual-ssn 0) at relative_penetration 3e-14 (Xᵢ ≈ 3e10).
-///   Open (qp/residuals.rs, the lead's): Xᵢ from the load that can reach row i, e.g. the
-///   compliance-weighted Σⱼ|fⱼ|/Aⱼⱼ above, restricted to the bodies the row joins.
+///
+///   Open (qp/residuals.rs, the lead's): Xᵢ from the load that can reach row i.  The
+///   compliance-weighted Σⱼ|fⱼ|/Aⱼⱼ above answers lifting forces (|fⱼ|/Aⱼⱼ ≈ the prescribed
+///   value); a load on another body cannot simply be dropped, since a stacked body's load does
+///   reach the rows below it through contact.
 const KNOWN_GAPS: &[(&str, &str)] = &[
     (
         "solved-no-interpenetration",
