@@ -12,7 +12,8 @@
 //! * accepted scenes write well-formed files.
 //!
 //! `fuzz_scenes` runs `PROPTEST_CASES` cases (default 300; proptest shrinks a failure to a
-//! minimal scene).  `fuzz_cases_replay` replays every scene saved under `tests/fuzz-cases/`.
+//! minimal scene).  `fuzz_cases_replay` replays every scene saved under `tests/fuzz-cases/`
+//! (a scene headed `# fuzz-known-hang: WHY` is listed and skipped until its fix lands).
 //! `fuzz_survey` (ignored; `scripts/fuzz.sh N`) runs N cases without stopping at a failure,
 //! shrinks one example of each property that fails, and prints a summary.
 //!
@@ -48,10 +49,33 @@ use signorini::backends::BackendKind;
 ///   residual scale, not a backend, is loose there.  Found when pdas joined `BackendKind::ALL`
 ///   and this scene of the fixed seed went to dual-uzawa.  Open (issue 9's notes): a
 ///   compliance-weighted length scale Σⱼ|fⱼ|/Aⱼⱼ over the row's DOFs.
-const KNOWN_GAPS: &[(&str, &str)] = &[(
-    "solved-no-interpenetration",
-    "a prescribed displacement on a body 1e20× stiffer than its partner",
-)];
+///
+/// * The same loose scale wherever ‖f‖₁ holds forces that are not the pair's displacements: the
+///   pair's own rows (Bu ≤ g, not the deformed geometry) end violated by far more than the
+///   allowance and the core calls it `solved` (the finding's detail says "its rows themselves are
+///   violated by …").  Found by the graded fuzz runs:
+///   - a load on another body (seed 20261123; fuzz-cases/osqp-overlap-left-under-a-load-
+///     elsewhere.toml): three stacked bodies, the top one pulled off by a traction of 1e100, the
+///     lower pair overlapping by 3e-4; osqp leaves that pair's rows violated by 4.4e-5 (with
+///     the CLI's default options, result.json's max_penetration is the whole 3.0e-4; clarabel,
+///     pdas and dual-ssn leave 0, and so does osqp under a traction of 1e-3) and the core
+///     reports `solved` with relative_penetration 8e-104 (Xᵢ ≈ 4e99);
+///   - Dirichlet-lifting forces of a nearly incompressible body (ν = 0.499999999999, bulk
+///     modulus ~10¹² E) pushed up by 3.7e-3 (fuzz-cases/dual-uzawa-rows-violated-under-
+///     incompressible-lifting.toml): dual-uzawa stops after 10 iterations with the rows violated
+///     by 1.0e-3 (clarabel, osqp, dual-ssn 0) at relative_penetration 3e-14 (Xᵢ ≈ 3e10).
+///
+///   Open (qp/residuals.rs, the lead's): Xᵢ from the load that can reach row i.  The
+///   compliance-weighted Σⱼ|fⱼ|/Aⱼⱼ above answers lifting forces (|fⱼ|/Aⱼⱼ ≈ the prescribed
+///   value); a load on another body cannot simply be dropped, since a stacked body's load does
+///   reach the rows below it through contact.
+const KNOWN_GAPS: &[(&str, &str)] = &[
+    (
+        "solved-no-interpenetration",
+        "a prescribed displacement on a body 1e20× stiffer than its partner",
+    ),
+    ("solved-no-interpenetration", "the row length scale counts"),
+];
 
 /// True when a finding is one of the [`KNOWN_GAPS`].
 fn known_gap(f: &Finding) -> bool {
@@ -150,6 +174,16 @@ fn fuzz_cases_replay() {
             .toml
             .lines()
             .any(|l| l.starts_with("# fuzz-kind: finishes"));
+        // A saved hang whose fix is open (`# fuzz-known-hang: WHY`): skipped, not muted for the
+        // generated cases; remove the header when the fix lands.
+        if let Some(why) = case
+            .toml
+            .lines()
+            .find_map(|l| l.strip_prefix("# fuzz-known-hang:"))
+        {
+            println!("skipped, known hang ({}): {}", why.trim(), path.display());
+            continue;
+        }
         if hangs && KNOWN_GAPS.iter().any(|(p, _)| *p == "finishes") {
             println!(
                 "skipped while `finishes` is a known gap: {}",
@@ -211,6 +245,7 @@ fn fuzz_survey() {
     let mut counts: BTreeMap<&'static str, usize> = BTreeMap::new();
     let mut kinds: BTreeMap<String, usize> = BTreeMap::new();
     let mut examples: BTreeMap<String, (Case, Vec<Finding>)> = BTreeMap::new();
+    let mut open_kinds: std::collections::BTreeSet<String> = Default::default();
     let mut passed = 0;
     let start = std::time::Instant::now();
     let mut hangs = 0;
@@ -241,6 +276,11 @@ fn fuzz_survey() {
             *counts.entry(p).or_default() += 1;
         }
         let mut sigs: Vec<String> = found.iter().map(props::signature).collect();
+        // Known or not is decided on the whole detail (a signature is cut at 90 characters): a
+        // kind is enforced when any finding of it is not a known gap.
+        for f in found.iter().filter(|f| !known_gap(f)) {
+            open_kinds.insert(props::signature(f));
+        }
         sigs.sort();
         sigs.dedup();
         for k in &sigs {
@@ -269,10 +309,7 @@ fn fuzz_survey() {
     }
     println!("\nkinds of failure (* = known gap):");
     for (k, c) in &kinds {
-        let (property, detail) = k.split_once(": ").unwrap_or((k, ""));
-        let known = KNOWN_GAPS
-            .iter()
-            .any(|(p, text)| *p == property && detail.contains(text));
+        let known = !open_kinds.contains(k);
         println!("  {c:>7} {} {k}", if known { "*" } else { " " });
     }
     let dump = std::env::var_os("FUZZ_DUMP").map(PathBuf::from);
@@ -301,15 +338,7 @@ fn fuzz_survey() {
             std::fs::write(dir.join(format!("{slug}.toml")), text).expect("dump");
         }
     }
-    let enforced: Vec<&String> = kinds
-        .keys()
-        .filter(|k| {
-            let (property, detail) = k.split_once(": ").unwrap_or((k, ""));
-            !KNOWN_GAPS
-                .iter()
-                .any(|(p, text)| *p == property && detail.contains(text))
-        })
-        .collect();
+    let enforced: Vec<&String> = kinds.keys().filter(|k| open_kinds.contains(*k)).collect();
     assert!(
         enforced.is_empty(),
         "failures outside KNOWN_GAPS: {enforced:?}"

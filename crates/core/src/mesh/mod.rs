@@ -363,6 +363,10 @@ fn p1_graded_elements(polygon: &[Point], field: &sizing::SizeField) -> f64 {
     let area = signed_area(polygon).abs();
     let hmax = field.hmax();
     let [finest, graded] = field.excess_inverse_square(polygon);
+    if !(finest + graded).is_finite() {
+        // Beyond any limit already: the boundary integral would only add time.
+        return f64::INFINITY;
+    }
     (area / (hmax * hmax) + finest) / P1_AREA_PER_ELEMENT
         + graded / P1_GRADED_AREA_PER_ELEMENT
         + graded_boundary_pieces(polygon, field)
@@ -454,6 +458,9 @@ pub fn estimate_nodes_refined(
         }
         ElementKind::P1 => {
             let elements = p1_graded_elements(polygon, &field);
+            if !elements.is_finite() {
+                return usize::MAX;
+            }
             let boundary = graded_boundary_pieces(polygon, &field).ceil();
             (elements.ceil() + boundary + 2.0) / 2.0
         }

@@ -183,16 +183,27 @@ struct BodyParams {
     young: f64,
     poisson: f64,
     support: u8,
+    /// A `[[body.refine]]` over the body's bottom tenth, its hmax this fraction of the body's.
+    refine: Option<f64>,
 }
 
 fn body_params() -> impl Strategy<Value = BodyParams> {
     (
         (0.3..3.0f64, 0.3..2.0f64, prop::bool::weighted(0.08), unit()),
         (gap(), -0.5..0.5f64, hmax(), prop::bool::weighted(0.3)),
-        (young(), poisson(), 0u8..4),
+        (
+            young(),
+            poisson(),
+            0u8..4,
+            prop::option::weighted(0.25, select(vec![0.5, 0.2, 0.05])),
+        ),
     )
         .prop_map(
-            |((width, height, sliver, unit), (gap, shift, hmax, q1), (young, poisson, support))| {
+            |(
+                (width, height, sliver, unit),
+                (gap, shift, hmax, q1),
+                (young, poisson, support, refine),
+            )| {
                 BodyParams {
                     width,
                     height,
@@ -205,6 +216,7 @@ fn body_params() -> impl Strategy<Value = BodyParams> {
                     young,
                     poisson,
                     support,
+                    refine,
                 }
             },
         )
@@ -347,6 +359,20 @@ fn sections(p: &SceneParams) -> Vec<Section> {
             header: "[[body]]",
             entries: e,
         });
+        // A graded mesh (P1 or Q1 alike): the bottom tenth, which is the contact side of every
+        // body but the lowest, finer by `k` (docs/scene.md: the box meets the body, its hmax is
+        // below the body's).
+        if let Some(k) = b.refine {
+            out.push(Section {
+                header: "[[body.refine]]",
+                entries: vec![
+                    Entry::new("region", arr(&[x0, x1, y0, y0 + 0.1 * (y1 - y0)]))
+                        .array()
+                        .num(),
+                    Entry::new("hmax", f(k * h)).num(),
+                ],
+            });
+        }
     }
     for (i, (b, r)) in p.bodies.iter().zip(&rects).enumerate() {
         let [x0, x1, y0, y1] = *r;

@@ -458,6 +458,44 @@ fn lifted_contrast(scene: &Scene, bodies: [usize; 2]) -> bool {
         .any(|d| d.body == stiff && d.value.iter().any(|v| *v != 0.0))
 }
 
+/// Whether a body outside the pair is loaded (a traction, gravity on a third body, or a
+/// non-zero prescribed displacement): its load is in ‖f‖₁, hence in the length scale Xᵢ of the
+/// pair's rows, although it need not reach them (a known gap, see `KNOWN_GAPS` in fuzz.rs).
+fn loaded_elsewhere(scene: &Scene, bodies: [usize; 2]) -> bool {
+    let other = |b: usize| !bodies.contains(&b);
+    scene.neumann.iter().any(|n| other(n.body))
+        || (scene.gravity.is_some() && (0..scene.bodies.len()).any(other))
+        || scene
+            .dirichlet
+            .iter()
+            .any(|d| other(d.body) && d.value.iter().any(|v| *v != 0.0))
+}
+
+/// The largest violation max(0, Bu − g) of pair `pair`'s contact rows (the model's rows are in
+/// pair order), in the scene's length unit.
+fn rows_violation(outcome: &run::Outcome, pair: usize) -> f64 {
+    let model = &outcome.model;
+    let u = &outcome.solution.displacement;
+    let mut first = 0;
+    let mut count = 0;
+    for r in &model.contacts {
+        if r.pair == pair {
+            count = r.rows.len();
+            break;
+        }
+        first += r.rows.len();
+    }
+    let mut bu = vec![0.0; model.gap.len()];
+    for (j, col) in model.constraints.outer_iterator().enumerate() {
+        for (i, b) in col.iter() {
+            bu[i] += b * u.get(j).copied().unwrap_or(0.0);
+        }
+    }
+    (first..(first + count).min(bu.len()))
+        .map(|i| bu[i] - model.gap[i])
+        .fold(0.0, f64::max)
+}
+
 fn distance_to_edges(p: [f64; 2], edges: &[([f64; 2], [f64; 2])]) -> f64 {
     edges
         .iter()
@@ -498,6 +536,7 @@ fn interpenetration(scene: &Scene, outcome: &run::Outcome) -> Option<String> {
         if umax > 0.1 * smaller {
             continue;
         }
+
         // Mortar rows enforce each slave node's gap only as a dual-basis-weighted mean over the
         // node's support (∫ψ_j g ≥ 0), so a slave node itself may end inside the master by a
         // fraction of the displacement varying across that support (a soft master sagging under
@@ -515,6 +554,11 @@ fn interpenetration(scene: &Scene, outcome: &run::Outcome) -> Option<String> {
         let Some(rows) = outcome.model.contacts.iter().find(|r| r.pair == i) else {
             continue;
         };
+        // The pair's contact rows themselves (Bu ≤ g: the linearised constraints, not the
+        // deformed geometry) violated by more than the allowance: not a discretisation effect.
+        // A `solved` status then means relative_penetration = violation / Xᵢ ≤ tol with a row
+        // length scale Xᵢ ≥ 10⁸ × the allowance, which is not this pair's length.
+        let rows_violated = rows_violation(outcome, i);
         for (a, b) in [(rows.slave, rows.master)] {
             let edges = deformed_edges(outcome, b);
             let mesh = &outcome.model.meshes[a];
@@ -540,8 +584,20 @@ fn interpenetration(scene: &Scene, outcome: &run::Outcome) -> Option<String> {
                     scene.bodies[b].name,
                     if lifted_contrast(scene, pair.bodies) {
                         "; a prescribed displacement on a body 1e20× stiffer than its partner"
+                            .to_string()
+                    } else if rows_violated > tol {
+                        format!(
+                            "; its rows themselves are violated by {rows_violated:.3e} \
+                             (relative_penetration {:.1e}): the row length scale counts {}",
+                            outcome.report.residuals.relative_penetration,
+                            if loaded_elsewhere(scene, pair.bodies) {
+                                "a load on another body"
+                            } else {
+                                "forces that are not this pair's displacements"
+                            }
+                        )
                     } else {
-                        ""
+                        String::new()
                     }
                 ));
             }
