@@ -257,21 +257,7 @@ pub fn write_outputs_with(
     outcome: &Outcome,
     vtu: VtuFormat,
 ) -> Result<Vec<PathBuf>, OutputError> {
-    let bodies: Vec<BodyField> = outcome
-        .model
-        .meshes
-        .iter()
-        .zip(&outcome.fields)
-        .zip(&scene.bodies)
-        .map(|((mesh, f), body)| BodyField {
-            name: &body.name,
-            mesh,
-            displacement: &f.displacement,
-            stress: &f.stress,
-            von_mises: &f.von_mises,
-            contact_pressure: &f.contact_pressure,
-        })
-        .collect();
+    let bodies = BodyField::of_bodies(&outcome.model.meshes, &outcome.fields, &scene.bodies);
     let lock = DirLock::acquire(dir)?;
     let mut set = OutputSet::new(&lock, Some(SOLVE_FILES[0]), &SOLVE_FILES)?;
     set.write(SOLVE_FILES[0], |w| {

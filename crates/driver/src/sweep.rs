@@ -1121,20 +1121,7 @@ fn write_solution(
     name: &str,
 ) -> Result<(), OutputError> {
     let fields = signorini_core::report::body_fields(model, sol);
-    let bodies: Vec<crate::output::BodyField> = model
-        .meshes
-        .iter()
-        .zip(&fields)
-        .zip(&scene.bodies)
-        .map(|((mesh, f), body)| crate::output::BodyField {
-            name: &body.name,
-            mesh,
-            displacement: &f.displacement,
-            stress: &f.stress,
-            von_mises: &f.von_mises,
-            contact_pressure: &f.contact_pressure,
-        })
-        .collect();
+    let bodies = crate::output::BodyField::of_bodies(&model.meshes, &fields, &scene.bodies);
     crate::output::check_fields(&bodies)?;
     let mut set = OutputSet::new(lock, Some(name), &[name])?;
     set.write(name, |w| crate::output::write_vtu_to(w, &bodies))?;

@@ -98,21 +98,7 @@ fn read(path: &Path) -> Grid {
 }
 
 fn bodies<'a>(scene: &'a Scene, outcome: &'a Outcome) -> Vec<BodyField<'a>> {
-    outcome
-        .model
-        .meshes
-        .iter()
-        .zip(&outcome.fields)
-        .zip(&scene.bodies)
-        .map(|((mesh, f), body)| BodyField {
-            name: &body.name,
-            mesh,
-            displacement: &f.displacement,
-            stress: &f.stress,
-            von_mises: &f.von_mises,
-            contact_pressure: &f.contact_pressure,
-        })
-        .collect()
+    BodyField::of_bodies(&outcome.model.meshes, &outcome.fields, &scene.bodies)
 }
 
 /// Every array of `grid` equals what `bodies` hold — built here from the meshes and fields, not

@@ -53,6 +53,30 @@ pub struct BodyField<'a> {
     pub contact_pressure: &'a [f64],
 }
 
+impl<'a> BodyField<'a> {
+    /// The views of every body of a solve, in order: its mesh, its fields, its scene entry
+    /// (the name).
+    pub fn of_bodies(
+        meshes: &'a [Mesh],
+        fields: &'a [signorini_core::report::BodyFields],
+        bodies: &'a [signorini_core::scene::Body],
+    ) -> Vec<Self> {
+        meshes
+            .iter()
+            .zip(fields)
+            .zip(bodies)
+            .map(|((mesh, f), body)| BodyField {
+                name: &body.name,
+                mesh,
+                displacement: &f.displacement,
+                stress: &f.stress,
+                von_mises: &f.von_mises,
+                contact_pressure: &f.contact_pressure,
+            })
+            .collect()
+    }
+}
+
 /// Failure to write an output file.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {

@@ -21,12 +21,14 @@
 //! `solve` writes the file with its other outputs exactly when the model has at least one
 //! contact row ([`render_pressure_svg`] returns `None` otherwise).
 
-use super::chart_style::{GREY, LEGEND_FONT, LEGEND_ROW, MARGIN, X_LABELS, Y_LABELS};
 use plotters::prelude::*;
 
 use signorini_core::report::{ContactReport, RunReport};
 use signorini_core::scene::Formulation;
 
+use super::chart_style::{
+    draw_legend, fit_heading, plot_err, GREY, LEGEND_ROW, MARGIN, X_LABELS, Y_LABELS,
+};
 use super::svg::PALETTE;
 use super::{xml_sanitize, OutputError};
 
@@ -37,11 +39,6 @@ const MARKER: u32 = 4;
 
 /// Legend text of the hollow-marker entry.
 pub const INACTIVE_LABEL: &str = "hollow: inactive node (not in contact)";
-
-/// Plotting error to [`OutputError::Plot`].
-fn plot_err<E: std::fmt::Debug>(e: E) -> OutputError {
-    OutputError::Plot(format!("{e:?}"))
-}
 
 /// The formulation as written in the scene and in result.json.
 fn formulation_name(f: Formulation) -> &'static str {
@@ -116,29 +113,6 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-/// Largest heading font size in pixels.
-const HEADING_FONT: u32 = 21;
-/// Smallest heading font size in pixels (longer headings are cut).
-const HEADING_FONT_MIN: u32 = 12;
-/// Average glyph width of the sans-serif font, as a fraction of its size (a generous estimate).
-const GLYPH_WIDTH: f64 = 0.5;
-
-/// The heading and its font size, so that it fits the canvas width: the largest size up to
-/// [`HEADING_FONT`] at which it fits, else [`HEADING_FONT_MIN`] with the text cut and ended by
-/// "…".
-fn fit_heading(heading: String) -> (String, u32) {
-    let room = f64::from(SIZE.0 - 2 * MARGIN);
-    let chars = heading.chars().count().max(1) as f64;
-    let fits = (room / (GLYPH_WIDTH * chars)).floor();
-    if fits >= f64::from(HEADING_FONT_MIN) {
-        return (heading, (fits as u32).min(HEADING_FONT));
-    }
-    let keep = (room / (GLYPH_WIDTH * f64::from(HEADING_FONT_MIN))) as usize;
-    let mut cut: String = heading.chars().take(keep.saturating_sub(1)).collect();
-    cut.push('…');
-    (cut, HEADING_FONT_MIN)
-}
-
 /// Renders `pressure.svg` for the report's contact pairs; `None` when the report has no contact
 /// row (then no file is written).  `title` is the scene's title (any text: it is sanitised, and
 /// plotters escapes `& < > " '`).
@@ -209,7 +183,7 @@ pub fn render_pressure_svg(title: &str, report: &RunReport) -> Result<Option<Str
     } else {
         format!("contact pressure: {}", xml_sanitize(title))
     };
-    let (heading, heading_font) = fit_heading(heading);
+    let (heading, heading_font) = fit_heading(heading, SIZE.0);
     let x_desc = with_scale("s: arc length along the slave interface", ex);
     let y_desc = with_scale("contact pressure p = λ / weight", ey);
 
@@ -294,15 +268,7 @@ pub fn render_pressure_svg(title: &str, report: &RunReport) -> Result<Option<Str
                 .label(note.clone())
                 .legend(|(x, y)| EmptyElement::at((x, y)));
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .margin(10)
-            .label_font(("sans-serif", LEGEND_FONT))
-            .background_style(WHITE.mix(0.9))
-            .border_style(RGBColor(160, 160, 160))
-            .draw()
-            .map_err(plot_err)?;
+        draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
         root.present().map_err(plot_err)?;
     }
     Ok(Some(buf))

@@ -8,6 +8,7 @@ use plotters::prelude::*;
 use signorini_core::mesh::Mesh;
 
 use super::{validate, write_atomically, xml_sanitize, BodyField, OutputError};
+use crate::output::chart_style::plot_err;
 
 /// Largest displacement shown, as a fraction of the scene's size, when magnifying.
 const TARGET_FRACTION: f64 = 0.1;
@@ -165,11 +166,6 @@ pub(super) fn chain_edges(edges: &[[usize; 2]], n_nodes: usize) -> Vec<Vec<usize
         }
     }
     chains
-}
-
-/// Plotting error to [`OutputError::Plot`].
-fn plot_err<E: std::fmt::Debug>(e: E) -> OutputError {
-    OutputError::Plot(format!("{e:?}"))
 }
 
 /// Expands `[x0, x1, y0, y1]` around its centre so that it fills `w × h` pixels at equal scale.

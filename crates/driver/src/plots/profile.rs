@@ -25,19 +25,15 @@ use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint};
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use crate::output::chart_style::{LEGEND_FONT, LEGEND_ROW, MARGIN, X_LABELS, Y_LABELS};
+use crate::output::chart_style::{
+    draw_legend, fit_heading, plot_err, LEGEND_ROW, MARGIN, X_LABELS, Y_LABELS,
+};
 use crate::output::svg::PALETTE;
 use crate::output::{xml_sanitize, OutputError};
 use crate::suite::report::{CaseReport, CaseRun, SuiteReport};
 
 /// Canvas size in pixels (as the sweep's figures).
 const SIZE: (u32, u32) = (900, 620);
-/// Largest heading font size in pixels.
-const HEADING_FONT: u32 = 21;
-/// Smallest heading font size in pixels (longer headings are cut).
-const HEADING_FONT_MIN: u32 = 12;
-/// Average glyph width of the sans-serif font, as a fraction of its size (a generous estimate).
-const GLYPH_WIDTH: f64 = 0.5;
 /// The x axis reaches at least this τ.
 const MIN_TAU: f64 = 10.0;
 /// The x axis ends this factor beyond the largest ratio, so that the last step shows.
@@ -129,27 +125,6 @@ pub fn profile(report: &SuiteReport) -> Vec<(String, Vec<(f64, f64)>)> {
         .collect()
 }
 
-/// Plotting error to [`OutputError::Plot`].
-fn plot_err<E: std::fmt::Debug>(e: E) -> OutputError {
-    OutputError::Plot(format!("{e:?}"))
-}
-
-/// The heading and its font size, so that it fits the canvas width: the largest size up to
-/// [`HEADING_FONT`] at which it fits, else [`HEADING_FONT_MIN`] with the text cut and ended by
-/// "…".
-fn fit_heading(heading: String) -> (String, u32) {
-    let room = f64::from(SIZE.0 - 2 * MARGIN);
-    let chars = heading.chars().count().max(1) as f64;
-    let fits = (room / (GLYPH_WIDTH * chars)).floor();
-    if fits >= f64::from(HEADING_FONT_MIN) {
-        return (heading, (fits as u32).min(HEADING_FONT));
-    }
-    let keep = (room / (GLYPH_WIDTH * f64::from(HEADING_FONT_MIN))) as usize;
-    let mut cut: String = heading.chars().take(keep.saturating_sub(1)).collect();
-    cut.push('…');
-    (cut, HEADING_FONT_MIN)
-}
-
 /// Tick positions on the τ axis `[1, hi]`: 1-2-5 multiples of powers of ten, or only the
 /// powers of ten when that gives more than ten ticks.
 fn tau_ticks(hi: f64) -> Vec<f64> {
@@ -226,12 +201,15 @@ pub fn render_profile_svg(report: &SuiteReport) -> Result<Option<String>, Output
             xml_sanitize(&format!("{b}: {k}/{n} correct ({pct:.0} %)"))
         })
         .collect();
-    let (heading, heading_font) = fit_heading(xml_sanitize(&format!(
-        "performance profile: {} (tol {:e}, {n} case{})",
-        report.dir,
-        report.tolerance,
-        if n == 1 { "" } else { "s" }
-    )));
+    let (heading, heading_font) = fit_heading(
+        xml_sanitize(&format!(
+            "performance profile: {} (tol {:e}, {n} case{})",
+            report.dir,
+            report.tolerance,
+            if n == 1 { "" } else { "s" }
+        )),
+        SIZE.0,
+    );
 
     let mut buf = String::new();
     {
@@ -295,15 +273,7 @@ pub fn render_profile_svg(report: &SuiteReport) -> Result<Option<String>, Output
                 .label(label.clone())
                 .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], legend_style));
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .margin(10)
-            .label_font(("sans-serif", LEGEND_FONT))
-            .background_style(WHITE.mix(0.9))
-            .border_style(RGBColor(160, 160, 160))
-            .draw()
-            .map_err(plot_err)?;
+        draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
         root.present().map_err(plot_err)?;
     }
     Ok(Some(buf))

@@ -1,6 +1,8 @@
 //! Drawing of one log–log figure into an SVG string with plotters.
 
-use crate::output::chart_style::{GREY, LEGEND_FONT, LEGEND_ROW, MARGIN, X_LABELS, Y_LABELS};
+use crate::output::chart_style::{
+    draw_legend, plot_err, GREY, LEGEND_FONT, LEGEND_ROW, MARGIN, X_LABELS, Y_LABELS,
+};
 use crate::output::svg::PALETTE;
 use plotters::coord::combinators::WithKeyPoints;
 use plotters::element::DashedPathElement;
@@ -82,11 +84,6 @@ pub(super) struct Figure {
     pub hline: Option<(f64, String)>,
     /// Extra legend lines without a glyph (e.g. how zero errors are drawn).
     pub notes: Vec<String>,
-}
-
-/// Plotting error to [`OutputError::Plot`].
-fn plot_err<E: std::fmt::Debug>(e: E) -> OutputError {
-    OutputError::Plot(format!("{e:?}"))
 }
 
 /// The figure with every text [`xml_sanitize`]d: plotters escapes `& < > " '` itself but
@@ -208,15 +205,7 @@ pub(super) fn render(fig: &Figure) -> Result<Option<String>, OutputError> {
                 .label(note.clone())
                 .legend(|(x, y)| EmptyElement::at((x, y)));
         }
-        chart
-            .configure_series_labels()
-            .position(corner)
-            .margin(10)
-            .label_font(("sans-serif", LEGEND_FONT))
-            .background_style(WHITE.mix(0.9))
-            .border_style(RGBColor(160, 160, 160))
-            .draw()
-            .map_err(plot_err)?;
+        draw_legend(&mut chart, corner)?;
         root.present().map_err(plot_err)?;
     }
     Ok(Some(buf))
