@@ -563,6 +563,69 @@ pub fn read_for_resume(
         path: path.to_path_buf(),
         source,
     })?;
+    let the_grid = grid(plan);
+    let (hmaxes, tols, backends) = &the_grid;
+    let mut seen: HashMap<String, u64> = HashMap::new();
+    let mut points = Vec::new();
+    read_rows_strict(bytes, refuse, |line, p| {
+        if p.scene_hash != hash {
+            return Err(refuse(
+                line,
+                format!(
+                    "scene_hash {} is not this scene's {hash}: the file belongs to another scene (or other --bodies)",
+                    p.scene_hash
+                ),
+            ));
+        }
+        if !hmaxes.iter().any(|h| h.to_bits() == p.hmax.to_bits()) {
+            return Err(refuse(line, format!("hmax {} is not in --hmax", p.hmax)));
+        }
+        if !tols.iter().any(|t| t.to_bits() == p.tol.to_bits()) {
+            return Err(refuse(line, format!("tol {:e} is not in --tol", p.tol)));
+        }
+        if !backends.iter().any(|b| b.name() == p.backend) {
+            return Err(refuse(
+                line,
+                format!("backend \"{}\" is not in --backends", p.backend),
+            ));
+        }
+        if let (Some(s), Some(k)) = (plan.shard, plan_index(&the_grid, &p)) {
+            if !s.owns(k) {
+                return Err(refuse(
+                    line,
+                    format!(
+                        "point {k} of the plan belongs to shard {}/{}, not to this shard {s}",
+                        Shard::of_point(k, s.count),
+                        s.count
+                    ),
+                ));
+            }
+        }
+        if let Some(first) = seen.insert(key(p.hmax, &p.backend, p.tol), line) {
+            return Err(refuse(
+                line,
+                format!(
+                    "repeats the point of line {first} (hmax {}, {}, tol {:e})",
+                    p.hmax, p.backend, p.tol
+                ),
+            ));
+        }
+        points.push(p);
+        Ok(())
+    })?;
+    Ok(points)
+}
+
+/// `sweep.csv`'s bytes checked and read row by row, for `--resume` and `sweep merge`: UTF-8
+/// text ending in a line break, the header [`COLUMNS`] (a file without `scene_hash`, or with an
+/// older version's shorter header, is named as such), every row complete and readable with a
+/// status; each row is handed to `row` with its line.  Every refusal is `refuse(line, reason)`
+/// (lines from 1); the first one stops the reading.
+pub(crate) fn read_rows_strict<E>(
+    bytes: Vec<u8>,
+    refuse: impl Fn(u64, String) -> E,
+    mut row: impl FnMut(u64, Point) -> Result<(), E>,
+) -> Result<(), E> {
     let text = String::from_utf8(bytes).map_err(|e| {
         let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
             .iter()
@@ -611,10 +674,6 @@ pub fn read_for_resume(
             ),
         ));
     }
-    let the_grid = grid(plan);
-    let (hmaxes, tols, backends) = &the_grid;
-    let mut seen: HashMap<String, u64> = HashMap::new();
-    let mut points = Vec::new();
     let mut record = csv::StringRecord::new();
     loop {
         let more = reader.read_record(&mut record).map_err(|e| {
@@ -630,60 +689,17 @@ pub fn read_for_resume(
             }
         })?;
         if !more {
-            break;
+            return Ok(());
         }
         let line = record.position().map_or(0, csv::Position::line);
         let p: Point = record
             .deserialize(Some(&header))
             .map_err(|e| refuse(line, format!("unreadable row: {e}")))?;
-        if p.scene_hash != hash {
-            return Err(refuse(
-                line,
-                format!(
-                    "scene_hash {} is not this scene's {hash}: the file belongs to another scene (or other --bodies)",
-                    p.scene_hash
-                ),
-            ));
-        }
-        if !hmaxes.iter().any(|h| h.to_bits() == p.hmax.to_bits()) {
-            return Err(refuse(line, format!("hmax {} is not in --hmax", p.hmax)));
-        }
-        if !tols.iter().any(|t| t.to_bits() == p.tol.to_bits()) {
-            return Err(refuse(line, format!("tol {:e} is not in --tol", p.tol)));
-        }
-        if !backends.iter().any(|b| b.name() == p.backend) {
-            return Err(refuse(
-                line,
-                format!("backend \"{}\" is not in --backends", p.backend),
-            ));
-        }
         if p.status.trim().is_empty() {
             return Err(refuse(line, "empty status".into()));
         }
-        if let (Some(s), Some(k)) = (plan.shard, plan_index(&the_grid, &p)) {
-            if !s.owns(k) {
-                return Err(refuse(
-                    line,
-                    format!(
-                        "point {k} of the plan belongs to shard {}/{}, not to this shard {s}",
-                        Shard::of_point(k, s.count),
-                        s.count
-                    ),
-                ));
-            }
-        }
-        if let Some(first) = seen.insert(key(p.hmax, &p.backend, p.tol), line) {
-            return Err(refuse(
-                line,
-                format!(
-                    "repeats the point of line {first} (hmax {}, {}, tol {:e})",
-                    p.hmax, p.backend, p.tol
-                ),
-            ));
-        }
-        points.push(p);
+        row(line, p)?;
     }
-    Ok(points)
 }
 
 /// Writes `points` as `sweep.csv` (header first, even without points).

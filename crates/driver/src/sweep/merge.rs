@@ -248,70 +248,19 @@ fn plan_point(m: &Manifest, p: &Point) -> Option<usize> {
     Some(1 + (ih * m.tols.len() + it) * m.backends.len() + ib)
 }
 
-/// Reads a shard's `sweep.csv` strictly; returns `(line, point)` pairs.
+/// Reads a shard's `sweep.csv` strictly (see [`super::read_rows_strict`]); returns `(line, point)`
+/// pairs.
 fn read_rows(path: &Path) -> Result<Vec<(u64, Point)>, MergeError> {
     let bytes = std::fs::read(path).map_err(|e| refused(path, None, e.to_string()))?;
-    let text = String::from_utf8(bytes).map_err(|e| {
-        let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count() as u64;
-        refused(path, Some(line), "not UTF-8 text")
-    })?;
-    if text.is_empty() {
-        return Err(refused(path, Some(1), "the file is empty (no header)"));
-    }
-    if !text.ends_with('\n') {
-        let line = 1 + text.matches('\n').count() as u64;
-        return Err(refused(
-            path,
-            Some(line),
-            "the line is incomplete (no line break at the end of the file)",
-        ));
-    }
-    let mut reader = csv::ReaderBuilder::new().from_reader(text.as_bytes());
-    let header = reader
-        .headers()
-        .map_err(|e| refused(path, Some(1), format!("unreadable header: {e}")))?
-        .clone();
-    if !header.iter().eq(super::COLUMNS.iter().copied()) {
-        return Err(refused(
-            path,
-            Some(1),
-            format!(
-                "the header is not sweep.csv's: expected {}",
-                super::COLUMNS.join(",")
-            ),
-        ));
-    }
     let mut rows = Vec::new();
-    let mut record = csv::StringRecord::new();
-    loop {
-        let more = reader.read_record(&mut record).map_err(|e| {
-            let line = e.position().map(csv::Position::line);
-            match e.kind() {
-                csv::ErrorKind::UnequalLengths {
-                    expected_len, len, ..
-                } => refused(
-                    path,
-                    line,
-                    format!("{len} fields, but the header has {expected_len}"),
-                ),
-                _ => refused(path, line, e.to_string()),
-            }
-        })?;
-        if !more {
-            break;
-        }
-        let line = record.position().map_or(0, csv::Position::line);
-        let p: Point = record
-            .deserialize(Some(&header))
-            .map_err(|e| refused(path, Some(line), format!("unreadable row: {e}")))?;
-        if p.status.trim().is_empty() {
-            return Err(refused(path, Some(line), "empty status"));
-        }
-        rows.push((line, p));
-    }
+    super::read_rows_strict(
+        bytes,
+        |line, reason| refused(path, Some(line), reason),
+        |line, p| {
+            rows.push((line, p));
+            Ok(())
+        },
+    )?;
     Ok(rows)
 }
 
