@@ -130,16 +130,32 @@ pub fn qp_provenance(dir: &Path, settings: BackendSettings) -> std::io::Result<P
     for name in ["A.mtx", "f.mtx", "B.mtx", "g.mtx"] {
         bytes.extend(std::fs::read(dir.join(name))?);
     }
-    Ok(Provenance {
+    Ok(provenance_of(
+        Some(dir.display().to_string()),
+        sha256_hex(&bytes),
+        settings,
+    ))
+}
+
+/// The provenance of a run of the input at `path` whose bytes hash to `sha256`, with
+/// `settings`: this program's version and, when the build recorded it, its commit; the path and
+/// hash; the settings; the core count.  (For a suite: the directory and
+/// [`crate::suite::suite_sha256`].)
+pub fn provenance_of(
+    path: Option<String>,
+    sha256: String,
+    settings: BackendSettings,
+) -> Provenance {
+    Provenance {
         version: env!("CARGO_PKG_VERSION").to_string(),
         commit: option_env!("SIGNORINI_COMMIT")
             .filter(|c| !c.trim().is_empty())
             .map(|c| c.trim().to_string()),
-        scene_path: Some(dir.display().to_string()),
-        scene_sha256: sha256_hex(&bytes),
+        scene_path: path,
+        scene_sha256: sha256,
         settings,
         cores: cores(),
-    })
+    }
 }
 
 /// The logical cores this process may use (1 when unknown).
@@ -154,16 +170,11 @@ pub fn provenance(
     scene: Option<&Path>,
     settings: BackendSettings,
 ) -> Result<Provenance, SceneError> {
-    Ok(Provenance {
-        version: env!("CARGO_PKG_VERSION").to_string(),
-        commit: option_env!("SIGNORINI_COMMIT")
-            .filter(|c| !c.trim().is_empty())
-            .map(|c| c.trim().to_string()),
-        scene_path: scene.map(|p| p.display().to_string()),
-        scene_sha256: scene_sha256(scene)?,
+    Ok(provenance_of(
+        scene.map(|p| p.display().to_string()),
+        scene_sha256(scene)?,
         settings,
-        cores: cores(),
-    })
+    ))
 }
 
 #[cfg(test)]

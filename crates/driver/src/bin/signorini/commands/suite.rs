@@ -57,13 +57,13 @@ pub(crate) fn suite(args: &SuiteArgs) -> Result<Exit> {
         max_iter: settings.solve.max_iter,
         chain: Vec::new(),
     };
-    report.provenance = Some(signorini::contract::provenance(None, settings_report)?);
-    if let Some(p) = report.provenance.as_mut() {
-        // The suite's scenes are many: each case records its own file's hash, and the suite's
-        // is that of the list of cases with theirs (see suite::suite_sha256).
-        p.scene_path = Some(args.dir.display().to_string());
-        p.scene_sha256 = suite::suite_sha256(&report.cases);
-    }
+    // The suite's scenes are many: each case records its own file's hash, and the suite's is
+    // that of the list of cases with theirs.
+    report.provenance = Some(signorini::contract::provenance_of(
+        Some(args.dir.display().to_string()),
+        suite::suite_sha256(&report.cases),
+        settings_report,
+    ));
     if let Some(baseline) = &baseline {
         report.baseline = Some(suite::baseline::compare(&report, baseline, args.factor));
     }
