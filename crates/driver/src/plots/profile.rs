@@ -283,7 +283,7 @@ pub fn render_profile_svg(report: &SuiteReport) -> Result<Option<String>, Output
 mod tests {
     use super::*;
     use crate::suite::report::Verdict;
-    use crate::suite::sample::{case, run};
+    use crate::suite::sample::{self, case, run};
 
     /// Backend C's name needs escaping in the SVG.
     const C: &str = "c<&>";
@@ -336,17 +336,12 @@ mod tests {
             broken,
             free,
         ];
-        SuiteReport {
-            provenance: None,
-            repeat: 1,
-            baseline: None,
-            dir: "fixtures/seed".into(),
-            tolerance: 1e-8,
-            time_limit_s: None,
-            backends: vec!["A".into(), "B".into(), C.into()],
-            summary: Vec::new(),
+        sample::report(
+            "fixtures/seed",
+            vec!["A".into(), "B".into(), C.into()],
             cases,
-        }
+            None,
+        )
     }
 
     #[test]

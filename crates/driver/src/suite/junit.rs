@@ -383,7 +383,7 @@ pub fn junit_xml(report: &SuiteReport) -> String {
 mod tests {
     use super::*;
     use crate::output::xml_sanitize;
-    use crate::suite::sample::{case, run};
+    use crate::suite::sample::{self, case, run};
 
     /// A backend name that needs escaping everywhere it appears.
     const NASTY_BACKEND: &str = "dual<&>\"'";
@@ -440,17 +440,7 @@ mod tests {
             broken,
             free,
         ];
-        SuiteReport {
-            provenance: None,
-            repeat: 1,
-            baseline: None,
-            dir: "fixtures/<seed> & co".to_string(),
-            tolerance: 1e-8,
-            time_limit_s: Some(30.0),
-            summary: super::super::summary::summarise(&backends, &cases, Some(30.0)),
-            backends,
-            cases,
-        }
+        sample::report("fixtures/<seed> & co", backends, cases, Some(30.0))
     }
 
     fn attr_usize(n: roxmltree::Node, a: &str) -> usize {

@@ -3,7 +3,7 @@
 
 use signorini_core::qp::KktResiduals;
 
-use super::report::{CaseReport, CaseRun, Figures, Verdict};
+use super::report::{CaseReport, CaseRun, Figures, SuiteReport, Verdict};
 
 /// The floor of every sample case, seconds.
 pub(crate) const FLOOR_S: f64 = 0.01;
@@ -39,5 +39,25 @@ pub(crate) fn case(name: &str, runs: Vec<CaseRun>) -> CaseReport {
         expectation: None,
         error: None,
         runs,
+    }
+}
+
+/// A suite report of `cases` run by `backends` from `dir` at tol 1e-8, its summary filled in.
+pub(crate) fn report(
+    dir: &str,
+    backends: Vec<String>,
+    cases: Vec<CaseReport>,
+    time_limit_s: Option<f64>,
+) -> SuiteReport {
+    SuiteReport {
+        provenance: None,
+        repeat: 1,
+        baseline: None,
+        dir: dir.to_string(),
+        tolerance: 1e-8,
+        time_limit_s,
+        summary: super::summary::summarise(&backends, &cases, time_limit_s),
+        backends,
+        cases,
     }
 }
