@@ -237,18 +237,13 @@ pub fn suite_sha256(cases: &[CaseReport]) -> String {
     crate::contract::sha256_hex(list.as_bytes())
 }
 
-/// A case that could not run: its `error`, no run.
-fn failed_case(mut case: CaseReport, error: String) -> CaseReport {
-    case.error = Some(error);
-    case
-}
-
-/// Runs one scene (see the module's docs); `progress` is told `mesh`, then each backend.
+/// Runs one scene (see the module's docs); `progress` is told `mesh`, then each backend.  A
+/// case that cannot run has its `error` set and no run.
 pub fn run_case(
     path: &Path,
     name: &str,
     settings: &SuiteSettings,
-    mut progress: impl FnMut(&str),
+    progress: impl FnMut(&str),
 ) -> CaseReport {
     let mut case = CaseReport {
         name: name.to_string(),
@@ -263,44 +258,44 @@ pub fn run_case(
         error: None,
         runs: Vec::new(),
     };
-    progress("mesh");
-    match std::fs::read(path) {
-        Ok(bytes) => case.sha256 = crate::contract::sha256_hex(&bytes),
-        Err(e) => return failed_case(case, format!("cannot read {}: {e}", path.display())),
+    if let Err(error) = fill_case(&mut case, path, settings, progress) {
+        case.runs.clear();
+        case.error = Some(error);
     }
-    let scene = match Scene::from_path(path) {
-        Ok(s) => s,
-        Err(e) => return failed_case(case, e.to_string()),
-    };
+    case
+}
+
+/// [`run_case`]'s work: fills `case` in as it goes; the first failure is returned as the case's
+/// error.
+fn fill_case(
+    case: &mut CaseReport,
+    path: &Path,
+    settings: &SuiteSettings,
+    mut progress: impl FnMut(&str),
+) -> Result<(), String> {
+    progress("mesh");
+    let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    case.sha256 = crate::contract::sha256_hex(&bytes);
+    let scene = Scene::from_path(path).map_err(|e| e.to_string())?;
     case.title = scene.title.clone();
     let expectation_path = expectation::path_for(path);
-    let expectation = match Expectation::read(&expectation_path) {
-        Ok(e) => e,
-        Err(e) => return failed_case(case, e.to_string()),
-    };
+    let expectation = Expectation::read(&expectation_path).map_err(|e| e.to_string())?;
     if expectation.is_some() {
         case.expectation = Some(expectation_path.display().to_string());
     }
     let start = Instant::now();
-    let prepared = match run::prepare(&scene, &settings.limits) {
-        Ok(p) => p,
-        Err(e) => return failed_case(case, e.to_string()),
-    };
     let run::Prepared {
         model,
         qp,
         mesh_s,
         assemble_s,
-    } = prepared;
+    } = run::prepare(&scene, &settings.limits).map_err(|e| e.to_string())?;
     let model = &model;
     case.dofs = model.free.len();
     case.constraints = model.rows();
     let load: f64 = model.load.iter().map(|f| f.abs()).sum();
     case.load = load;
-    let floor = match measure_floor(&qp) {
-        Ok(f) => f,
-        Err(e) => return failed_case(case, e.to_string()),
-    };
+    let floor = measure_floor(&qp).map_err(|e| e.to_string())?;
     case.floor_s = floor.seconds;
     let qp = solve::ScaledQp::new(qp);
     let outcomes = if model.rows() == 0 {
@@ -319,19 +314,16 @@ pub fn run_case(
             });
         vec![result.map_err(|e| ("cholesky".to_string(), e))]
     } else {
-        match solve_each(
+        let mut o = solve_each(
             model,
             &qp,
             &settings.backends,
             &settings.solve,
             &mut progress,
-        ) {
-            Ok(mut o) => {
-                repeat_timing(model, &qp, settings, &mut o);
-                o
-            }
-            Err(e) => return failed_case(case, e.to_string()),
-        }
+        )
+        .map_err(|e| e.to_string())?;
+        repeat_timing(model, &qp, settings, &mut o);
+        o
     };
     for (i, outcome) in outcomes.into_iter().enumerate() {
         // Named as asked (`auto` stays `auto`, whichever backend it chose).
@@ -370,7 +362,7 @@ pub fn run_case(
         run.verdict = verdict;
         run.notes = notes;
     }
-    case
+    Ok(())
 }
 
 /// Re-runs each backend whose first solve succeeded in less than [`REPEAT_BELOW_S`] until it
