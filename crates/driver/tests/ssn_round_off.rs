@@ -2,10 +2,15 @@
 //! between two ordinary bodies, held in y by mortar contact on both sides (found by the graded
 //! fuzz survey, shrunk by hand).  dual-ssn kept taking dense Newton steps — a dense LU of up to
 //! 4857 rows each — while the signs of νᵢ / Hᵢᵢ (noise: the sliver's compliance is 1e30 times
-//! the others') moved the set, although its iterate met the KKT tolerance after three steps: no
-//! answer within 30 s.  It now checks a moving set's iterate (one sparse solve) from the third
-//! step on.  The bound is on steps, not seconds: before the fix, a 30 s limit ended it after
-//! about sixty.
+//! the others') moved the set: no answer within 30 s.  It now checks a moving set's iterate (one
+//! sparse solve) from the third step on and stops when it meets the tolerance or when two
+//! checks in a row fail to halve the best residual.  The bound is on steps, not seconds: before
+//! the fix, a 30 s limit ended it after about sixty.
+//!
+//! Its verdict was `solved` until issue 18: the row scale ‖f‖₁ / kᵢ counted the sliver's
+//! compliance (Xᵢ ≈ 1e26), so a slave node 5.8e8 inside its master passed.  Against the
+//! row-local scale (the loads move the pair by ~1e-4) that iterate is far from the answer, and
+//! the run must say so: `inaccurate`, with the reason in its message.
 #![allow(clippy::unwrap_used)]
 
 use std::time::Duration;
@@ -70,7 +75,7 @@ formulation = "mortar"
 "#;
 
 #[test]
-fn dual_ssn_stops_when_the_iterate_meets_the_tolerance_while_the_set_moves_on_noise() {
+fn dual_ssn_stops_when_the_set_moves_on_noise() {
     let scene = Scene::from_toml(SCENE).unwrap();
     let mut backend = make_backend(BackendKind::DualSsn).unwrap();
     let options = SolveOptions {
@@ -82,8 +87,14 @@ fn dual_ssn_stops_when_the_iterate_meets_the_tolerance_while_the_set_moves_on_no
     let outcome =
         run::solve_scene(&scene, backend.as_mut(), &options, &MeshLimits::default()).unwrap();
     let s = &outcome.solution;
-    assert_eq!(s.status, QpStatus::Solved, "{:?}", s.message);
-    // Three dense steps and the check; allow a couple more for another ordering of round-off.
-    assert!(s.iterations <= 5, "{} steps: {:?}", s.iterations, s.message);
-    assert!(s.residuals.meet(1e-9), "{:?}", s.residuals);
+    // Three dense steps, then at most two checks that fail to halve the residual (or the
+    // check that meets the tolerance); two more for another ordering of round-off.
+    assert!(s.iterations <= 7, "{} steps: {:?}", s.iterations, s.message);
+    if s.status == QpStatus::Solved {
+        // A true `solved` is welcome, but only with the residuals it claims.
+        assert!(s.residuals.meet(1e-9), "{:?}", s.residuals);
+    } else {
+        assert_eq!(s.status, QpStatus::Inaccurate, "{:?}", s.message);
+        assert!(!s.residuals.meet(1e-9), "{:?}", s.residuals);
+    }
 }

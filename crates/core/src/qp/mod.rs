@@ -22,6 +22,7 @@ mod dual_form;
 mod ops;
 mod problem;
 mod residuals;
+mod scales;
 mod scaling;
 mod status;
 

@@ -218,3 +218,110 @@ fn a_non_finite_answer_becomes_numerical_error_with_zeros() {
     assert_eq!(zeroed.iterations, 3);
     assert_eq!(zeroed.message.as_deref(), Some("non-finite answer: done"));
 }
+
+/// A QP of uncoupled 1-D springs: diagonal A, loads f, and rows given as (DOF, coefficient)
+/// lists with their gaps.
+fn springs(diag: &[f64], load: &[f64], rows: &[(&[(usize, f64)], f64)]) -> QpProblem {
+    let n = diag.len();
+    let mut a = TriMat::new((n, n));
+    for (j, d) in diag.iter().enumerate() {
+        a.add_triplet(j, j, *d);
+    }
+    let mut b = TriMat::new((rows.len(), n));
+    for (i, (entries, _)) in rows.iter().enumerate() {
+        for (j, v) in entries.iter() {
+            b.add_triplet(i, *j, *v);
+        }
+    }
+    let gap = rows.iter().map(|(_, g)| *g).collect();
+    QpProblem::try_new(a.to_csc(), load.to_vec(), b.to_csc(), gap).unwrap()
+}
+
+#[test]
+fn a_load_that_cannot_reach_a_row_does_not_loosen_it() {
+    // DOF 0 (stiffness 1, load 1) under the row x₀ ≤ 0.5: the optimum is x₀ = 0.5, λ = 0.5.
+    // DOF 1 is another body in no pair, pulled by 1e10.  A penetration of 1e-3 (0.2 % of the
+    // row's own motion) used to be measured against ‖f‖₁ / k₀ ≈ 1e10 (relative 1e-13, `solved`
+    // at 1e-9, as the dual-pgs case of issue 18); DOF 1 is not in row 0's component, so
+    // X₀ = W = |f₀| / A₀₀ = 1 and the penetration is 1e-3 of it.
+    let p = springs(&[1.0, 1.0], &[1.0, 1e10], &[(&[(0, 1.0)], 0.5)]);
+    let s = ResidualScales::of(&p);
+    assert_eq!(s.rows, vec![1.0]);
+    assert_eq!(s.dof_forces, vec![1.0, 1e10]);
+    let exact = kkt_residuals(&p, &[0.5, 1e10], &[0.5]);
+    assert!(exact.meet(1e-15), "{exact:?}");
+    // The wrong answer keeps equilibrium on DOF 0 (λ = 1 − x₀) and penetrates by 1e-3.
+    let wrong = kkt_residuals(&p, &[0.501, 1e10], &[0.499]);
+    assert!(
+        (wrong.relative_penetration - 1e-3).abs() < 1e-12,
+        "{wrong:?}"
+    );
+    assert!(!wrong.meet(1e-9));
+    // Equilibrium off by 1e-3 on DOF 0 is 1e-3 of DOF 0's own force scale, not 1e-13.
+    let unbalanced = kkt_residuals(&p, &[0.5, 1e10], &[0.499]);
+    assert!(
+        (unbalanced.stationarity - 1e-3).abs() < 1e-12,
+        "{unbalanced:?}"
+    );
+}
+
+#[test]
+fn an_unloaded_soft_body_cannot_drift_into_its_partner() {
+    // The default-backend case of issue 18 in one dimension: body b1 (DOF 1, stiffness 1) is
+    // pushed by 1 towards b0 (DOF 0, stiffness 1e-12, unloaded, held only by contact) across a
+    // gap of 0.1: row x₁ − x₀ ≤ 0.1.  A wrong answer lets b1 end 0.045 inside b0 while each DOF
+    // is in equilibrium with λ = 1e-12 x₀.  Against ‖f‖₁ / k₀ (the row's harmonic stiffness
+    // 2e-12) the penetration was 9e-14 of the scale — `solved` at 1e-9; the load that can act on
+    // the row moves b1 by W = 1 (b0 carries none), so the penetration is 0.045 of the scale.
+    let p = springs(&[1e-12, 1.0], &[0.0, 1.0], &[(&[(0, -1.0), (1, 1.0)], 0.1)]);
+    let x1 = 1.0 - 1e-12;
+    let x0 = x1 - 0.1 - 0.045;
+    let lambda = 1e-12 * x0;
+    let wrong = kkt_residuals(&p, &[x0, 1.0 - lambda], &[lambda]);
+    assert!(wrong.stationarity < 1e-15, "{wrong:?}");
+    assert!(
+        (wrong.relative_penetration - 0.045).abs() < 1e-9,
+        "{wrong:?}"
+    );
+    assert!(!wrong.meet(1e-9));
+}
+
+#[test]
+fn lifting_forces_count_by_the_displacement_they_prescribe() {
+    // A 1e30-stiff DOF whose load is the lifting of a prescribed displacement of 1e-3
+    // (f₀ = A₀₀ · 1e-3), touching a soft unloaded DOF: row x₀ − x₁ ≤ 0.  The row's harmonic
+    // stiffness is ≈ 2, so ‖f‖₁ / kᵢ ≈ 5e26 hid a penetration of 1 % of the motion (the first
+    // fuzz known gap); W = f₀ / A₀₀ = 1e-3 is the motion itself.
+    let p = springs(&[1e30, 1.0], &[1e27, 0.0], &[(&[(0, 1.0), (1, -1.0)], 0.0)]);
+    let s = ResidualScales::of(&p);
+    assert!((s.rows[0] - 1e-3).abs() < 1e-18, "{s:?}");
+    let wrong = kkt_residuals(&p, &[1e-3, 1e-3 - 1e-5], &[1e-3 - 1e-5]);
+    assert!(
+        (wrong.relative_penetration - 1e-2).abs() < 1e-9,
+        "{wrong:?}"
+    );
+    assert!(!wrong.meet(1e-9));
+}
+
+#[test]
+fn a_soft_loaded_body_on_a_stiff_pair_is_judged_by_the_pair_s_stiffness() {
+    // Not stricter than physics allows: a soft body (DOF 0, stiffness 1e-3) pushed by 1 rests on
+    // a stiff one (DOF 1, stiffness 1e3) across a gap of 0.1: row x₀ − x₁ ≤ 0.1.  Its load
+    // reaches the row, and moves the row's DOFs by about ‖f‖₁ / kᵢ = 500 (kᵢ = 2e-3, the
+    // harmonic mean), less than W = 1000.  The exact answer (closed form below) meets 1e-12;
+    // the stiff body's motion (≈ 1e-3) is well inside the scale, so a penetration of 1e-7 of
+    // the row scale is still seen.
+    let p = springs(&[1e-3, 1e3], &[1.0, 0.0], &[(&[(0, 1.0), (1, -1.0)], 0.1)]);
+    let s = ResidualScales::of(&p);
+    assert!(
+        (s.rows[0] - 1.0 / (2.0 / (1e3 + 1e-3))).abs() < 1e-9,
+        "{s:?}"
+    );
+    // Active row: x₀ = x₁ + 0.1 and 1e-3 x₀ − 1 + λ = 0, 1e3 x₁ − λ = 0.
+    let x1 = (1.0 - 1e-4) / (1e3 + 1e-3);
+    let x0 = x1 + 0.1;
+    let lambda = 1e3 * x1;
+    assert!(kkt_residuals(&p, &[x0, x1], &[lambda]).meet(1e-12));
+    let deeper = kkt_residuals(&p, &[x0 + 5e-5, x1], &[lambda]);
+    assert!(deeper.relative_penetration > 9e-8, "{deeper:?}");
+}
