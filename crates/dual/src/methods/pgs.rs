@@ -13,7 +13,7 @@
 
 use std::time::{Duration, Instant};
 
-use signorini_core::qp::{dot, kkt_residuals, mat_t_vec, QpError, QpStatus};
+use signorini_core::qp::{dot, mat_t_vec, QpError, QpStatus};
 
 use crate::dual::{DualData, Outcome};
 use crate::error::DualError;
@@ -159,7 +159,7 @@ pub fn run(
     };
     loop {
         if let Some((status, message)) = monitor.limit(iter) {
-            return finish_at_limit(data, monitor.tol(), iter, lambda, status, message);
+            return finish_at_limit(data, monitor, iter, lambda, status, message);
         }
         let started = Instant::now();
         sweep(
@@ -248,8 +248,9 @@ pub fn run(
             }
         }
         checked = Some(sparse);
-        let worst = kkt_residuals(data.problem, &x, &lambda).worst();
+        let worst = monitor.residuals(&x, &lambda).worst();
         if let Some(message) = progress.record(iter, worst, monitor.tol(), monitor.max_iter()) {
+            let message = monitor.explain(message);
             return stop(lambda, x, iter, QpStatus::Inaccurate, message);
         }
         if stalled >= STALL_SWEEPS {
@@ -258,9 +259,9 @@ pub fn run(
                 x,
                 iter,
                 QpStatus::Inaccurate,
-                format!(
+                monitor.explain(format!(
                     "PGS stalled: the dual objective changed by less than round-off for {STALL_SWEEPS} sweeps (at sweep {iter}) without meeting the tolerance — try dual-ssn or pdas"
-                ),
+                )),
             );
         }
         gradient = residual(&hessian, &lambda, &inner_load);

@@ -107,12 +107,7 @@ pub fn solve(
     loop {
         if let Some((status, message)) = monitor.limit(iter) {
             return Ok(finish_at_limit(
-                data,
-                monitor.tol(),
-                iter,
-                lambda,
-                status,
-                message,
+                data, monitor, iter, lambda, status, message,
             ));
         }
         seen.insert(active.clone());
@@ -203,10 +198,10 @@ pub fn solve(
                 Next::Stop(status, message) => (status, message),
                 _ => (
                     QpStatus::Inaccurate,
-                    format!(
+                    monitor.explain(format!(
                         "active set settled but the KKT residuals miss the tolerance (refined primal residual {:.1e} after {} corrections)",
                         step.residual, step.refinements
-                    ),
+                    )),
                 ),
             };
             return Ok(Outcome {
@@ -224,7 +219,7 @@ pub fn solve(
         // new set costs a dense factorisation of up to m rows.  From a few steps on, one sparse
         // solve checks the iterate first (cheaper than that factorisation).
         if iter >= CHECK_MOVING_FROM {
-            if let Some(done) = solved_at(data, monitor.tol(), iter, &lambda) {
+            if let Some(done) = solved_at(data, monitor, iter, &lambda) {
                 return Ok(Outcome {
                     message: format!(
                         "{}; the iterate met the tolerance while the active set still moved (on round-off); {iter} active-set steps ({mode}), {refinements} refinement solves",
@@ -238,7 +233,7 @@ pub fn solve(
             let lambda_clipped = lambda.iter().map(|l| l.max(0.0)).collect();
             return Ok(finish_at_limit(
                 data,
-                monitor.tol(),
+                monitor,
                 iter,
                 lambda_clipped,
                 QpStatus::MaxIterations,
@@ -249,11 +244,17 @@ pub fn solve(
     }
 }
 
-/// The iterate λ (clipped at zero) as the answer, when its KKT residuals meet `tol`.
-fn solved_at(data: &DualData<'_>, tol: f64, iter: usize, lambda: &[f64]) -> Option<Outcome> {
+/// The iterate λ (clipped at zero) as the answer, when its KKT residuals meet the tolerance.
+fn solved_at(
+    data: &DualData<'_>,
+    monitor: &Monitor<'_>,
+    iter: usize,
+    lambda: &[f64],
+) -> Option<Outcome> {
     let clipped: Vec<f64> = lambda.iter().map(|l| l.max(0.0)).collect();
     let x = data.primal(&clipped);
-    let r = signorini_core::qp::kkt_residuals(data.problem, &x, &clipped);
+    let r = monitor.residuals(&x, &clipped);
+    let tol = monitor.tol();
     r.meet(tol).then(|| Outcome {
         x,
         multipliers: clipped,
