@@ -73,8 +73,8 @@
 //!   factor (one forward + one backward triangular solve per product), Jacobi-preconditioned by
 //!   the lumped compliance Σⱼ Bᵢⱼ²/Aⱼⱼ, to 1e-8 relative, then refined as above.
 //! * `dual-pgs` needs the columns of H: when they do not fit it returns
-//!   `Err(QpError::Unavailable)` naming m and the memory, and pointing to dual-ssn, pdas and
-//!   dual-uzawa.  A refusal of the factor itself is `Err(QpError::TooLarge)`.
+//!   `Err(QpError::TooLarge)` naming m and the memory, and pointing to dual-ssn, pdas and
+//!   dual-uzawa (a resource refusal, exit 3 from `solve`, like a refusal of the factor itself).
 //! * `dual-uzawa` never forms H.
 //!
 //! Measured cross-over (release, 2-core machine shared with other builds; `cargo test -p

@@ -49,23 +49,26 @@ pub fn solve(
     settings: &DualSettings,
     monitor: &mut Monitor<'_>,
 ) -> Result<Outcome, DualError> {
-    let hessian = match dual_hessian(data, settings, 0.0, &|| monitor.out_of_time()) {
-        Err(DualError::Refused(QpError::TooLarge {
-            what,
-            needed,
-            available,
-            ..
-        })) => {
-            return Err(DualError::Refused(QpError::Unavailable {
-                backend: "dual-pgs",
-                reason: format!(
-                    "projected Gauss–Seidel needs the columns of H: {what} would need {needed:.2} GiB but {available:.2} GiB is available (m = {}); use dual-ssn (matrix-free Newton steps), pdas or dual-uzawa",
-                    data.rows()
+    // H that does not fit is a resource refusal (exit 3), like any other memory refusal: the
+    // scene is fine, this machine cannot hold what projected Gauss–Seidel sweeps.
+    let hessian = dual_hessian(data, settings, 0.0, &|| monitor.out_of_time()).map_err(|e| {
+        match e {
+            DualError::Refused(QpError::TooLarge {
+                backend,
+                what,
+                needed,
+                available,
+            }) => DualError::Refused(QpError::TooLarge {
+                backend,
+                what: format!(
+                    "{what} (projected Gauss–Seidel sweeps its columns; dual-ssn, pdas and dual-uzawa run without it)"
                 ),
-            }))
+                needed,
+                available,
+            }),
+            other => other,
         }
-        other => other?,
-    };
+    })?;
     Ok(run(data, settings, monitor, hessian))
 }
 
