@@ -73,8 +73,8 @@
 //!   factor (one forward + one backward triangular solve per product), Jacobi-preconditioned by
 //!   the lumped compliance Σⱼ Bᵢⱼ²/Aⱼⱼ, to 1e-8 relative, then refined as above.
 //! * `dual-pgs` needs the columns of H: when they do not fit it returns
-//!   `Err(QpError::Unavailable)` naming m and the memory, and pointing to dual-ssn, pdas and
-//!   dual-uzawa.  A refusal of the factor itself is `Err(QpError::TooLarge)`.
+//!   `Err(QpError::TooLarge)` naming m and the memory, and pointing to dual-ssn, pdas and
+//!   dual-uzawa (a resource refusal, exit 3 from `solve`, like a refusal of the factor itself).
 //! * `dual-uzawa` never forms H.
 //!
 //! Measured cross-over (release, 2-core machine shared with other builds; `cargo test -p
@@ -103,8 +103,12 @@
 //! Every method stops on the core's KKT residuals ([`signorini_core::qp::kkt_residuals`]) of
 //! (x(λ), λ), checked every `check_every` iterations or earlier when a cheap estimate from the
 //! dual gradient meets the tolerance.  Limits give `max-iterations` / `time-limit`; a primal
-//! without feasible point makes λ grow along a Farkas direction δ ≥ 0 (Bᵀδ = 0, gᵀδ < 0), which
-//! is detected and reported as `primal-infeasible`.
+//! without feasible point makes λ grow along a Farkas direction δ ≥ 0 (Bᵀδ = 0, gᵀδ < 0): the
+//! growth since the last check is reported as `primal-infeasible` only when the core's
+//! [`signorini_core::qp::FarkasRay`] certifies it against B and g.  A growth with gᵀδ < 0 that
+//! is no certificate (a feasible problem whose answer lies far away) lets the method go on, and
+//! the message of a run that ends unsolved says why it was no certificate.  The residual scales
+//! are computed once per solve ([`signorini_core::qp::ResidualScales`]).
 //!
 //! # Floating bodies
 //! When A is singular with a known kernel R (`QpProblem::kernel`, n × k), the dual is the

@@ -1,18 +1,16 @@
 //! When to stop: the core's KKT residuals decide, checked every `check_every` iterations (or
 //! earlier when a cheap estimate from the dual gradient says so); iteration and time limits;
-//! detection of an infeasible primal from the growth of λ.
+//! `primal-infeasible` only from a Farkas certificate ([`FarkasRay`]) in the growth of λ.
 
 use std::time::{Duration, Instant};
 
-use signorini_core::qp::{kkt_residuals, mat_t_vec, norm_inf, QpProblem, QpStatus, SolveOptions};
+use signorini_core::qp::{
+    kkt_residuals_with, mat_t_vec, norm_inf, FarkasRay, KktResiduals, QpProblem, QpStatus,
+    ResidualScales, SolveOptions,
+};
 
 use crate::dual::{DualData, Outcome};
 use crate::settings::DualSettings;
-
-/// Certificate margin: an infeasibility certificate δ ≥ 0 must satisfy
-/// gᵀδ < −`INFEASIBILITY_MARGIN` · X · ‖Bᵀδ‖∞, i.e. every feasible x would be that many times
-/// longer than the current iterate.
-const INFEASIBILITY_MARGIN: f64 = 1e6;
 
 /// What the method should do after a check.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,6 +40,10 @@ pub struct Monitor<'a> {
     last_multipliers: Vec<f64>,
     length_scale: f64,
     force_scale: f64,
+    /// The fixed scales of the KKT residuals, computed once per solve.
+    scales: ResidualScales,
+    /// Why the last growth of λ with gᵀδ < 0 was no certificate, for the final message.
+    shortfall: Option<String>,
 }
 
 impl<'a> Monitor<'a> {
@@ -65,6 +67,23 @@ impl<'a> Monitor<'a> {
             last_multipliers: vec![0.0; problem.rows()],
             length_scale: f64::MIN_POSITIVE,
             force_scale: norm_inf(&problem.load).max(f64::MIN_POSITIVE),
+            scales: ResidualScales::of(problem),
+            shortfall: None,
+        }
+    }
+
+    /// The core's KKT residuals of (x, λ), against the scales computed once for this solve.
+    pub fn residuals(&self, x: &[f64], multipliers: &[f64]) -> KktResiduals {
+        kkt_residuals_with(self.problem, &self.scales, x, multipliers)
+    }
+
+    /// `message`, followed by why the growth of λ seen last was no certificate of primal
+    /// infeasibility (when one looked like it): for the message of a solve that did not
+    /// converge.
+    pub fn explain(&self, message: String) -> String {
+        match &self.shortfall {
+            Some(why) => format!("{message}; {why}"),
+            None => message,
         }
     }
 
@@ -156,7 +175,7 @@ impl<'a> Monitor<'a> {
                 format!("non-finite iterate at iteration {iter}"),
             );
         }
-        let r = kkt_residuals(self.problem, x, multipliers);
+        let r = self.residuals(x, multipliers);
         let btl = mat_t_vec(&self.problem.constraints, multipliers);
         self.length_scale = norm_inf(x).max(f64::MIN_POSITIVE);
         self.force_scale = norm_inf(&self.problem.load)
@@ -168,7 +187,7 @@ impl<'a> Monitor<'a> {
                 format!("KKT residuals {:.1e} ≤ tol {:.1e}", r.worst(), self.tol),
             );
         }
-        if let Some(message) = self.infeasibility(multipliers, x) {
+        if let Some(message) = self.infeasibility(multipliers) {
             return Next::Stop(QpStatus::PrimalInfeasible, message);
         }
         self.last_multipliers.copy_from_slice(multipliers);
@@ -186,38 +205,26 @@ impl<'a> Monitor<'a> {
         Next::Continue
     }
 
-    /// A Farkas certificate from the growth of λ since the last check: δ = max(λ − λ_prev, 0)
-    /// with gᵀδ < −margin · ‖x‖₁ · ‖Bᵀδ‖∞ proves that no x of that size is feasible.
-    fn infeasibility(&self, multipliers: &[f64], x: &[f64]) -> Option<String> {
+    /// A Farkas certificate in the growth of λ since the last check: δ = max(λ − λ_prev, 0),
+    /// checked against B and g by [`FarkasRay`].  A growth with gᵀδ < 0 that is no
+    /// certificate is remembered (see [`Monitor::explain`]) and the iteration goes on.
+    fn infeasibility(&mut self, multipliers: &[f64]) -> Option<String> {
         let delta: Vec<f64> = multipliers
             .iter()
             .zip(&self.last_multipliers)
             .map(|(l, p)| (l - p).max(0.0))
             .collect();
-        let size = norm_inf(&delta);
-        if size == 0.0 {
-            return None;
+        let ray = FarkasRay::measure(self.problem, &delta)?;
+        if ray.proves_infeasibility() {
+            return Some(format!(
+                "primal infeasible: the multipliers grow along {} (no x satisfies B x ≤ g)",
+                ray.describe()
+            ));
         }
-        let btd = norm_inf(&mat_t_vec(&self.problem.constraints, &delta));
-        let gtd: f64 = self
-            .problem
-            .gap
-            .iter()
-            .zip(&delta)
-            .map(|(g, d)| g * d)
-            .sum();
-        let x_norm: f64 = x
-            .iter()
-            .map(|v| v.abs())
-            .sum::<f64>()
-            .max(self.length_scale);
-        (gtd < 0.0 && gtd < -INFEASIBILITY_MARGIN * x_norm * btd).then(|| {
-            format!(
-                "primal infeasible: the multipliers grow along δ ≥ 0 with gᵀδ/‖δ‖∞ = {:.3e} < 0 and ‖Bᵀδ‖∞/‖δ‖∞ = {:.1e}",
-                gtd / size,
-                btd / size
-            )
-        })
+        if ray.gap_fraction > 0.0 {
+            self.shortfall = ray.shortfall();
+        }
+        None
     }
 }
 
@@ -225,14 +232,15 @@ impl<'a> Monitor<'a> {
 /// limit reached exactly at convergence still reports `solved`.
 pub fn finish_at_limit(
     data: &DualData<'_>,
-    tol: f64,
+    monitor: &Monitor<'_>,
     iterations: usize,
     multipliers: Vec<f64>,
     status: QpStatus,
     message: String,
 ) -> Outcome {
     let x = data.primal(&multipliers);
-    let r = kkt_residuals(data.problem, &x, &multipliers);
+    let r = monitor.residuals(&x, &multipliers);
+    let tol = monitor.tol();
     let (status, message) = if r.meet(tol) {
         (
             QpStatus::Solved,
@@ -241,7 +249,7 @@ pub fn finish_at_limit(
     } else {
         (
             status,
-            format!("{message}; KKT residuals {:.1e}", r.worst()),
+            monitor.explain(format!("{message}; KKT residuals {:.1e}", r.worst())),
         )
     };
     Outcome {

@@ -1,7 +1,7 @@
 //! No dense cliff (issue 9): dual-ssn's matrix-free Newton steps (projected CG through the
 //! sparse factor) give the answers of the dense ones, and a problem whose dense H cannot fit in
 //! memory is solved by dual-ssn without forming it, while dual-pgs (which needs the columns of
-//! H) refuses with `Unavailable` instead of allocating.
+//! H) refuses with `TooLarge` (a resource refusal: exit 3 from `solve`) instead of allocating.
 #![allow(clippy::unwrap_used)]
 
 mod common;
@@ -118,14 +118,16 @@ fn dual_pgs_refuses_when_h_cannot_fit_instead_of_allocating() {
     let err = DualBackend::pgs(DualSettings::default())
         .solve(&p, &SolveOptions::default())
         .unwrap_err();
-    match err {
-        QpError::Unavailable { backend, reason } => {
-            assert_eq!(backend, "dual-pgs");
+    // The machine's memory, not the scene, is at fault: `TooLarge`, which `solve` maps to
+    // exit 3 (it was `Unavailable`, exit 1, as if the input were bad).
+    match &err {
+        QpError::TooLarge { backend, what, .. } => {
+            assert_eq!(*backend, "dual-pgs");
             assert!(
-                reason.contains("m = 200000") && reason.contains("dual-ssn"),
-                "{reason}"
+                what.contains("200000 × 200000") && what.contains("dual-ssn"),
+                "{err}"
             );
         }
-        other => panic!("expected Unavailable, got {other}"),
+        other => panic!("expected TooLarge, got {other}"),
     }
 }

@@ -15,8 +15,7 @@ use std::collections::HashSet;
 use std::time::{Duration, Instant};
 
 use signorini_core::qp::{
-    dot, kkt_residuals_with, mat_t_vec, mat_vec, norm_inf, QpProblem, QpStatus, ResidualScales,
-    SolveOptions,
+    kkt_residuals_with, mat_vec, FarkasRay, QpProblem, QpStatus, ResidualScales, SolveOptions,
 };
 
 use crate::error::PdasError;
@@ -437,7 +436,8 @@ impl<'p> ActiveSet<'p> {
                 continue;
             }
             if stalled || cycling || solution.timed_out || iteration == max_iter {
-                if let Some((status, message)) = self.certificate(&candidate, &solution.multipliers)
+                if let Some((status, message)) =
+                    self.certificate(&candidate.x, &solution.multipliers, &solution.correction)
                 {
                     return self.finish(candidate, status, iteration, message);
                 }
@@ -466,9 +466,10 @@ impl<'p> ActiveSet<'p> {
             }
             if stalled {
                 let message = format!(
-                    "active set of {} rows settled but the KKT residuals ({worst:.1e}, refined KKT system {:.1e}) miss the tolerance",
+                    "active set of {} rows settled but the KKT residuals ({worst:.1e}, refined KKT system {:.1e}) miss the tolerance{}",
                     count(&active),
-                    solution.residual
+                    solution.residual,
+                    no_certificate(p, &solution.multipliers)
                 );
                 return self.finish(best, QpStatus::Inaccurate, iteration, message);
             }
@@ -513,28 +514,53 @@ impl<'p> ActiveSet<'p> {
     }
 
     /// A certificate of infeasibility in an iterate that does not converge:
-    /// * primal: y = λ⁺ / ‖λ⁺‖∞ with gᵀy < 0 and Bᵀy ≈ 0 — any feasible x would need
-    ///   ‖x‖∞ ≥ −gᵀy / ‖Bᵀy‖₁, which must exceed 10⁸ times the problem's length scale and x;
+    /// * primal: the ray y = Δλ⁺ of the last refinement correction (see
+    ///   [`SetSolution::correction`]) or y = λ⁺, checked against B and g by the core's
+    ///   [`FarkasRay`] (any feasible x would move ≥ 10⁸ times the displacement that closes
+    ///   the ray's gaps);
     /// * dual: the rigid part r of x with fᵀr > 0 and B r ≤ 0 (see [`pushed_away`]).
-    fn certificate(&self, iterate: &Outcome, multipliers: &[f64]) -> Option<(QpStatus, String)> {
+    fn certificate(
+        &self,
+        x: &[f64],
+        multipliers: &[f64],
+        correction: &[f64],
+    ) -> Option<(QpStatus, String)> {
         let p = self.problem;
-        let size = multipliers.iter().fold(0.0_f64, |a, l| a.max(*l));
-        if size > 0.0 && size.is_finite() {
-            let y: Vec<f64> = multipliers.iter().map(|l| l.max(0.0) / size).collect();
-            let gy = dot(&p.gap, &y);
-            let bty: f64 = mat_t_vec(&p.constraints, &y).iter().map(|v| v.abs()).sum();
-            let reach = self.scales.length.max(norm_inf(&iterate.x));
-            if gy < 0.0 && -gy > 1e8 * reach * bty {
-                return Some((QpStatus::PrimalInfeasible, format!(
-                    "primal infeasible: y ≥ 0 with gᵀy = {gy:.3e} and ‖Bᵀy‖₁ = {bty:.1e} (no x satisfies B x ≤ g)"
-                )));
-            }
+        let rays = [correction, multipliers];
+        if let Some(ray) = rays
+            .into_iter()
+            .filter_map(|y| primal_ray(p, y))
+            .find(FarkasRay::proves_infeasibility)
+        {
+            return Some((
+                QpStatus::PrimalInfeasible,
+                format!(
+                    "primal infeasible: the multipliers give {} (no x satisfies B x ≤ g)",
+                    ray.describe()
+                ),
+            ));
         }
-        let r = rigid_part(&p.kernel, &iterate.x)?;
+        let r = rigid_part(&p.kernel, x)?;
         pushed_away(p, &r).map(|work| {
             (QpStatus::DualInfeasible, format!("dual infeasible: a rigid motion r with B r ≤ 0 and fᵀr = {work:.3e} ‖r‖∞ > 0 (a floating body is pushed away from every contact); the objective is unbounded below"))
         })
     }
+}
+
+/// The ray y = λ⁺ of the multipliers, measured against B and g.
+fn primal_ray(problem: &QpProblem, multipliers: &[f64]) -> Option<FarkasRay> {
+    let positive: Vec<f64> = multipliers.iter().map(|l| l.max(0.0)).collect();
+    FarkasRay::measure(problem, &positive)
+}
+
+/// "; why the multipliers are no certificate" when gᵀλ⁺ < 0 but λ⁺ does not certify
+/// infeasibility (nor did the last correction, or [`ActiveSet::certificate`] would have
+/// stopped), else "".
+fn no_certificate(problem: &QpProblem, multipliers: &[f64]) -> String {
+    primal_ray(problem, multipliers)
+        .filter(|ray| ray.gap_fraction > 0.0)
+        .and_then(|ray| ray.shortfall())
+        .map_or_else(String::new, |why| format!("; {why}"))
 }
 
 fn count(active: &[bool]) -> usize {

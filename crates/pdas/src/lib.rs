@@ -23,8 +23,9 @@
 //! ([`signorini_core::qp::kkt_residuals`]) at the requested tolerance (an answer that meets
 //! them while rows still want to change is taken only at a cycle or at the iteration cap).  The status is honest otherwise: a set that repeats without
 //! meeting them (`inaccurate`), an interior-point step that cannot move (`inaccurate`), the iteration or time limit,
-//! `primal-infeasible` only with a Farkas certificate y ≥ 0, Bᵀy ≈ 0, gᵀy < 0 (any feasible x
-//! would need ‖x‖∞ ≥ −gᵀy / ‖Bᵀy‖₁, more than 10⁸ times the problem's length scale), and
+//! `primal-infeasible` only with a Farkas certificate y ≥ 0, Bᵀy ≈ 0, gᵀy < 0 checked by the
+//! core's [`signorini_core::qp::FarkasRay`] (any feasible x would move at least 10⁸ times the
+//! displacement that closes the ray's gaps; y is the last refinement correction of λ, or λ⁺), and
 //! `dual-infeasible` only with a rigid motion r = R α that the load drives (fᵀr > 0) and that
 //! closes no contact (B r ≤ 0) — found before any factorisation when no row sees a loaded mode,
 //! or in the rigid part of a stalled iterate.  A non-finite answer is never handed out.

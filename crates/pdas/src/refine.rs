@@ -36,6 +36,12 @@ pub struct SetSolution {
     pub residual: f64,
     /// True when a time limit interrupted the refinement.
     pub timed_out: bool,
+    /// The multiplier part of the last refinement correction, accepted or not (empty before
+    /// one).  On a set whose rows cannot all hold (B_Fᵀy = 0, g_Fᵀy < 0 for some y ≥ 0) the
+    /// regularised solve leaves g_F − B_F x = δλ, and the correction solves
+    /// (H + δI) Δλ = δλ: the ray's part of λ comes back whole, the rest shrinks by about δ/σ
+    /// (σ the smallest nonzero eigenvalue of H = B_F A⁻¹ B_Fᵀ) — a far cleaner ray than λ.
+    pub correction: Vec<f64>,
 }
 
 /// When refinement stops.
@@ -78,6 +84,7 @@ pub fn first_solve(
         // Measured by `refine` when the set is kept; an iterate about to be left is not.
         residual: f64::NAN,
         timed_out: false,
+        correction: Vec::new(),
     }
 }
 
@@ -116,6 +123,8 @@ pub fn refine(
         }
         solver.solve_in_place(&mut r);
         clear_inactive(&mut r[n..], active);
+        solution.correction.clear();
+        solution.correction.extend_from_slice(&r[n..]);
         let candidate: Vec<f64> = z.iter().zip(&r).map(|(a, b)| a + b).collect();
         let next = residual(problem, scales, active, &candidate);
         let (next_r, next_norm) = (next.vector, next.norm);

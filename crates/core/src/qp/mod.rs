@@ -18,6 +18,7 @@
 //! status the program reports: `solved` only when these residuals meet the requested tolerance.
 
 mod backend;
+mod certificate;
 mod dual_form;
 mod ops;
 mod problem;
@@ -30,6 +31,7 @@ mod status;
 mod tests;
 
 pub use backend::{QpBackend, QpSolution, SolveOptions};
+pub use certificate::{FarkasRay, FARKAS_MARGIN};
 pub use dual_form::{
     condensable, condense, primal_of, touched_dofs, CondenseStop, Condensed, CondensedDual,
     BYTES_PER_DUAL_ENTRY,

@@ -13,7 +13,7 @@
 
 use std::time::{Duration, Instant};
 
-use signorini_core::qp::{dot, kkt_residuals, mat_t_vec, QpError, QpStatus};
+use signorini_core::qp::{dot, mat_t_vec, QpError, QpStatus};
 
 use crate::dual::{DualData, Outcome};
 use crate::error::DualError;
@@ -49,23 +49,26 @@ pub fn solve(
     settings: &DualSettings,
     monitor: &mut Monitor<'_>,
 ) -> Result<Outcome, DualError> {
-    let hessian = match dual_hessian(data, settings, 0.0, &|| monitor.out_of_time()) {
-        Err(DualError::Refused(QpError::TooLarge {
-            what,
-            needed,
-            available,
-            ..
-        })) => {
-            return Err(DualError::Refused(QpError::Unavailable {
-                backend: "dual-pgs",
-                reason: format!(
-                    "projected Gauss–Seidel needs the columns of H: {what} would need {needed:.2} GiB but {available:.2} GiB is available (m = {}); use dual-ssn (matrix-free Newton steps), pdas or dual-uzawa",
-                    data.rows()
+    // H that does not fit is a resource refusal (exit 3), like any other memory refusal: the
+    // scene is fine, this machine cannot hold what projected Gauss–Seidel sweeps.
+    let hessian = dual_hessian(data, settings, 0.0, &|| monitor.out_of_time()).map_err(|e| {
+        match e {
+            DualError::Refused(QpError::TooLarge {
+                backend,
+                what,
+                needed,
+                available,
+            }) => DualError::Refused(QpError::TooLarge {
+                backend,
+                what: format!(
+                    "{what} (projected Gauss–Seidel sweeps its columns; dual-ssn, pdas and dual-uzawa run without it)"
                 ),
-            }))
+                needed,
+                available,
+            }),
+            other => other,
         }
-        other => other?,
-    };
+    })?;
     Ok(run(data, settings, monitor, hessian))
 }
 
@@ -159,7 +162,7 @@ pub fn run(
     };
     loop {
         if let Some((status, message)) = monitor.limit(iter) {
-            return finish_at_limit(data, monitor.tol(), iter, lambda, status, message);
+            return finish_at_limit(data, monitor, iter, lambda, status, message);
         }
         let started = Instant::now();
         sweep(
@@ -248,8 +251,9 @@ pub fn run(
             }
         }
         checked = Some(sparse);
-        let worst = kkt_residuals(data.problem, &x, &lambda).worst();
+        let worst = monitor.residuals(&x, &lambda).worst();
         if let Some(message) = progress.record(iter, worst, monitor.tol(), monitor.max_iter()) {
+            let message = monitor.explain(message);
             return stop(lambda, x, iter, QpStatus::Inaccurate, message);
         }
         if stalled >= STALL_SWEEPS {
@@ -258,9 +262,9 @@ pub fn run(
                 x,
                 iter,
                 QpStatus::Inaccurate,
-                format!(
+                monitor.explain(format!(
                     "PGS stalled: the dual objective changed by less than round-off for {STALL_SWEEPS} sweeps (at sweep {iter}) without meeting the tolerance — try dual-ssn or pdas"
-                ),
+                )),
             );
         }
         gradient = residual(&hessian, &lambda, &inner_load);

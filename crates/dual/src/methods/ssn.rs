@@ -108,12 +108,7 @@ pub fn solve(
     loop {
         if let Some((status, message)) = monitor.limit(iter) {
             return Ok(finish_at_limit(
-                data,
-                monitor.tol(),
-                iter,
-                lambda,
-                status,
-                message,
+                data, monitor, iter, lambda, status, message,
             ));
         }
         seen.insert(active.clone());
@@ -204,10 +199,10 @@ pub fn solve(
                 Next::Stop(status, message) => (status, message),
                 _ => (
                     QpStatus::Inaccurate,
-                    format!(
+                    monitor.explain(format!(
                         "active set settled but the KKT residuals miss the tolerance (refined primal residual {:.1e} after {} corrections)",
                         step.residual, step.refinements
-                    ),
+                    )),
                 ),
             };
             return Ok(Outcome {
@@ -227,7 +222,7 @@ pub fn solve(
         // STALL_CHECKS checks in a row have not halved the best residual, the moving set is
         // noise that no further step will resolve: the best iterate is returned as inaccurate.
         if iter >= CHECK_MOVING_FROM {
-            let (checked, worst) = checked_iterate(data, monitor.tol(), iter, &lambda);
+            let (checked, worst) = checked_iterate(data, monitor, iter, &lambda);
             if checked.status == QpStatus::Solved {
                 return Ok(Outcome {
                     message: format!(
@@ -248,7 +243,7 @@ pub fn solve(
             let lambda_clipped = lambda.iter().map(|l| l.max(0.0)).collect();
             return Ok(finish_at_limit(
                 data,
-                monitor.tol(),
+                monitor,
                 iter,
                 lambda_clipped,
                 QpStatus::MaxIterations,
@@ -259,12 +254,18 @@ pub fn solve(
     }
 }
 
-/// The iterate λ (clipped at zero) as an answer, `solved` when its KKT residuals meet `tol`
-/// (else `inaccurate`), with the worst residual.
-fn checked_iterate(data: &DualData<'_>, tol: f64, iter: usize, lambda: &[f64]) -> (Outcome, f64) {
+/// The iterate λ (clipped at zero) as an answer, `solved` when its KKT residuals meet the
+/// tolerance (else `inaccurate`), with the worst residual.
+fn checked_iterate(
+    data: &DualData<'_>,
+    monitor: &Monitor<'_>,
+    iter: usize,
+    lambda: &[f64],
+) -> (Outcome, f64) {
     let clipped: Vec<f64> = lambda.iter().map(|l| l.max(0.0)).collect();
     let x = data.primal(&clipped);
-    let r = signorini_core::qp::kkt_residuals(data.problem, &x, &clipped);
+    let r = monitor.residuals(&x, &clipped);
+    let tol = monitor.tol();
     let (status, relation) = if r.meet(tol) {
         (QpStatus::Solved, "≤")
     } else {

@@ -52,12 +52,7 @@ pub fn solve(
     loop {
         if let Some((status, message)) = monitor.limit(iter) {
             return Ok(finish_at_limit(
-                data,
-                monitor.tol(),
-                iter,
-                lambda,
-                status,
-                message,
+                data, monitor, iter, lambda, status, message,
             ));
         }
         let (beta, next_momentum) = if settings.accelerate {
