@@ -315,3 +315,24 @@ fn fuzz_survey() {
     }
     assert!(kinds.is_empty(), "failures: {:?}", kinds.keys());
 }
+
+/// The generator's Gmsh files are read as the grids they describe, triangles and quadrilaterals
+/// listed either way round (else every Gmsh case would only exercise a refusal): a 3 × 2 grid
+/// on [0, 3] × [0, 2] has 6 quadrilaterals or 12 triangles and 12 nodes, 4 of them on the
+/// clamped bottom edge, hence 2 · (12 − 4) = 16 free DOFs.
+#[test]
+fn generated_gmsh_files_are_read_as_written() {
+    let scene = "[[body]]\nname = \"b\"\nmesh = \"b.msh\"\nyoung = 1.0\npoisson = 0.3\n\n\
+                 [[dirichlet]]\nbody = \"b\"\nregion = [0.0, 3.0, 0.0, 0.0]\n";
+    for (quads, clockwise) in [(false, false), (false, true), (true, false), (true, true)] {
+        let dir = tempfile::tempdir().expect("temporary directory");
+        let grid = fuzz::msh::grid([0.0, 3.0, 0.0, 2.0], [3, 2], quads, clockwise);
+        std::fs::write(dir.path().join("b.msh"), grid).expect("write b.msh");
+        let scene = signorini_core::scene::Scene::from_toml_in(scene, dir.path())
+            .unwrap_or_else(|e| panic!("quads {quads}, clockwise {clockwise}: {e}"));
+        let report = signorini::check::check(&scene, &props::limits())
+            .unwrap_or_else(|e| panic!("quads {quads}, clockwise {clockwise}: {e}"));
+        assert_eq!(report.elements, if quads { 6 } else { 12 });
+        assert_eq!(report.dofs, 16);
+    }
+}
