@@ -4,9 +4,11 @@
 //!
 //! * no panic;
 //! * the status is a documented one;
-//! * `solved` ⇒ every number written is finite, the residuals meet the tolerance and no body
-//!   ends inside another;
-//! * a refusal names a key and writes nothing;
+//! * `solved` ⇒ every number written is finite, the residuals meet the tolerance and no slave
+//!   node ends inside its master by more than 1e-6 of the pair's own motion (its rows and the
+//!   deformed geometry, fuzz/penetration.rs);
+//! * a refusal names the key at fault (the very key a mutation broke), and the binary refuses
+//!   the same scene file (exit 1, or 3 for a resource limit) and writes nothing;
 //! * `check` accepts exactly what `solve` accepts;
 //! * a broken scene (wrong array length, unknown or missing key, `nan`, unknown body) is refused;
 //! * accepted scenes write well-formed files.
@@ -17,13 +19,20 @@
 //! `fuzz_survey` (ignored; `scripts/fuzz.sh N`) runs N cases without stopping at a failure,
 //! shrinks one example of each property that fails, and prints a summary.
 //!
-//! Properties the current code cannot meet yet are listed in [`KNOWN_GAPS`]: they are still
-//! evaluated and reported by the survey, but do not fail `fuzz_scenes` or the replay.  Empty the
-//! list as the fixes land.
+//! Every property is enforced: nothing is muted by the text of its finding.  A finding whose
+//! fix is open stays failing (its replay in `tests/fuzz-cases/` fails `fuzz_cases_replay`) until
+//! the fix lands.
+//!
+//! The generator draws what users run: the default backend `auto` most often, every other name
+//! (`clarabel/dual` and `osqp/dual` included), node-to-segment and mortar pairs, graded meshes
+//! (`[[body.refine]]`) and Gmsh meshes (MSH 4.1 files it writes beside the scene).
 
 mod fuzz {
     pub mod gen;
+    pub mod msh;
+    pub mod penetration;
     pub mod props;
+    pub mod refusal;
 }
 
 use std::collections::BTreeMap;
@@ -33,56 +42,9 @@ use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::{Config, TestRunner};
 
-use fuzz::gen::{self, Case};
+use fuzz::gen::{self, Broken, Case};
 use fuzz::props::{self, Finding, PROPERTIES};
 use signorini::backends::BackendKind;
-
-/// Failures the current code is known to produce (found by this harness; see the issue-8
-/// report), as (property, text the failure's detail contains — "" for any).  They are still
-/// evaluated and counted by the survey, but do not fail `fuzz_scenes` or `fuzz_cases_replay`.
-/// Remove an entry to turn it on once its fix is merged; every other failure is enforced now.
-///
-/// * A slave corner of a 10³⁰-stiff body with a prescribed displacement, against a soft one-cell
-///   q1 body: every backend (measured: clarabel, osqp, pdas, dual-*) ends 2–5e-2 inside the
-///   master and the core calls it `solved`, because the row's length scale ‖f‖₁/kᵢ counts the
-///   stiff body's Dirichlet-lifting forces (~10²⁸) against a harmonic-mean stiffness of ~2: the
-///   residual scale, not a backend, is loose there.  Found when pdas joined `BackendKind::ALL`
-///   and this scene of the fixed seed went to dual-uzawa.  Open (issue 9's notes): a
-///   compliance-weighted length scale Σⱼ|fⱼ|/Aⱼⱼ over the row's DOFs.
-///
-/// * The same loose scale wherever ‖f‖₁ holds forces that are not the pair's displacements: the
-///   pair's own rows (Bu ≤ g, not the deformed geometry) end violated by far more than the
-///   allowance and the core calls it `solved` (the finding's detail says "its rows themselves are
-///   violated by …").  Found by the graded fuzz runs:
-///   - a load on another body (seed 20261123; fuzz-cases/osqp-overlap-left-under-a-load-
-///     elsewhere.toml): three stacked bodies, the top one pulled off by a traction of 1e100, the
-///     lower pair overlapping by 3e-4; osqp leaves that pair's rows violated by 4.4e-5 (with
-///     the CLI's default options, result.json's max_penetration is the whole 3.0e-4; clarabel,
-///     pdas and dual-ssn leave 0, and so does osqp under a traction of 1e-3) and the core
-///     reports `solved` with relative_penetration 8e-104 (Xᵢ ≈ 4e99);
-///   - Dirichlet-lifting forces of a nearly incompressible body (ν = 0.499999999999, bulk
-///     modulus ~10¹² E) pushed up by 3.7e-3 (fuzz-cases/dual-uzawa-rows-violated-under-
-///     incompressible-lifting.toml): dual-uzawa stops after 10 iterations with the rows violated
-///     by 1.0e-3 (clarabel, osqp, dual-ssn 0) at relative_penetration 3e-14 (Xᵢ ≈ 3e10).
-///
-///   Open (qp/residuals.rs, the lead's): Xᵢ from the load that can reach row i.  The
-///   compliance-weighted Σⱼ|fⱼ|/Aⱼⱼ above answers lifting forces (|fⱼ|/Aⱼⱼ ≈ the prescribed
-///   value); a load on another body cannot simply be dropped, since a stacked body's load does
-///   reach the rows below it through contact.
-const KNOWN_GAPS: &[(&str, &str)] = &[
-    (
-        "solved-no-interpenetration",
-        "a prescribed displacement on a body 1e20× stiffer than its partner",
-    ),
-    ("solved-no-interpenetration", "the row length scale counts"),
-];
-
-/// True when a finding is one of the [`KNOWN_GAPS`].
-fn known_gap(f: &Finding) -> bool {
-    KNOWN_GAPS
-        .iter()
-        .any(|(p, text)| f.property == *p && f.detail.contains(text))
-}
 
 fn seed() -> u64 {
     std::env::var("FUZZ_SEED")
@@ -98,10 +60,6 @@ fn cases() -> u32 {
         .unwrap_or(300)
 }
 
-fn enforced(findings: Vec<Finding>) -> Vec<Finding> {
-    findings.into_iter().filter(|f| !known_gap(f)).collect()
-}
-
 fn describe(case: &Case, findings: &[Finding]) -> String {
     let mut s = String::new();
     for f in findings {
@@ -109,9 +67,57 @@ fn describe(case: &Case, findings: &[Finding]) -> String {
     }
     s.push_str(&format!(
         "backend: {}\nmust refuse: {:?}\nat rest: {}\n--- scene ---\n{}",
-        case.backend, case.must_refuse, case.at_rest, case.toml
+        case.backend,
+        case.must_refuse.as_ref().map(|b| &b.why),
+        case.at_rest,
+        case.toml
     ));
+    for (name, _) in &case.files {
+        s.push_str(&format!("--- with {name} (see the saved replay) ---\n"));
+    }
     s
+}
+
+/// Marks the lines of a file embedded in a saved case.
+const FILE_LINE: &str = "#| ";
+
+/// A saved case's text: the header (`# fuzz-kind`, `# fuzz-backend`, `# fuzz-must-refuse`,
+/// `# fuzz-at-rest`), every file the scene refers to as `# fuzz-file: NAME` followed by its lines
+/// prefixed with `#| ` (TOML comments, so the scene stays one self-contained file), then the scene.
+fn saved_text(kind: &str, case: &Case) -> String {
+    let mut text = format!("# fuzz-kind: {kind}\n# fuzz-backend: {}\n", case.backend);
+    if let Some(broken) = &case.must_refuse {
+        text.push_str(&format!("# fuzz-must-refuse: {}\n", broken.why));
+    }
+    if case.at_rest {
+        text.push_str("# fuzz-at-rest: true\n");
+    }
+    for (name, body) in &case.files {
+        text.push_str(&format!("# fuzz-file: {name}\n"));
+        for line in body.lines() {
+            text.push_str(FILE_LINE);
+            text.push_str(line);
+            text.push('\n');
+        }
+    }
+    text.push_str(&case.toml);
+    text
+}
+
+/// The files embedded in a saved case (see [`saved_text`]).
+fn saved_files(text: &str) -> Vec<(String, String)> {
+    let mut files: Vec<(String, String)> = Vec::new();
+    for line in text.lines() {
+        if let Some(name) = line.strip_prefix("# fuzz-file:") {
+            files.push((name.trim().to_string(), String::new()));
+        } else if let (Some(body), Some((_, file))) =
+            (line.strip_prefix(FILE_LINE), files.last_mut())
+        {
+            file.push_str(body);
+            file.push('\n');
+        }
+    }
+    files
 }
 
 proptest! {
@@ -128,13 +134,13 @@ proptest! {
 
     #[test]
     fn fuzz_scenes(case in gen::case()) {
-        let found = enforced(props::run_case(&case));
+        let found = props::run_case(&case);
         prop_assert!(found.is_empty(), "{}", describe(&case, &found));
     }
 }
 
-/// A saved scene: the TOML with a header of `# fuzz-backend: NAME` and, for a broken one,
-/// `# fuzz-must-refuse: WHY`.
+/// A saved scene ([`saved_text`]): the TOML with a header of `# fuzz-backend: NAME`, for a
+/// broken one `# fuzz-must-refuse: WHY` (the key it broke backticked first), and its files.
 fn saved_case(text: &str) -> Case {
     let header = |key: &str| {
         text.lines()
@@ -146,7 +152,8 @@ fn saved_case(text: &str) -> Case {
         .unwrap_or(BackendKind::Clarabel);
     Case {
         toml: text.to_string(),
-        must_refuse: header("# fuzz-must-refuse:"),
+        files: saved_files(text),
+        must_refuse: header("# fuzz-must-refuse:").map(|why| Broken::from_why(&why)),
         backend,
         at_rest: header("# fuzz-at-rest:").is_some_and(|v| v == "true"),
     }
@@ -168,12 +175,6 @@ fn fuzz_cases_replay() {
     let mut failures = Vec::new();
     for path in &files {
         let case = saved_case(&std::fs::read_to_string(path).expect("read"));
-        // A known hang would cost the whole timeout and leave a thread spinning: skipped while
-        // it is a known gap.
-        let hangs = case
-            .toml
-            .lines()
-            .any(|l| l.starts_with("# fuzz-kind: finishes"));
         // A saved hang whose fix is open (`# fuzz-known-hang: WHY`): skipped, not muted for the
         // generated cases; remove the header when the fix lands.
         if let Some(why) = case
@@ -184,14 +185,7 @@ fn fuzz_cases_replay() {
             println!("skipped, known hang ({}): {}", why.trim(), path.display());
             continue;
         }
-        if hangs && KNOWN_GAPS.iter().any(|(p, _)| *p == "finishes") {
-            println!(
-                "skipped while `finishes` is a known gap: {}",
-                path.display()
-            );
-            continue;
-        }
-        let found = enforced(props::run_case(&case));
+        let found = props::run_case(&case);
         if !found.is_empty() {
             failures.push(format!("{}:\n{}", path.display(), describe(&case, &found)));
         }
@@ -245,7 +239,6 @@ fn fuzz_survey() {
     let mut counts: BTreeMap<&'static str, usize> = BTreeMap::new();
     let mut kinds: BTreeMap<String, usize> = BTreeMap::new();
     let mut examples: BTreeMap<String, (Case, Vec<Finding>)> = BTreeMap::new();
-    let mut open_kinds: std::collections::BTreeSet<String> = Default::default();
     let mut passed = 0;
     let start = std::time::Instant::now();
     let mut hangs = 0;
@@ -276,11 +269,6 @@ fn fuzz_survey() {
             *counts.entry(p).or_default() += 1;
         }
         let mut sigs: Vec<String> = found.iter().map(props::signature).collect();
-        // Known or not is decided on the whole detail (a signature is cut at 90 characters): a
-        // kind is enforced when any finding of it is not a known gap.
-        for f in found.iter().filter(|f| !known_gap(f)) {
-            open_kinds.insert(props::signature(f));
-        }
         sigs.sort();
         sigs.dedup();
         for k in &sigs {
@@ -300,31 +288,18 @@ fn fuzz_survey() {
     );
     for p in PROPERTIES {
         let c = counts.get(p).copied().unwrap_or(0);
-        let gap = if KNOWN_GAPS.iter().any(|(g, _)| *g == p) {
-            " (has known gaps)"
-        } else {
-            ""
-        };
-        println!("  {p:<24} {c:>7} failing case(s){gap}");
+        println!("  {p:<24} {c:>7} failing case(s)");
     }
-    println!("\nkinds of failure (* = known gap):");
+    println!("\nkinds of failure:");
     for (k, c) in &kinds {
-        let known = !open_kinds.contains(k);
-        println!("  {c:>7} {} {k}", if known { "*" } else { " " });
+        println!("  {c:>7} {k}");
     }
     let dump = std::env::var_os("FUZZ_DUMP").map(PathBuf::from);
     for (k, (case, found)) in &examples {
         println!("\n=== {k} ===\n{}", describe(case, found));
         if let Some(dir) = &dump {
             std::fs::create_dir_all(dir).expect("dump dir");
-            let mut text = format!("# fuzz-kind: {k}\n# fuzz-backend: {}\n", case.backend);
-            if let Some(why) = &case.must_refuse {
-                text.push_str(&format!("# fuzz-must-refuse: {why}\n"));
-            }
-            if case.at_rest {
-                text.push_str("# fuzz-at-rest: true\n");
-            }
-            text.push_str(&case.toml);
+            let text = saved_text(k, case);
             // Named after the kind, so that later runs replace rather than pile up.
             let slug: String = k
                 .chars()
@@ -338,9 +313,26 @@ fn fuzz_survey() {
             std::fs::write(dir.join(format!("{slug}.toml")), text).expect("dump");
         }
     }
-    let enforced: Vec<&String> = kinds.keys().filter(|k| open_kinds.contains(*k)).collect();
-    assert!(
-        enforced.is_empty(),
-        "failures outside KNOWN_GAPS: {enforced:?}"
-    );
+    assert!(kinds.is_empty(), "failures: {:?}", kinds.keys());
+}
+
+/// The generator's Gmsh files are read as the grids they describe, triangles and quadrilaterals
+/// listed either way round (else every Gmsh case would only exercise a refusal): a 3 × 2 grid
+/// on [0, 3] × [0, 2] has 6 quadrilaterals or 12 triangles and 12 nodes, 4 of them on the
+/// clamped bottom edge, hence 2 · (12 − 4) = 16 free DOFs.
+#[test]
+fn generated_gmsh_files_are_read_as_written() {
+    let scene = "[[body]]\nname = \"b\"\nmesh = \"b.msh\"\nyoung = 1.0\npoisson = 0.3\n\n\
+                 [[dirichlet]]\nbody = \"b\"\nregion = [0.0, 3.0, 0.0, 0.0]\n";
+    for (quads, clockwise) in [(false, false), (false, true), (true, false), (true, true)] {
+        let dir = tempfile::tempdir().expect("temporary directory");
+        let grid = fuzz::msh::grid([0.0, 3.0, 0.0, 2.0], [3, 2], quads, clockwise);
+        std::fs::write(dir.path().join("b.msh"), grid).expect("write b.msh");
+        let scene = signorini_core::scene::Scene::from_toml_in(scene, dir.path())
+            .unwrap_or_else(|e| panic!("quads {quads}, clockwise {clockwise}: {e}"));
+        let report = signorini::check::check(&scene, &props::limits())
+            .unwrap_or_else(|e| panic!("quads {quads}, clockwise {clockwise}: {e}"));
+        assert_eq!(report.elements, if quads { 6 } else { 12 });
+        assert_eq!(report.dofs, 16);
+    }
 }

@@ -75,13 +75,42 @@ pub enum Mutation {
     ControlChar(Index, char),
 }
 
+/// What a mutation broke: the scene must be refused, naming `key`.
+#[derive(Debug, Clone)]
+pub struct Broken {
+    /// What breaks the scene, the key backticked (`` nan in `young` ([[body]]) ``).
+    pub why: String,
+    /// The key the mutation broke (removed, added, lengthened, poisoned or pointed elsewhere):
+    /// the refusal must name it.
+    pub key: String,
+    /// The scene before the mutation, when known (a generated case): a refusal that does not
+    /// name `key` is still right when this scene is refused with the same message, i.e. for a
+    /// fault the scene had before it was broken (saved replays carry none).
+    pub clean: Option<String>,
+}
+
+impl Broken {
+    /// A broken scene known by its `why` alone (a saved replay): the key is its first
+    /// backticked word.
+    pub fn from_why(why: &str) -> Self {
+        let key = why.split('`').nth(1).unwrap_or("").to_string();
+        Broken {
+            why: why.to_string(),
+            key,
+            clean: None,
+        }
+    }
+}
+
 /// A generated test case.
 #[derive(Debug, Clone)]
 pub struct Case {
     /// The scene file.
     pub toml: String,
+    /// Files the scene refers to (Gmsh meshes), as (name relative to the scene, text).
+    pub files: Vec<(String, String)>,
     /// When the scene is broken and must be refused: what breaks it.
-    pub must_refuse: Option<String>,
+    pub must_refuse: Option<Broken>,
     /// Backend to solve with.
     pub backend: BackendKind,
     /// Nothing is loaded or prescribed and no two bodies overlap: the answer is u = 0.
@@ -185,6 +214,10 @@ struct BodyParams {
     support: u8,
     /// A `[[body.refine]]` over the body's bottom tenth, its hmax this fraction of the body's.
     refine: Option<f64>,
+    /// The mesh read from a Gmsh file the generator writes (`mesh = "bI.msh"`, MSH 4.1 ASCII,
+    /// triangles or, with `q1`, quadrilaterals) instead of `polygon`; `true`: every element
+    /// listed clockwise (the reader turns them all).
+    gmsh: Option<bool>,
 }
 
 fn body_params() -> impl Strategy<Value = BodyParams> {
@@ -196,13 +229,14 @@ fn body_params() -> impl Strategy<Value = BodyParams> {
             poisson(),
             0u8..4,
             prop::option::weighted(0.25, select(vec![0.5, 0.2, 0.05])),
+            prop::option::weighted(0.15, prop::bool::weighted(0.2)),
         ),
     )
         .prop_map(
             |(
                 (width, height, sliver, unit),
                 (gap, shift, hmax, q1),
-                (young, poisson, support, refine),
+                (young, poisson, support, refine, gmsh),
             )| {
                 BodyParams {
                     width,
@@ -217,6 +251,7 @@ fn body_params() -> impl Strategy<Value = BodyParams> {
                     poisson,
                     support,
                     refine,
+                    gmsh,
                 }
             },
         )
@@ -278,6 +313,73 @@ fn scene_params() -> impl Strategy<Value = SceneParams> {
         )
 }
 
+/// The bodies' rectangles `[x0, x1, y0, y1]`, stacked bottom to top.
+fn rects(p: &SceneParams) -> Vec<[f64; 4]> {
+    let mut rects: Vec<[f64; 4]> = Vec::new();
+    let mut y = 0.0;
+    let mut x_prev = 0.0;
+    let mut h_prev = 0.0;
+    for b in &p.bodies {
+        let w = b.width * b.unit;
+        let h = if b.sliver {
+            w * 1e-5
+        } else {
+            b.height * b.unit
+        };
+        let y0 = if rects.is_empty() {
+            0.0
+        } else {
+            y + b.gap * h_prev
+        };
+        let x0 = x_prev + b.shift * w;
+        rects.push([x0, x0 + w, y0, y0 + h]);
+        y = y0 + h;
+        x_prev = x0;
+        h_prev = h;
+    }
+    rects
+}
+
+/// The cells per side of a Gmsh body's grid: about `h` wide, at least one, at most 40 (so that
+/// a body stays within the harness's element limit, as [`Hmax`]'s extreme values would not).
+fn cells(length: f64, h: f64) -> usize {
+    let n = (length / h).ceil();
+    // NaN (h = 0 over a zero length) and n < 1 (h ≤ 0 or h > length) give one cell.
+    if n >= 1.0 {
+        n.min(40.0) as usize
+    } else {
+        1
+    }
+}
+
+/// The element size asked for body `b` in rectangle `r`.
+fn body_hmax(b: &BodyParams, r: [f64; 4]) -> f64 {
+    let [x0, x1, y0, y1] = r;
+    let small = (x1 - x0).min(y1 - y0);
+    match b.hmax {
+        Hmax::Relative(k) => k * small.max((x1 - x0) * 0.02),
+        Hmax::Absolute(v) => v,
+    }
+}
+
+/// The Gmsh files of the bodies meshed by Gmsh, named as their `mesh` keys say.
+fn mesh_files(p: &SceneParams) -> Vec<(String, String)> {
+    p.bodies
+        .iter()
+        .zip(rects(p))
+        .enumerate()
+        .filter_map(|(i, (b, r))| {
+            let clockwise = b.gmsh?;
+            let h = body_hmax(b, r);
+            let (nx, ny) = (cells(r[1] - r[0], h), cells(r[3] - r[2], h));
+            Some((
+                format!("b{i}.msh"),
+                super::msh::grid(r, [nx, ny], b.q1, clockwise),
+            ))
+        })
+        .collect()
+}
+
 /// Builds the sections of a scene: bodies stacked bottom to top, the bottom one clamped, the top
 /// one loaded on its top edge, consecutive bodies in contact.
 fn sections(p: &SceneParams) -> Vec<Section> {
@@ -304,29 +406,7 @@ fn sections(p: &SceneParams) -> Vec<Section> {
             entries: model,
         });
     }
-    // Rectangles [x0, x0 + w] × [y0, y0 + h].
-    let mut rects: Vec<[f64; 4]> = Vec::new();
-    let mut y = 0.0;
-    let mut x_prev = 0.0;
-    let mut h_prev = 0.0;
-    for b in &p.bodies {
-        let w = b.width * b.unit;
-        let h = if b.sliver {
-            w * 1e-5
-        } else {
-            b.height * b.unit
-        };
-        let y0 = if rects.is_empty() {
-            0.0
-        } else {
-            y + b.gap * h_prev
-        };
-        let x0 = x_prev + b.shift * w;
-        rects.push([x0, x0 + w, y0, y0 + h]);
-        y = y0 + h;
-        x_prev = x0;
-        h_prev = h;
-    }
+    let rects = rects(p);
     let names: Vec<String> = (0..p.bodies.len()).map(|i| format!("b{i}")).collect();
     for (i, (b, r)) in p.bodies.iter().zip(&rects).enumerate() {
         let [x0, x1, y0, y1] = *r;
@@ -337,19 +417,18 @@ fn sections(p: &SceneParams) -> Vec<Section> {
             arr(&[x1, y1]),
             arr(&[x0, y1])
         );
-        let small = (x1 - x0).min(y1 - y0);
-        let h = match b.hmax {
-            Hmax::Relative(k) => k * small.max((x1 - x0) * 0.02),
-            Hmax::Absolute(v) => v,
-        };
-        let mut e = vec![
-            Entry::new("name", format!("\"{}\"", names[i])),
-            Entry::new("polygon", polygon).num(),
-            Entry::new("hmax", f(h)).num(),
-            Entry::new("young", f(b.young)).num(),
-            Entry::new("poisson", f(b.poisson)).num(),
-        ];
-        if b.q1 {
+        let h = body_hmax(b, *r);
+        let mut e = vec![Entry::new("name", format!("\"{}\"", names[i]))];
+        if b.gmsh.is_some() {
+            // The file fixes the elements: no hmax, element or refine (docs/scene.md).
+            e.push(Entry::new("mesh", format!("\"b{i}.msh\"")));
+        } else {
+            e.push(Entry::new("polygon", polygon).num());
+            e.push(Entry::new("hmax", f(h)).num());
+        }
+        e.push(Entry::new("young", f(b.young)).num());
+        e.push(Entry::new("poisson", f(b.poisson)).num());
+        if b.q1 && b.gmsh.is_none() {
             e.push(Entry::new("element", "\"q1\"".into()).optional());
         }
         if p.gravity.is_some() {
@@ -362,7 +441,7 @@ fn sections(p: &SceneParams) -> Vec<Section> {
         // A graded mesh (P1 or Q1 alike): the bottom tenth, which is the contact side of every
         // body but the lowest, finer by `k` (docs/scene.md: the box meets the body, its hmax is
         // below the body's).
-        if let Some(k) = b.refine {
+        if let Some(k) = b.refine.filter(|_| b.gmsh.is_none()) {
             out.push(Section {
                 header: "[[body.refine]]",
                 entries: vec![
@@ -564,7 +643,8 @@ fn relength(value: &str, longer: bool) -> String {
     }
 }
 
-/// Applies a mutation; returns what makes the scene broken when it must be refused.
+/// Applies a mutation; returns what makes the scene broken (the key backticked first, see
+/// [`Broken::from_why`]) when it must be refused.
 fn mutate(sections: &mut [Section], m: &Mutation) -> Option<String> {
     match m {
         Mutation::None => None,
@@ -652,21 +732,36 @@ fn mutation() -> impl Strategy<Value = Mutation> {
     ]
 }
 
-/// The backends of this build.
-pub fn backends() -> Vec<BackendKind> {
-    BackendKind::ALL
-        .into_iter()
-        .filter(|k| k.available())
+/// The backends of this build, with the weight each is drawn with: `auto`, the default, as
+/// often as four named ones; every other name the command line accepts (each algorithm in its
+/// own form, clarabel and osqp on the condensed dual too) once.
+pub fn backends() -> Vec<(u32, BackendKind)> {
+    std::iter::once((4, BackendKind::Auto))
+        .chain(
+            BackendKind::ALL
+                .into_iter()
+                .chain([BackendKind::ClarabelDual, BackendKind::OsqpDual])
+                .map(|k| (1, k)),
+        )
+        .filter(|(_, k)| k.available())
         .collect()
+}
+
+/// A backend drawn with the weights of [`backends`].
+fn backend() -> impl Strategy<Value = BackendKind> {
+    let weighted: Vec<_> = backends()
+        .into_iter()
+        .map(|(w, k)| (w, Just(k).boxed()))
+        .collect();
+    proptest::strategy::Union::new_weighted(weighted)
 }
 
 /// A whole test case: scene text, whether it must be refused, and a backend.
 pub fn case() -> impl Strategy<Value = Case> {
-    let kinds = backends();
     (
         scene_params(),
         mutation(),
-        select(kinds),
+        backend(),
         prop::bool::weighted(0.1),
     )
         .prop_map(|(mut p, m, backend, unload)| {
@@ -678,7 +773,11 @@ pub fn case() -> impl Strategy<Value = Case> {
                 p.values = [0.0, 0.0];
             }
             let mut secs = sections(&p);
-            let must_refuse = mutate(&mut secs, &m);
+            let clean = render(&secs);
+            let must_refuse = mutate(&mut secs, &m).map(|why| Broken {
+                clean: Some(clean),
+                ..Broken::from_why(&why)
+            });
             // Bodies are stacked upwards, so a gap ≥ 0 to the one below means no overlap at all.
             let unloaded = p.load == [0.0, 0.0]
                 && p.linear.is_none_or(|t| t == [0.0, 0.0])
@@ -688,6 +787,7 @@ pub fn case() -> impl Strategy<Value = Case> {
             let at_rest = unloaded && apart && matches!(m, Mutation::None);
             Case {
                 toml: render(&secs),
+                files: mesh_files(&p),
                 must_refuse,
                 backend,
                 at_rest,
