@@ -264,6 +264,9 @@ pub struct Floor {
     pub time: Duration,
     /// The factor: ordering and nnz(L).
     pub info: FactorInfo,
+    /// ε when the floor factored A + εI rather than A (a known null space, or a Cholesky of A
+    /// that broke down); `None` when it factored A itself.
+    pub shift: Option<f64>,
 }
 
 /// The matrix the floor factors when it is not A itself: with a known null space (a body held
@@ -275,13 +278,17 @@ pub fn floor_matrix(qp: &QpProblem) -> Option<CscMatrix> {
     Some(shifted_stiffness(qp))
 }
 
-/// A + εI, ε = 1e-8 · maxⱼ Aⱼⱼ.
+/// The floor's ε = 1e-8 · maxⱼ Aⱼⱼ.
+fn floor_shift(qp: &QpProblem) -> f64 {
+    1e-8 * (0..qp.dofs())
+        .map(|j| qp.stiffness.get(j, j).copied().unwrap_or(0.0))
+        .fold(0.0, f64::max)
+}
+
+/// A + εI, ε = [`floor_shift`].
 fn shifted_stiffness(qp: &QpProblem) -> CscMatrix {
     let n = qp.dofs();
-    let shift = 1e-8
-        * (0..n)
-            .map(|j| qp.stiffness.get(j, j).copied().unwrap_or(0.0))
-            .fold(0.0, f64::max);
+    let shift = floor_shift(qp);
     let mut eye = sprs::TriMat::new((n, n));
     for j in 0..n {
         eye.add_triplet(j, j, shift);
@@ -330,6 +337,7 @@ pub fn floor(qp: &QpProblem) -> Result<Floor, LinalgError> {
     Ok(Floor {
         time,
         info: pattern.info(a)?,
+        shift: shifted.is_some().then(|| floor_shift(qp)),
     })
 }
 
@@ -366,6 +374,7 @@ mod tests {
     fn the_floor_reports_the_rules_ordering_and_the_exact_nnz_of_l() {
         let qp = qp_of(two_dof_grid(10));
         let floor = floor(&qp).unwrap();
+        assert_eq!(floor.shift, None, "a definite A is factored as it is");
         let ordering = fill_reducing_order(&qp.stiffness).unwrap();
         assert_eq!(floor.info.ordering, ordering.method);
         assert_eq!(floor.info.n, qp.dofs());
@@ -388,7 +397,7 @@ mod tests {
             assert!((d - 20.0 * 1e-8).abs() < 2e-14, "{d}");
         }
         assert_eq!(shifted.nnz(), qp.stiffness.nnz());
-        assert!(floor(&qp).is_ok());
+        assert_eq!(floor(&qp).unwrap().shift, Some(20.0 * 1e-8));
         let empty = qp_of(sprs::TriMat::new((0, 0)).to_csc());
         assert_eq!(floor(&empty).unwrap().info.nnz_l, 0);
     }
@@ -406,6 +415,8 @@ mod tests {
         assert!(crate::linalg::SparseCholesky::factor(&qp.stiffness).is_err());
         let floor = floor(&qp).unwrap();
         assert_eq!(floor.info.n, 2);
+        // ε = 1e-8 · max Aⱼⱼ = 1e-8 · (1 + 1e-17), which rounds to 1e-8.
+        assert_eq!(floor.shift, Some(1e-8));
         assert!(floor_time(&qp).is_ok());
     }
 }

@@ -85,6 +85,11 @@ pub struct CompareReport {
     pub floor_ordering: String,
     /// Nonzeros of the floor's Cholesky factor L (lower triangle, diagonal included).
     pub floor_nnz_l: usize,
+    /// ε, in A's units, when the floor factored A + εI instead of A (ε = 1e-8 · maxⱼ Aⱼⱼ): A is singular
+    /// (bodies held by contact alone) or its Cholesky broke down by round-off.  Absent when the
+    /// floor factored A itself.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub floor_regularised: Option<f64>,
     /// The backend `max_du` is measured against: the solved one with the smallest residuals.
     pub reference: Option<String>,
     /// One row per backend.
@@ -113,15 +118,13 @@ pub fn compare(
     let qp = solve::ScaledQp::new(prepared.qp);
     let model = &prepared.model;
     let force_scale = model.load.iter().map(|f| f.abs()).sum::<f64>();
-    let runs = run_backends(
-        model,
-        &qp,
-        kinds,
-        options,
+    let judge = Judge {
         force_scale,
-        nodal_difference,
-        progress,
-    )?;
+        difference: nodal_difference,
+        // solve's own verdict, derived numbers (stresses, reactions) included.
+        check: &|s| run::checked(scene, model, s, options.tol),
+    };
+    let runs = run_backends(model, &qp, kinds, options, &judge, progress)?;
     Ok(CompareReport {
         provenance: None,
         scene: scene.title.clone(),
@@ -135,6 +138,7 @@ pub fn compare(
         floor_s: runs.floor_s,
         floor_ordering: runs.floor_ordering,
         floor_nnz_l: runs.floor_nnz_l,
+        floor_regularised: runs.floor_regularised,
         reference: runs.reference,
         backends: runs.backends,
     })
@@ -145,25 +149,38 @@ struct Runs {
     floor_s: f64,
     floor_ordering: String,
     floor_nnz_l: usize,
+    floor_regularised: Option<f64>,
     reference: Option<String>,
     backends: Vec<CompareRow>,
 }
 
-/// The floor, then every backend of `kinds` on `qp`, each row's `max_du` by `difference` against
-/// the solved backend with the smallest residuals, and its active rows counted against
-/// `force_scale` (see [`signorini_core::report::is_active`]).
+/// How [`run_backends`] judges and measures the answers.
+struct Judge<'a> {
+    /// Active rows are counted against this force (see [`signorini_core::report::is_active`]).
+    force_scale: f64,
+    /// A row's `max_du` to the reference answer.
+    difference: fn(&[f64], &[f64]) -> f64,
+    /// The verdict `solve` would give the answer ([`run::checked`] for a scene; the core's own,
+    /// already applied, for a QP from files, which has no derived numbers).
+    check: &'a dyn Fn(Solution) -> Solution,
+}
+
+/// The floor, then every backend of `kinds` on `qp`, each answer checked by `judge.check`, each
+/// row's `max_du` by `judge.difference` against the solved backend with the smallest residuals.
 fn run_backends(
     model: &Model,
     qp: &solve::ScaledQp,
     kinds: &[BackendKind],
     options: &SolveOptions,
-    force_scale: f64,
-    difference: fn(&[f64], &[f64]) -> f64,
+    judge: &Judge<'_>,
     mut progress: impl FnMut(&str),
 ) -> Result<Runs, RunError> {
     let floor = measure_floor(&qp.problem)?;
     let floor_s = floor.seconds;
-    let outcomes = solve_each(model, qp, kinds, options, &mut progress)?;
+    let outcomes: Vec<BackendOutcome> = solve_each(model, qp, kinds, options, &mut progress)?
+        .into_iter()
+        .map(|o| o.map(judge.check))
+        .collect();
     let solutions: Vec<&Solution> = outcomes.iter().filter_map(|o| o.as_ref().ok()).collect();
     let reference = solutions
         .iter()
@@ -178,7 +195,11 @@ fn run_backends(
                 Ok(s) => s,
                 Err((backend, message)) => return error_row(backend, message),
             };
-            let largest = s.multipliers.iter().copied().fold(force_scale, f64::max);
+            let largest = s
+                .multipliers
+                .iter()
+                .copied()
+                .fold(judge.force_scale, f64::max);
             CompareRow {
                 backend: s.backend.clone(),
                 status: s.status.as_str().to_string(),
@@ -188,7 +209,7 @@ fn run_backends(
                 ratio_to_floor: s.solve_time.as_secs_f64() / floor_s,
                 objective: s.objective,
                 max_du: reference
-                    .map(|r| difference(&s.displacement, &solutions[r].displacement))
+                    .map(|r| (judge.difference)(&s.displacement, &solutions[r].displacement))
                     .unwrap_or(f64::NAN),
                 active: s
                     .multipliers
@@ -204,6 +225,8 @@ fn run_backends(
         floor_s,
         floor_ordering: floor.ordering,
         floor_nnz_l: floor.nnz_l,
+        // ε of the scaled Â = A / k̄, brought back to A's units.
+        floor_regularised: floor.shift.map(|eps| eps * qp.scaling.stiffness),
         reference: reference.map(|r| solutions[r].backend.clone()),
         backends,
     })
@@ -218,12 +241,14 @@ pub(crate) struct Floor {
     pub ordering: String,
     /// Nonzeros of the factor L.
     pub nnz_l: usize,
+    /// ε when A + εI was factored instead of A (see [`solve::Floor::shift`]).
+    pub shift: Option<f64>,
 }
 
 /// Times the floor of `qp`: a warm-up first (page faults of the first large allocation), then
 /// the median of three.
 pub(crate) fn measure_floor(qp: &QpProblem) -> Result<Floor, RunError> {
-    let info = solve::floor(qp).map_err(solve::SolveError::from)?.info;
+    let floor = solve::floor(qp).map_err(solve::SolveError::from)?;
     let mut floors: Vec<Duration> = (0..3)
         .map(|_| solve::floor_time(qp))
         .collect::<Result<_, _>>()
@@ -231,8 +256,9 @@ pub(crate) fn measure_floor(qp: &QpProblem) -> Result<Floor, RunError> {
     floors.sort();
     Ok(Floor {
         seconds: floors[1].as_secs_f64(),
-        ordering: info.ordering.as_str().to_string(),
-        nnz_l: info.nnz_l,
+        ordering: floor.info.ordering.as_str().to_string(),
+        nnz_l: floor.info.nnz_l,
+        shift: floor.shift,
     })
 }
 
@@ -356,15 +382,12 @@ pub fn compare_qp(
     let force_scale = files.qp.load.iter().map(|f| f.abs()).sum::<f64>();
     let (dofs, constraints) = (files.qp.dofs(), files.qp.rows());
     let qp = solve::ScaledQp::new(files.qp);
-    let mut runs = run_backends(
-        &model,
-        &qp,
-        kinds,
-        options,
+    let judge = Judge {
         force_scale,
-        componentwise_difference,
-        progress,
-    )?;
+        difference: componentwise_difference,
+        check: &std::convert::identity,
+    };
+    let mut runs = run_backends(&model, &qp, kinds, options, &judge, progress)?;
     // A dual-form backend needs A⁻¹, or A's null space when A is singular (a body held by
     // contact alone); a scene's assembly knows the rigid-body modes, the files do not.  When
     // such a backend did not solve and A's Cholesky breaks down, its numbers (x = 0, λ = 0) say
@@ -408,6 +431,7 @@ pub fn compare_qp(
         floor_s: runs.floor_s,
         floor_ordering: runs.floor_ordering,
         floor_nnz_l: runs.floor_nnz_l,
+        floor_regularised: runs.floor_regularised,
         reference: runs.reference,
         backends: runs.backends,
     })
@@ -420,8 +444,13 @@ pub fn table(report: &CompareReport) -> String {
     } else {
         ("DOFs", "contact rows", "max|Δu|")
     };
+    let matrix = if report.floor_regularised.is_some() {
+        "A + εI*"
+    } else {
+        "A"
+    };
     let mut t = format!(
-        "{}\n  {} {unknowns}, {} {rows}; floor (factor + solve of A, {} ordering, nnz(L) {}) {:.3} ms; reference: {}\n",
+        "{}\n  {} {unknowns}, {} {rows}; floor (factor + solve of {matrix}, {} ordering, nnz(L) {}) {:.3} ms; reference: {}\n",
         report.scene,
         report.dofs,
         report.constraints,
@@ -465,6 +494,11 @@ pub fn table(report: &CompareReport) -> String {
             r.residuals.stationarity,
             r.residuals.complementarity,
             r.residuals.min_multiplier
+        ));
+    }
+    if let Some(eps) = report.floor_regularised {
+        t.push_str(&format!(
+            "  * the floor factored A + εI, ε = {eps:.3e} (1e-8 · max Aⱼⱼ): A itself is singular (a body held by contact alone) or its Cholesky broke down; same pattern and work\n"
         ));
     }
     t

@@ -13,6 +13,7 @@ use sha2::{Digest, Sha256};
 use signorini_core::report::{BackendSettings, Provenance, RunReport};
 use signorini_core::scene::{SceneError, SceneFile};
 
+use crate::backends::BackendKind;
 use crate::run::DEFAULT_SCENE;
 
 /// Which document a schema describes.
@@ -158,6 +159,21 @@ pub fn provenance_of(
     }
 }
 
+/// The provenance's `settings.form` of a run of `kinds`: each backend's formulation, comma
+/// separated in the order of `settings.backend` — `primal` (sparse, in the displacements),
+/// `dual` (condensed, in the contact forces: the `dual-*` backends and `X/dual`) or `auto`
+/// (`auto` picks the form per attempt, each attempt's backend names it).
+pub fn forms(kinds: &[BackendKind]) -> String {
+    kinds
+        .iter()
+        .map(|k| match k {
+            BackendKind::Auto => "auto",
+            k => k.form().name(),
+        })
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
 /// The logical cores this process may use (1 when unknown).
 pub fn cores() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
@@ -217,6 +233,26 @@ mod tests {
                 "{s} in {text}"
             );
         }
+    }
+
+    /// Each backend's form as `--form` would name it: the dual methods and `X/dual` are dual.
+    #[test]
+    fn forms_name_each_backends_formulation() {
+        use BackendKind::*;
+        assert_eq!(
+            forms(&[
+                Clarabel,
+                ClarabelDual,
+                Osqp,
+                OsqpDual,
+                DualPgs,
+                DualUzawa,
+                DualSsn,
+                Pdas,
+                Auto
+            ]),
+            "primal,dual,primal,dual,dual,dual,dual,primal,auto"
+        );
     }
 
     #[test]

@@ -134,13 +134,22 @@ pub fn solve_scene(
     let qp = solve::ScaledQp::new(prepared.qp);
     let solution = solve::solve_scaled(&prepared.model, &qp, backend, options)?;
     drop(qp);
+    let fields = report::body_fields(&prepared.model, &solution);
     let timings = Timings {
         mesh: prepared.mesh_s,
         assemble: prepared.assemble_s,
         solve: solution.solve_time.as_secs_f64(),
+        // Everything since the element estimate, the output fields included (docs/scene.md).
         total: start.elapsed().as_secs_f64(),
     };
-    let (solution, fields, report) = finish(scene, &prepared.model, solution, options.tol, timings);
+    let (solution, report) = finish_with_fields(
+        scene,
+        &prepared.model,
+        solution,
+        &fields,
+        options.tol,
+        timings,
+    );
     Ok(Outcome {
         model: prepared.model,
         solution,
@@ -156,14 +165,34 @@ pub fn solve_scene(
 pub fn finish(
     scene: &Scene,
     model: &Model,
-    mut solution: Solution,
+    solution: Solution,
     tol: f64,
     timings: Timings,
 ) -> (Solution, Vec<BodyFields>, RunReport) {
     let fields = report::body_fields(model, &solution);
-    let mut report = report::run_report(scene, model, &solution, &fields, tol, timings);
+    let (solution, report) = finish_with_fields(scene, model, solution, &fields, tol, timings);
+    (solution, fields, report)
+}
+
+/// The status `solve` gives `solution`: [`finish`]'s, the report and the fields dropped.  What
+/// `compare` judges each backend's answer by, so that compare says `solved` exactly when solve
+/// does (the timings are not part of the verdict: zeros stand in for them).
+pub fn checked(scene: &Scene, model: &Model, solution: Solution, tol: f64) -> Solution {
+    finish(scene, model, solution, tol, Timings::default()).0
+}
+
+/// [`finish`] with the output fields already computed (so that the caller can time them).
+pub fn finish_with_fields(
+    scene: &Scene,
+    model: &Model,
+    mut solution: Solution,
+    fields: &[BodyFields],
+    tol: f64,
+    timings: Timings,
+) -> (Solution, RunReport) {
+    let mut report = report::run_report(scene, model, &solution, fields, tol, timings);
     if solution.status == QpStatus::Solved {
-        if let Some(path) = first_non_finite(&report, &fields) {
+        if let Some(path) = first_non_finite(&report, fields) {
             let note = format!("{path} is not finite in the scene's units");
             solution.status = QpStatus::NumericalError;
             solution.message = Some(match solution.message.take() {
@@ -174,7 +203,7 @@ pub fn finish(
             report.message = solution.message.clone();
         }
     }
-    (solution, fields, report)
+    (solution, report)
 }
 
 /// The first number of the report (as a JSON path) or of the output fields that is NaN or

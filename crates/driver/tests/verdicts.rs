@@ -3,52 +3,12 @@
 //! (0 solved, 1 bad input or usage, 2 not solved, 3 I/O or resource error).
 
 mod common;
-use common::signorini;
+use common::{blocks, json, signorini};
 
-use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// Two unit blocks, the upper one pushed down onto the lower, clamped one; `young`, the traction
-/// and the upper block's prescribed x-displacement are the knobs.
-fn blocks(young: &str, traction: &str, value: &str) -> String {
-    format!(
-        r#"title = "blocks"
-[[body]]
-name = "upper"
-polygon = [[0, 1], [1, 1], [1, 2], [0, 2]]
-hmax = 0.5
-young = {young}
-poisson = 0.3
-[[body]]
-name = "lower"
-polygon = [[0, 0], [1, 0], [1, 1], [0, 1]]
-hmax = 0.5
-young = {young}
-poisson = 0.3
-[[dirichlet]]
-body = "lower"
-region = [0, 1, 0, 0]
-[[dirichlet]]
-body = "upper"
-region = [0, 0, 1, 2]
-components = ["x"]
-value = [{value}, 0]
-[[neumann]]
-body = "upper"
-region = [0, 1, 2, 2]
-traction = [0, {traction}]
-[[contact]]
-bodies = ["upper", "lower"]
-"#
-    )
-}
-
-fn json(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).expect("result.json")).expect("JSON")
 }
 
 #[test]

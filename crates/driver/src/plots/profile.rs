@@ -2,9 +2,12 @@
 //! (Dolan & Moré, "Benchmarking optimization software with performance profiles", Math.
 //! Program. 91, 2002).
 //!
-//! The profile's cases are the suite's cases where the backends run: a case that could not run
-//! at all ([`CaseReport::error`](crate::suite::report::CaseReport::error)) and a case without
-//! contact rows (a single `cholesky` run) are left out.  On a case, a backend's answer is
+//! The profile's cases are the suite's cases where the backends run — the cases the summary
+//! counts ([`crate::suite::summary`]) —: a case without contact rows (a single `cholesky` run)
+//! is left out; a case that could not run at all
+//! ([`CaseReport::error`](crate::suite::report::CaseReport::error)) is in, a failure of every
+//! backend (as qpbenchmark counts every problem of its test set for every solver, a failure
+//! at the time limit, never within any τ).  On a case, a backend's answer is
 //! *correct* as the summary's success rate counts it ([`CaseRun::correct`]: verdict `pass` or
 //! `unexpected-pass` — on a scene without solution, a refusal passes —, or `solved` without an
 //! expectation), with a finite solve time.  Its
@@ -44,9 +47,10 @@ fn correct(run: &CaseRun) -> bool {
     run.correct() && run.solve_s.is_finite() && run.solve_s >= 0.0
 }
 
-/// Whether the case belongs to the profile: it ran, and some backend of the suite ran on it.
+/// Whether the case belongs to the profile: it could not run (a failure of every backend), or
+/// some backend of the suite ran on it.
 fn profiled(case: &CaseReport, backends: &[String]) -> bool {
-    case.error.is_none() && case.runs.iter().any(|r| backends.contains(&r.backend))
+    case.error.is_some() || case.runs.iter().any(|r| backends.contains(&r.backend))
 }
 
 /// The number of profiled cases and, per backend of the report (in order), its ratios on the
@@ -99,8 +103,8 @@ fn ratios(report: &SuiteReport) -> (usize, Vec<(String, Vec<f64>)>) {
 /// `(τ, ρ(τ))` of its step function (see the module's docs).  The first point is `(1, ρ(1))`;
 /// each further point is a ratio `τ > 1` some case reached, with ρ from that τ on (ρ is
 /// constant up to the next point, and from the last point to infinity).  A backend without a
-/// correct answer has the single point `(1, 0)`.  Without any profiled case (every case errored
-/// or has no contact row) every list is empty.
+/// correct answer has the single point `(1, 0)`.  Without any profiled case (every case has no
+/// contact row) every list is empty.
 pub fn profile(report: &SuiteReport) -> Vec<(String, Vec<(f64, f64)>)> {
     let (n, ratios) = ratios(report);
     ratios
@@ -288,8 +292,8 @@ mod tests {
     /// Backend C's name needs escaping in the SVG.
     const C: &str = "c<&>";
 
-    /// Four profiled cases (a failure, a tie, an unexpected pass, a case nobody answers), one
-    /// case that errored and one without contact rows (both left out).
+    /// Five profiled cases (a failure, a tie, an unexpected pass, a case nobody answers, a case
+    /// that could not run) and one without contact rows (left out).
     fn report() -> SuiteReport {
         use Verdict::*;
         let mut broken = case("broken", Vec::new());
@@ -346,17 +350,23 @@ mod tests {
 
     #[test]
     fn the_profile_by_hand() {
-        // By hand, over the 4 profiled cases a–d (broken and free are left out):
-        //   A: ratios a 1, b 1 (tie), c 10/2 = 5 → ρ(1) = 2/4, ρ(5) = 3/4;
-        //   B: ratios a 2, b 1 (tie), c 1        → ρ(1) = 2/4, ρ(2) = 3/4;
-        //   C: ratio c 5/2 = 2.5 only            → ρ(1) = 0,   ρ(2.5) = 1/4.
+        // By hand, over the 5 profiled cases a–d and broken (a failure of every backend;
+        // free is left out):
+        //   A: ratios a 1, b 1 (tie), c 10/2 = 5 → ρ(1) = 2/5, ρ(5) = 3/5;
+        //   B: ratios a 2, b 1 (tie), c 1        → ρ(1) = 2/5, ρ(2) = 3/5;
+        //   C: ratio c 5/2 = 2.5 only            → ρ(1) = 0,   ρ(2.5) = 1/5.
         let want: Vec<(String, Vec<(f64, f64)>)> = vec![
-            ("A".into(), vec![(1.0, 0.5), (5.0, 0.75)]),
-            ("B".into(), vec![(1.0, 0.5), (2.0, 0.75)]),
-            (C.into(), vec![(1.0, 0.0), (2.5, 0.25)]),
+            ("A".into(), vec![(1.0, 2.0 / 5.0), (5.0, 3.0 / 5.0)]),
+            ("B".into(), vec![(1.0, 2.0 / 5.0), (2.0, 3.0 / 5.0)]),
+            (C.into(), vec![(1.0, 0.0), (2.5, 1.0 / 5.0)]),
         ];
-        // Exact: every ratio and fraction here is a binary fraction.
+        // Exact: the ratios are binary fractions and each ρ is the same one division k / 5.
         assert_eq!(profile(&report()), want);
+        // ρ(τ → ∞) is the summary's success rate, the broken case counted alike.
+        let r = report();
+        for ((_, points), s) in profile(&r).iter().zip(&r.summary) {
+            assert_eq!(points.last().map(|p| p.1), Some(s.success_rate));
+        }
     }
 
     #[test]
@@ -391,9 +401,12 @@ mod tests {
         r.cases
             .retain(|c| c.name == "d" || c.name == "broken" || c.name == "free");
         assert!(render_profile_svg(&r).unwrap().is_none());
-        // A backend without correct answer: (1, 0); no profiled case at all: empty lists.
+        // A backend without correct answer: (1, 0), also when the only case could not run; no
+        // profiled case at all (only a case without contact rows): empty lists.
         assert!(profile(&r).iter().all(|(_, p)| p == &[(1.0, 0.0)]));
         r.cases.retain(|c| c.name != "d");
+        assert!(profile(&r).iter().all(|(_, p)| p == &[(1.0, 0.0)]));
+        r.cases.retain(|c| c.name == "free");
         assert!(profile(&r).iter().all(|(_, p)| p.is_empty()));
         assert!(render_profile_svg(&r).unwrap().is_none());
     }
@@ -407,15 +420,15 @@ mod tests {
             .filter(|n| n.has_tag_name("text"))
             .map(|n| n.text().unwrap_or("").trim().to_string())
             .collect();
-        // Success rates by hand: A and B 3 of 4 cases, C 1 of 4.
+        // Success rates by hand: A and B 3 of 5 cases, C 1 of 5 (the broken case counts).
         for label in [
-            "A: 3/4 correct (75 %)",
-            "B: 3/4 correct (75 %)",
-            "c<&>: 1/4 correct (25 %)",
+            "A: 3/5 correct (60 %)",
+            "B: 3/5 correct (60 %)",
+            "c<&>: 1/5 correct (20 %)",
         ] {
             assert!(texts.iter().any(|t| t == label), "{label} not in {texts:?}");
         }
-        let heading = "performance profile: fixtures/seed (tol 1e-8, 4 cases)";
+        let heading = "performance profile: fixtures/seed (tol 1e-8, 5 cases)";
         assert!(texts.iter().any(|t| t == heading), "{texts:?}");
         // One polyline per backend: the steps of A end at (hi, 3/4) with hi = max(10, 1.25·5).
         let lines = doc

@@ -33,8 +33,10 @@
 //!   runs; the root's counts and times are the sums over its suites.  The root has no `skipped`
 //!   attribute: the Jenkins xunit plugin's `junit-10.xsd` does not allow one there (each
 //!   `<testsuite>` carries its own).
-//! * Times are seconds with a dot and six decimals; a time that is NaN (a backend that could
-//!   not run), infinite or negative is written `0.000000`.
+//! * A test case's time is seconds with a dot and six decimals; a `<testsuite>`'s and the
+//!   root's have three, as `junit-10.xsd`'s `SUREFIRE_TIME` pattern requires there (at most
+//!   three decimals: `0.029276` is refused by the schema).  A time that is NaN (a backend that
+//!   could not run), infinite or negative is written as zero.
 //! * Every text is escaped ([`xml_escape`]; characters XML 1.0 forbids become U+FFFD); tab,
 //!   newline and carriage return inside attribute values are written as character references so
 //!   that a parser gives them back unchanged.
@@ -123,9 +125,15 @@ fn clean_time(t: f64) -> f64 {
     }
 }
 
-/// A time attribute's value: seconds with a dot and six decimals (never an exponent).
+/// A test case's time: seconds with a dot and six decimals (never an exponent).
 fn seconds(t: f64) -> String {
     format!("{:.6}", clean_time(t))
+}
+
+/// A `<testsuite>`'s or the root's time: seconds with a dot and three decimals, as
+/// `junit-10.xsd`'s `SUREFIRE_TIME` allows (never an exponent).
+fn suite_seconds(t: f64) -> String {
+    format!("{:.3}", clean_time(t))
 }
 
 /// `text` for a quoted attribute value: [`xml_escape`]d, and tab, newline and carriage return
@@ -356,7 +364,7 @@ pub fn junit_xml(report: &SuiteReport) -> String {
             "  <testsuite name=\"{}\" tests=\"{n}\" failures=\"{f}\" errors=\"{e}\" \
              skipped=\"{k}\" time=\"{}\">\n",
             attr(&s.name),
-            seconds(t)
+            suite_seconds(t)
         ));
         body.push_str("    <properties>\n");
         for (name, value) in &props {
@@ -375,7 +383,7 @@ pub fn junit_xml(report: &SuiteReport) -> String {
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n\
          <testsuites name=\"{ROOT_NAME}\" tests=\"{tests}\" failures=\"{failures}\" \
          errors=\"{errors}\" time=\"{}\">\n{body}</testsuites>\n",
-        seconds(time)
+        suite_seconds(time)
     )
 }
 
@@ -724,6 +732,11 @@ mod tests {
                 }
                 if let Some(t) = n.attribute("time") {
                     assert!(time_ok(t), "{t}");
+                    // SUREFIRE_TIME (testsuites, testsuite): at most three decimals.
+                    if n.tag_name().name() != "testcase" {
+                        let decimals = t.split_once('.').map_or(0, |(_, b)| b.len());
+                        assert!(decimals <= 3, "{t} on {:?}", n.tag_name());
+                    }
                 }
                 // Where each element may sit.
                 let parent = n.parent_element().map(|p| p.tag_name().name());

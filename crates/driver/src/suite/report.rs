@@ -159,7 +159,9 @@ impl CaseReport {
 pub struct BackendSummary {
     /// Backend name.
     pub backend: String,
-    /// Cases run (cases without contact rows, where no backend runs, are not counted).
+    /// Cases counted: every case where backends run, a case that could not run at all
+    /// included (a failure of every backend); cases without contact rows, where no backend
+    /// runs, are not counted (see [`crate::suite::summary`]).
     pub cases: usize,
     /// Cases answered correctly: `solved` with every figure within tolerance, or a non-solved
     /// status on a scene expected to have no solution (see [`crate::suite::summary`]).
@@ -173,9 +175,11 @@ pub struct BackendSummary {
     /// Runs whose verdict is [`Verdict::UnexpectedPass`].
     pub unexpected_passes: usize,
     /// Shifted geometric mean of the solve time, seconds, shift 10 ms; a case the backend did
-    /// not answer correctly counts at the time limit (see [`crate::suite::summary`]).
+    /// not answer correctly, or that could not run, counts at the time limit (see
+    /// [`crate::suite::summary`]).
     pub sgm_time_s: f64,
-    /// The same of time ÷ floor, shift 1 (one floor).
+    /// The same of time ÷ floor, shift 1 (one floor), over the cases with a floor (a case
+    /// that could not run has none).
     pub sgm_ratio: f64,
     /// `sgm_time_s` ÷ the smallest `sgm_time_s` of the suite's backends (1 for the best).
     pub sgm_time_relative: f64,

@@ -59,7 +59,7 @@ pub(crate) fn compare(
             .map(|k| k.name().to_string())
             .collect::<Vec<_>>()
             .join(","),
-        form: "primal".to_string(),
+        form: signorini::contract::forms(&kinds),
         tolerance: options.tol,
         time_limit_s: options.time_limit.map(|t| t.as_secs_f64()),
         max_iter: options.max_iter,

@@ -51,7 +51,7 @@ pub(crate) fn suite(args: &SuiteArgs) -> Result<Exit> {
     bar.finish_and_clear();
     let settings_report = signorini_core::report::BackendSettings {
         backend: report.backends.join(","),
-        form: "primal".to_string(),
+        form: signorini::contract::forms(&settings.backends),
         tolerance: settings.solve.tol,
         time_limit_s: settings.solve.time_limit.map(|t| t.as_secs_f64()),
         max_iter: settings.solve.max_iter,
