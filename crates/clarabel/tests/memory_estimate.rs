@@ -40,28 +40,25 @@ fn qdldl_nnz_l(qp: &QpProblem) -> usize {
 }
 
 #[test]
-fn the_kkt_factor_estimate_bounds_clarabels_factor_within_a_factor_of_three() {
+fn the_kkt_factor_estimate_matches_clarabels_factor_within_a_quarter() {
     for hmax in ["0.08", "0.04"] {
         let qp = seed_qp(hmax);
         let estimate = signorini_clarabel::memory_need(&qp).unwrap();
         let nnz_l = qdldl_nnz_l(&qp);
         let dim = qp.dofs() + qp.rows();
         assert_eq!(estimate.dim, dim);
-        // The estimate's stored values are faer's supernodal factor under faer's AMD: the
-        // diagonal, the dense upper triangles of the supernodes' diagonal blocks and the
-        // relaxed supernodes' explicit zeros on top of nnz(L).  Two AMD implementations differ
-        // by some per cent in fill; the supernodal storage adds at most a factor of about two
-        // on 2D stiffness patterns.  So the estimate is never below QDLDL's factor (nnz(L) + the
-        // diagonal) and within three times it.
+        // The estimate counts nnz(L) under faer's AMD, QDLDL under clarabel's port of
+        // SuiteSparse AMD: two minimum-degree heuristics whose fill differs by some per cent
+        // (measured: equal to 1 % on both meshes); 25 % either way is the stated bound.
         let qdldl_values = nnz_l + dim;
-        let ratio = estimate.stored_values as f64 / qdldl_values as f64;
+        let ratio = estimate.nnz_l as f64 / qdldl_values as f64;
         assert!(
-            (1.0..3.0).contains(&ratio),
-            "hmax {hmax}: {} stored values against QDLDL's {qdldl_values}",
-            estimate.stored_values
+            (0.8..1.25).contains(&ratio),
+            "hmax {hmax}: nnz(L) {} against QDLDL's {qdldl_values}",
+            estimate.nnz_l
         );
-        // QDLDL holds 16 B per nonzero (Lx, Li): the priced factor covers it.
-        assert!(estimate.factor >= 16.0 * qdldl_values as f64);
+        // QDLDL holds 16 B per nonzero (Lx, Li): the priced factor covers it within 25 %.
+        assert!(estimate.factor >= 0.8 * 16.0 * qdldl_values as f64);
         eprintln!("hmax {hmax}: n + m = {dim}, QDLDL nnz(L) = {nnz_l}, ratio {ratio:.2}");
     }
 }

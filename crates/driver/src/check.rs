@@ -66,9 +66,9 @@ impl MemoryNeeds {
 }
 
 /// pdas factors the KKT matrix [A, Bᵀ; B, −δI] once per active set: one factor at 8 B per
-/// stored value, K (16 B per entry) and about ten vectors of n + m — the terms pdas checks
-/// itself before it allocates (`crates/pdas/src/active_set.rs`), priced here on the forced
-/// supernodal analysis, which stores at least as many values as pdas's own.
+/// value, K (16 B per entry) and about ten vectors of n + m — the terms pdas checks itself
+/// before it allocates (`crates/pdas/src/active_set.rs`), priced here on nnz(L) (pdas's faer
+/// factor may store some more values where it goes supernodal).
 const PDAS_MODEL: KktModel = KktModel {
     factors: 1.0,
     bytes_per_value: 8.0,
@@ -123,9 +123,9 @@ fn need_of(
         backend: kind.name(),
         bytes: estimate.total(),
         what: format!(
-            "{factors} of the {d}×{d} KKT matrix ({v:.3e} stored values), copies and vectors",
+            "{factors} of the {d}×{d} KKT matrix (nnz(L) = {v:.3e}), copies and vectors",
             d = estimate.dim,
-            v = estimate.stored_values as f64
+            v = estimate.nnz_l as f64
         ),
     };
     let dense = |squares: f64, what: &str| BackendNeed {

@@ -25,8 +25,9 @@ pub struct KktModel {
     /// LDLᵀ factors of K held at once (OSQP's polish factors a second KKT matrix, at most as
     /// large, while the first is kept).
     pub factors: f64,
-    /// Bytes per value the factor stores: 8 for the value and 8 for a row index (qdldl's `Li`;
-    /// faer's supernodal factor stores fewer indices, so 16 covers both).
+    /// Bytes per nonzero of L: 8 for the value and 8 for a row index (qdldl's `Lx`, `Li`;
+    /// faer's supernodal factor, 8 B per stored value with fewer indices, stays below 16 B per
+    /// nonzero while it stores fewer than twice nnz(L), as on 2D stiffness patterns).
     pub bytes_per_value: f64,
     /// Copies of K's lower or upper triangle the solver keeps (the assembled K, its permuted
     /// copy), at 16 B per entry plus 8 B for the map from the data into K.
@@ -46,9 +47,11 @@ pub struct KktEstimate {
     pub dim: usize,
     /// Entries of K's lower triangle (diagonal included).
     pub kkt_entries: usize,
-    /// Values the supernodal LDLᵀ factor of K stores under AMD (≥ nnz(L)).
-    pub stored_values: usize,
-    /// The factor(s): `factors × bytes_per_value × stored_values`.
+    /// Nonzeros of L (lower triangle, diagonal included) under AMD: the exact count from the
+    /// elimination tree, what qdldl stores.  (faer's supernodal storage would add explicit
+    /// zeros: 1.3–1.4× on 2D stiffness patterns but 7× on a chain, so it is not the measure.)
+    pub nnz_l: usize,
+    /// The factor(s): `factors × bytes_per_value × nnz_l`.
     pub factor: f64,
     /// The numeric factorisation's scratch space (its largest frontal update).
     pub scratch: f64,
@@ -84,23 +87,24 @@ impl KktEstimate {
         };
         let pattern = kkt_pattern(a, b).map_err(failed)?;
         let analysis = CholeskyPattern::analyse(&pattern).map_err(failed)?;
-        Ok(Self::priced(&pattern, &analysis, problem, model))
+        let nnz_l = analysis.info(&pattern).map_err(failed)?.nnz_l;
+        Ok(Self::priced(&pattern, &analysis, nnz_l, problem, model))
     }
 
     fn priced(
         pattern: &CscMatrix,
         analysis: &CholeskyPattern,
+        nnz_l: usize,
         problem: &QpProblem,
         model: &KktModel,
     ) -> Self {
         let dim = pattern.rows();
-        let stored = analysis.stored_values();
         let data = (problem.stiffness.nnz() + problem.constraints.nnz()) as f64;
         Self {
             dim,
             kkt_entries: pattern.nnz(),
-            stored_values: stored,
-            factor: model.factors * model.bytes_per_value * stored as f64,
+            nnz_l,
+            factor: model.factors * model.bytes_per_value * nnz_l as f64,
             scratch: analysis.numeric_scratch_bytes(),
             matrices: model.kkt_copies * (ENTRY_BYTES + 8.0) * pattern.nnz() as f64
                 + model.data_copies * ENTRY_BYTES * data,
@@ -119,10 +123,10 @@ impl KktEstimate {
             backend,
             || {
                 format!(
-                    "the LDLᵀ factor of the {dim}×{dim} KKT matrix ({stored:.3e} stored values), \
+                    "the LDLᵀ factor of the {dim}×{dim} KKT matrix (nnz(L) = {nnz:.3e}), \
                      the solver's copies of the data and its vectors",
                     dim = self.dim,
-                    stored = self.stored_values as f64
+                    nnz = self.nnz_l as f64
                 )
             },
             self.total(),
