@@ -61,6 +61,7 @@ impl QpBackend for ClarabelBackend {
         if problem.dofs() == 0 {
             return Ok(no_unknowns(problem, start));
         }
+        crate::memory_need(problem)?.check(NAME)?;
         let run = |settings: DefaultSettings<f64>| -> Result<QpSolution, QpError> {
             if self.settings.rescale {
                 let scaling = QpScaling::of(problem);

@@ -29,6 +29,12 @@
 //! point); `NumericalError`, `Unsolved` → numerical-error.  Non-finite output becomes
 //! numerical-error with zeros.
 //!
+//! # Memory
+//! Before clarabel allocates anything, the KKT matrix's pattern is analysed symbolically and
+//! the factor, clarabel's copies and vectors are priced ([`memory_need`], [`MEMORY_MODEL`]); a
+//! run that would not fit in the memory available is refused with `QpError::TooLarge`.  No size
+//! is exempt.
+//!
 //! # Linear solver
 //! `ClarabelSettings::direct_solver` picks the LDLᵀ of clarabel's KKT systems: `Qdldl`,
 //! `Faer` (this crate's `faer` feature, on by default in the `signorini` driver through its
@@ -53,9 +59,11 @@
 #![forbid(unsafe_code)]
 
 mod backend;
+mod memory;
 mod settings;
 
 pub use backend::ClarabelBackend;
+pub use memory::{memory_need, MEMORY_MODEL};
 pub use settings::{ClarabelSettings, ClarabelSettingsError, DirectSolver};
 
 /// The backend's name in reports and on the command line.

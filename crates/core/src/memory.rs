@@ -1,14 +1,33 @@
 //! How much memory the machine can give a run, and the one check every large allocation of a
-//! backend (a sparse factor, a dense dual Hessian) goes through before it is made.
+//! backend (a sparse factor, a KKT factor, a dense dual Hessian) goes through before it is made.
+//!
+//! The memory available is `MemAvailable` of `/proc/meminfo`, capped by the user's
+//! [`LIMIT_VAR`] (`SIGNORINI_MEMORY_LIMIT`, e.g. `512M`): the binary refuses a bad value of it
+//! before it starts (exit 1, naming the variable); a library caller that did not check it gets
+//! nothing allocated at all (an unparsable limit counts as 0 bytes, so every check refuses),
+//! never a limit silently ignored.
+
+mod kkt;
+mod limit;
+
+pub use kkt::{KktEstimate, KktModel};
+pub use limit::{limit_from_env, parse_limit, LimitError, LIMIT_VAR};
 
 /// Bytes in a GiB.
 pub const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
 
-/// Memory the process may still allocate, in bytes: `MemAvailable` of `/proc/meminfo` (Linux),
-/// `None` where it cannot be read (then nothing is refused).
+/// Memory the process may still allocate, in bytes: the smaller of `MemAvailable` of
+/// `/proc/meminfo` (Linux) and the limit [`LIMIT_VAR`] sets (0 when its value is not a size:
+/// see the module documentation); `None` when neither is known (then nothing is refused).
 pub fn available_bytes() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    parse_available(&text)
+    let limit = limit_from_env().unwrap_or(Some(0));
+    let meminfo = std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|text| parse_available(&text));
+    match (meminfo, limit) {
+        (Some(free), Some(cap)) => Some(free.min(cap)),
+        (free, cap) => free.or(cap),
+    }
 }
 
 fn parse_available(meminfo: &str) -> Option<u64> {

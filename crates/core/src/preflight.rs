@@ -203,10 +203,17 @@ pub fn count(n: usize) -> String {
     }
 }
 
-/// Bytes as GiB for a message: one decimal, or scientific notation when huge.
+/// Bytes as GiB for a message: one decimal, or scientific notation when huge, and the MiB
+/// besides below 1 GiB (where "0.0 GiB" would say nothing).
 pub fn gib(bytes: u64) -> String {
-    let g = bytes as f64 / (1024.0 * 1024.0 * 1024.0);
-    if g < 1e4 {
+    gib_f64(bytes as f64 / (1024.0 * 1024.0 * 1024.0))
+}
+
+/// [`gib`] of a figure already in GiB.
+pub fn gib_f64(g: f64) -> String {
+    if g < 1.0 {
+        format!("{g:.1} GiB ({:.1} MiB)", g * 1024.0)
+    } else if g < 1e4 {
         format!("{g:.1} GiB")
     } else {
         format!("{g:.2e} GiB")

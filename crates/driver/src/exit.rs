@@ -91,6 +91,10 @@ pub fn classify(error: &anyhow::Error) -> Exit {
 fn run_resource(e: &RunError) -> bool {
     match e {
         RunError::Output(_) | RunError::Preflight(_) => true,
+        // A backend's memory refusal (a KKT factor, a dense H) is the machine's limit too.
+        RunError::Solve(signorini_core::solve::SolveError::Qp(
+            signorini_core::qp::QpError::TooLarge { .. },
+        )) => true,
         RunError::Model(ModelError::Mesh { source, .. }) => {
             matches!(source, MeshError::TooManyElements { .. })
         }

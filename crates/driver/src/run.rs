@@ -71,35 +71,25 @@ pub fn prepare(scene: &Scene, limits: &MeshLimits) -> Result<Prepared, RunError>
     prepare_with_budget(scene, limits, memory::available_bytes())
 }
 
-/// The scene-based estimate must reach this fraction of the budget for the factor-based check
-/// to run: the scene-based model over-estimates the measured peaks, so a run estimated below an
-/// eighth of the budget fits, and its symbolic analysis (an ordering of A, 10–40 % of a
-/// factorisation's time) is not worth doing twice.
-const CHECK_FROM_FRACTION: u64 = 8;
-
 /// [`prepare`] with a memory budget in bytes (`None`: no memory check).  After assembly and
 /// before any numeric factorisation, A is ordered and analysed symbolically and the run's peak
 /// ([`signorini_core::memory::FactorEstimate`]: factor, its scratch, A, B, vectors) is compared
 /// with `budget`; a run that would not fit is refused with
-/// [`PreflightError::FactorTooLarge`] (exit 3).  The check is skipped when the scene-based
-/// estimate ([`signorini_core::preflight::Preflight::bytes_dual`]) is below an eighth of the
-/// budget.
+/// [`PreflightError::FactorTooLarge`] (exit 3).  No size is exempt from the check.
 pub fn prepare_with_budget(
     scene: &Scene,
     limits: &MeshLimits,
     budget: Option<u64>,
 ) -> Result<Prepared, RunError> {
     let t0 = Instant::now();
-    let estimate = preflight(scene, limits)?;
+    preflight(scene, limits)?;
     let meshes = model::mesh_scene(scene, limits)?;
     let mesh_s = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
     let model::Assembly { model, qp } = model::assemble(scene, meshes)?;
     let assemble_s = t1.elapsed().as_secs_f64();
     if let Some(budget) = budget {
-        if estimate.bytes_dual >= budget / CHECK_FROM_FRACTION {
-            check_factor_memory(&qp, budget)?;
-        }
+        check_factor_memory(&qp, budget)?;
     }
     Ok(Prepared {
         model,

@@ -72,6 +72,7 @@ impl QpBackend for OsqpBackend {
         if problem.dofs() == 0 {
             return Ok(no_unknowns(problem, start));
         }
+        crate::memory_need(problem)?.check(NAME)?;
         let scaling = if self.settings.rescale {
             QpScaling::of(problem)
         } else {

@@ -36,12 +36,19 @@
 //! `DualInfeasible(Inaccurate)` → primal-/dual-infeasible with x = 0, λ = 0 (OSQP then holds a
 //! certificate, not a point); `NonConvex` and a failed ρ update → numerical-error.
 //! OSQP's time limit covers its solve phase, not the setup (scaling, first factorisation).
+//!
+//! Memory: before OSQP allocates anything, the KKT matrix's pattern is analysed symbolically and
+//! its two factors (ADMM's and the polish's), OSQP's copies and vectors are priced
+//! ([`memory_need`], [`MEMORY_MODEL`]); a run that would not fit in the memory available is
+//! refused with `QpError::TooLarge`.  No size is exempt.
 #![forbid(unsafe_code)]
 
 mod backend;
+mod memory;
 mod settings;
 
 pub use backend::OsqpBackend;
+pub use memory::{memory_need, MEMORY_MODEL};
 pub use settings::{OsqpSettings, OsqpSettingsError};
 
 /// The backend's name in reports and on the command line.

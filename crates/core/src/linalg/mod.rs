@@ -22,6 +22,7 @@ use faer::{Conj, MatMut, Par, Side};
 
 use crate::qp::CscMatrix;
 
+pub mod kkt;
 mod measure;
 pub mod ordering;
 

@@ -30,7 +30,11 @@ pub enum QpError {
     },
     /// The work would need more memory than the machine has free (checked before allocating it,
     /// see [`crate::memory`]).
-    #[error("backend `{backend}` refused: {what} would need {needed:.2} GiB but {available:.2} GiB is available")]
+    #[error(
+        "backend `{backend}` refused: {what} would need {} but {} is available",
+        crate::preflight::gib_f64(*.needed),
+        crate::preflight::gib_f64(*.available)
+    )]
     TooLarge {
         /// Backend name.
         backend: &'static str,

@@ -290,6 +290,11 @@ fn main() -> ExitCode {
             };
         }
     };
+    // A memory limit the user set but mistyped is refused before anything runs, naming it.
+    if let Err(e) = signorini_core::memory::limit_from_env() {
+        warn(format_args!("error: {e}"));
+        return Exit::Input.into();
+    }
     let result = match &cli.command {
         Command::Solve {
             common,

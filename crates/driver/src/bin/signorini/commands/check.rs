@@ -1,8 +1,10 @@
 //! `signorini check`: a scene validated as solve would, without solving.
 
 use anyhow::Result;
+use signorini::check::MemoryNeeds;
 use signorini::exit::Exit;
 use signorini::run;
+use signorini_core::memory::LIMIT_VAR;
 
 use crate::args::{limits, Common};
 use crate::console::Console;
@@ -36,23 +38,20 @@ pub(crate) fn check(common: &Common) -> Result<Exit> {
         "  {} elements meshed (~{} estimated), {} free DOFs, {} contact rows",
         report.elements, e.elements, report.dofs, report.constraints
     ))?;
-    let gib = |b: f64| b / 1024f64.powi(3);
     con.line(format_args!(
-        "  memory estimate for solve: {:.2} GiB (clarabel, osqp), {:.2} GiB (dual backends, sparse part)",
-        gib(e.bytes as f64),
-        gib(e.bytes_dual as f64)
+        "  memory estimate before meshing: {} (clarabel, osqp), {} (dual backends, sparse part)",
+        size(e.bytes as f64),
+        size(e.bytes_dual as f64)
     ))?;
     if report.constraints > 0 {
-        // The dual backends also hold the dense m × m contact Hessian H = B A⁻¹ Bᵀ (dual-ssn
-        // about three such arrays: H, its Newton matrix and that matrix's factor), which the
-        // scene-based model above does not count; with m known after assembly it is exact.
         let m = report.constraints as f64;
         con.line(format_args!(
-            "  + the dense contact Hessian of the dual backends: 8·m² B = {} for m = {} rows (dual-ssn holds about three such arrays; each backend checks the memory before forming it)",
+            "  + the dense contact Hessian of the dual backends: 8·m² B = {} for m = {} rows",
             size(8.0 * m * m),
             report.constraints
         ))?;
     }
+    print_memory(&mut con, &report.memory)?;
     con.line(format_args!(
         "  {} dirichlet, {} neumann, {} contact pair(s), {} probe(s)",
         scene.dirichlet.len(),
@@ -62,4 +61,42 @@ pub(crate) fn check(common: &Common) -> Result<Exit> {
     ))?;
     con.finish()?;
     Ok(Exit::Success)
+}
+
+/// Every backend's memory need from the symbolic analyses, the largest named, against what is
+/// available.
+fn print_memory(con: &mut Console, needs: &MemoryNeeds) -> Result<()> {
+    let available = match needs.available {
+        Some(bytes) => format!("{} available", size(bytes as f64)),
+        None => "available memory unknown".to_string(),
+    };
+    con.line(format_args!(
+        "  memory from the symbolic analyses ({available}; {LIMIT_VAR} caps it):"
+    ))?;
+    con.line(format_args!(
+        "    {:<14} {:>10}  the factor of A, its scratch, A, B and vectors (every backend)",
+        "every run",
+        size(needs.base)
+    ))?;
+    let fits = |bytes: f64| match needs.available {
+        Some(free) if bytes > free as f64 => "  [does not fit]",
+        _ => "",
+    };
+    for need in &needs.backends {
+        con.line(format_args!(
+            "    {:<14} {:>10}  {}{}",
+            need.backend,
+            size(need.bytes),
+            need.what,
+            fits(need.bytes)
+        ))?;
+    }
+    if let Some(largest) = needs.largest() {
+        con.line(format_args!(
+            "  largest memory need: {} ({}); each backend checks its own before allocating",
+            largest.backend,
+            size(largest.bytes)
+        ))?;
+    }
+    Ok(())
 }
