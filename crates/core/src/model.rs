@@ -59,6 +59,15 @@ pub enum ModelError {
     /// Contact rows could not be built.
     #[error(transparent)]
     Contact(#[from] ContactError),
+    /// The reduced load or gaps overflow the floating-point range (checked before the QP is
+    /// built, so that the refusal names the scene keys rather than the QP's vectors).
+    #[error("{what} overflows the floating-point range (beyond ±1.8e308): {cause}; rescale the scene's units")]
+    Overflow {
+        /// Which vector ("the load after lifting the prescribed displacements", ...).
+        what: &'static str,
+        /// The scene keys whose product overflowed.
+        cause: &'static str,
+    },
     /// A body can move rigidly and nothing (no support, no contact) holds it.
     #[error("body \"{body}\" is not held: {modes} rigid-body mode(s) are free and it is in no contact pair; add a [[dirichlet]] support")]
     Unsupported {
@@ -576,12 +585,13 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError
     let free_index = free_index(&free, dofs.len());
     let (a, lift_f) = restrict(&stiffness, &fixed, &free_index, true);
     let (b_free, lift_g) = restrict(&constraints, &fixed, &free_index, false);
-    let f = free
+    let f: Vec<f64> = free
         .iter()
         .zip(&lift_f)
         .map(|(&d, l)| load[d] - l)
         .collect();
-    let g = gap.iter().zip(&lift_g).map(|(g, l)| g - l).collect();
+    let g: Vec<f64> = gap.iter().zip(&lift_g).map(|(g, l)| g - l).collect();
+    check_finite(&f, &g)?;
     let reduced = QpProblem::try_new(a, f, b_free, g)?.with_kernel(kernel.clone())?;
     let fixed_dofs: Vec<usize> = (0..dofs.len()).filter(|d| fixed[*d].is_some()).collect();
     let supports = columns(&stiffness, &fixed_dofs);
@@ -827,4 +837,23 @@ impl Model {
             .map(|d| [u[d], u[d + 1]])
             .collect()
     }
+}
+
+/// Refuses a reduced load or gap vector that overflowed, naming the scene keys behind it: the
+/// lifting K_FD u_D (`young` × [[dirichlet]] `value`) or the applied loads ([[neumann]]
+/// `traction`, `gravity`) for f; the lifting B_D u_D ([[dirichlet]] `value`) for g.
+fn check_finite(load: &[f64], gap: &[f64]) -> Result<(), ModelError> {
+    if load.iter().any(|v| !v.is_finite()) {
+        return Err(ModelError::Overflow {
+            what: "the load after lifting the prescribed displacements",
+            cause: "the stiffness (`young`) times a prescribed displacement ([[dirichlet]] `value`), or a load ([[neumann]] `traction`, `gravity`) summed over the body",
+        });
+    }
+    if gap.iter().any(|v| !v.is_finite()) {
+        return Err(ModelError::Overflow {
+            what: "a contact gap after lifting the prescribed displacements",
+            cause: "a prescribed displacement ([[dirichlet]] `value`)",
+        });
+    }
+    Ok(())
 }

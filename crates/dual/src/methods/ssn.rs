@@ -95,7 +95,6 @@ pub fn solve(
         load.iter().map(|d| *d > 0.0).collect()
     };
     let mut seen: HashSet<Vec<bool>> = HashSet::new();
-    let mut stall = Stall::default();
     let mut lambda = vec![0.0; m];
     let mut iter = 0;
     let mut refinements = 0;
@@ -215,14 +214,12 @@ pub fn solve(
                 ),
             });
         }
-        // The set can move on round-off alone: a body 1e30 times softer than its neighbours
-        // makes νᵢ / Hᵢᵢ noise around zero, and each new set costs a dense factorisation of up
-        // to m rows.  From a few steps on, one sparse solve checks the iterate first (cheaper
-        // than that factorisation): it ends the run when it meets the tolerance, and when
-        // STALL_CHECKS checks in a row have not halved the best residual, the moving set is
-        // noise that no further step will resolve: the best iterate is returned as inaccurate.
+        // The set can move on round-off alone while the iterate already meets the tolerance:
+        // a body 1e30 times softer than its neighbours makes νᵢ / Hᵢᵢ noise around zero, and each
+        // new set costs a dense factorisation of up to m rows.  From a few steps on, one sparse
+        // solve checks the iterate first (cheaper than that factorisation).
         if iter >= CHECK_MOVING_FROM {
-            let (checked, worst) = checked_iterate(data, monitor, iter, &lambda);
+            let (checked, _) = checked_iterate(data, monitor, iter, &lambda);
             if checked.status == QpStatus::Solved {
                 return Ok(Outcome {
                     message: format!(
@@ -231,12 +228,6 @@ pub fn solve(
                     ),
                     ..checked
                 });
-            }
-            stall.record(checked, worst);
-            if stall.count >= STALL_CHECKS {
-                if let Some(out) = std::mem::take(&mut stall).give_up(iter, mode, refinements) {
-                    return Ok(out);
-                }
             }
         }
         if seen.contains(&next_active) {
@@ -279,47 +270,6 @@ fn checked_iterate(
         message: format!("KKT residuals {:.1e} {relation} tol {tol:.1e}", r.worst()),
     };
     (outcome, r.worst())
-}
-
-/// Checks of a moving set in a row that may fail to halve the best residual before the run
-/// gives up (a semismooth Newton iterate near the answer gains far more than that per step).
-const STALL_CHECKS: usize = 2;
-
-/// The best checked iterate of a moving set, and how many checks in a row have not improved on
-/// it by half.
-#[derive(Default)]
-struct Stall {
-    best: Option<(Outcome, f64)>,
-    count: usize,
-}
-
-impl Stall {
-    fn record(&mut self, outcome: Outcome, worst: f64) {
-        match &self.best {
-            // A NaN residual counts as no progress.
-            Some((_, best)) if worst.is_nan() || worst > 0.5 * best => {
-                self.count += 1;
-                if worst < *best {
-                    self.best = Some((outcome, worst));
-                }
-            }
-            _ => {
-                self.count = 0;
-                self.best = Some((outcome, worst));
-            }
-        }
-    }
-
-    /// The best iterate, `inaccurate`, saying why the run stopped.
-    fn give_up(self, iter: usize, mode: &str, refinements: usize) -> Option<Outcome> {
-        let (mut best, worst) = self.best?;
-        best.status = QpStatus::Inaccurate;
-        best.iterations = iter;
-        best.message = format!(
-            "the active set keeps moving without reducing the KKT residuals (best {worst:.1e} after {iter} active-set steps, {STALL_CHECKS} checks without halving it): the dual is too ill-conditioned for dual-ssn at this tolerance (round-off decides the set); the best iterate is returned; {mode}, {refinements} refinement solves"
-        );
-        Some(best)
-    }
 }
 
 /// The unrefined dense Newton step: (λ_F, μ) from the factored block, and the gradient
