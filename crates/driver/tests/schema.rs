@@ -182,6 +182,8 @@ fn results_satisfy_the_result_schema_and_record_their_provenance() {
         r3["provenance"]["settings"]["chain"],
         serde_json::json!(["dual-ssn", "clarabel"])
     );
+    // auto picks a form per attempt (each attempt names its backend): not "primal".
+    assert_eq!(r3["provenance"]["settings"]["form"], "auto");
 
     // Warnings of every shape the fixtures produce (a point, counts, a reason) are in it.
     for (fixture, kinds) in [

@@ -42,7 +42,7 @@ pub(crate) fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) ->
     };
     let settings = signorini_core::report::BackendSettings {
         backend: kind.name().to_string(),
-        form: kind.form().name().to_string(),
+        form: signorini::contract::forms(&[kind]),
         tolerance: options.tol,
         time_limit_s: options.time_limit.map(|t| t.as_secs_f64()),
         max_iter: options.max_iter,
