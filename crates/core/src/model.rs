@@ -591,7 +591,7 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError
         .map(|(&d, l)| load[d] - l)
         .collect();
     let g: Vec<f64> = gap.iter().zip(&lift_g).map(|(g, l)| g - l).collect();
-    check_finite(&f, &g)?;
+    check_finite(a.data(), &f, &g)?;
     let reduced = QpProblem::try_new(a, f, b_free, g)?.with_kernel(kernel.clone())?;
     let fixed_dofs: Vec<usize> = (0..dofs.len()).filter(|d| fixed[*d].is_some()).collect();
     let supports = columns(&stiffness, &fixed_dofs);
@@ -839,10 +839,17 @@ impl Model {
     }
 }
 
-/// Refuses a reduced load or gap vector that overflowed, naming the scene keys behind it: the
-/// lifting K_FD u_D (`young` × [[dirichlet]] `value`) or the applied loads ([[neumann]]
-/// `traction`, `gravity`) for f; the lifting B_D u_D ([[dirichlet]] `value`) for g.
-fn check_finite(load: &[f64], gap: &[f64]) -> Result<(), ModelError> {
+/// Refuses a reduced stiffness, load or gap that overflowed, naming the scene keys behind it:
+/// the material (`young`, `poisson`: the bulk modulus E / (1 − 2ν)(1 + ν)) for A; the lifting
+/// K_FD u_D (`young` × [[dirichlet]] `value`) or the applied loads ([[neumann]] `traction`,
+/// `gravity`) for f; the lifting B_D u_D ([[dirichlet]] `value`) for g.
+fn check_finite(stiffness: &[f64], load: &[f64], gap: &[f64]) -> Result<(), ModelError> {
+    if stiffness.iter().any(|v| !v.is_finite()) {
+        return Err(ModelError::Overflow {
+            what: "the stiffness",
+            cause: "a body's `young` divided by (1 − 2·`poisson`)(1 + `poisson`), times the element's shape terms",
+        });
+    }
     if load.iter().any(|v| !v.is_finite()) {
         return Err(ModelError::Overflow {
             what: "the load after lifting the prescribed displacements",
