@@ -133,6 +133,8 @@ pub enum CondenseStop {
     TimeLimit,
     /// A is not positive definite (the message says where the factorisation stopped).
     Factorisation(String),
+    /// H = B A⁻¹ Bᵀ or d overflows the floating-point range (a compliance beyond it).
+    Overflow,
 }
 
 /// Forms the dual of `problem` (A positive definite: the kernel must be empty), stopping with
@@ -224,6 +226,9 @@ pub fn condense(
         .zip(&problem.gap)
         .map(|(v, g)| v - g)
         .collect();
+    if !(hessian.data().iter().chain(&d).all(|v| v.is_finite())) {
+        return Ok(Err(CondenseStop::Overflow));
+    }
     let mut minus_identity = TriMat::new((m, m));
     for i in 0..m {
         minus_identity.add_triplet(i, i, -1.0);
@@ -293,6 +298,15 @@ impl<B: QpBackend> QpBackend for CondensedDual<B> {
                     start,
                     0,
                     format!("the condensed dual needs A⁻¹: {e}"),
+                ))
+            }
+            Err(CondenseStop::Overflow) => {
+                return Ok(stopped(
+                    problem,
+                    QpStatus::NumericalError,
+                    start,
+                    0,
+                    "the condensed dual H = B A⁻¹ Bᵀ (or its load d) overflows the floating-point range: a compliance beyond it; use the primal form".into(),
                 ))
             }
         };
