@@ -20,12 +20,12 @@ use crate::NAME;
 ///
 /// Compared once with a measurement (release build, `/usr/bin/time -v`, 2026-11-26): on
 /// `fixtures/seed/exp3-both-h0.08.toml` at `hmax = 0.019` (33 108 DOFs, 54 rows; K of size
-/// 33 162 with 2.49e6 stored values) the estimate is 91.6 MiB; the whole
-/// `signorini solve --backend clarabel` peaked at 83.4 MiB resident, of which 41.0 MiB are
+/// 33 162, nnz(L) = 1.98e6) the estimate is 83.8 MiB; the whole
+/// `signorini solve --backend clarabel` peaked at 83.1 MiB resident, of which 41.1 MiB are
 /// what `signorini check` alone reaches (mesh, assembly, the analyses).  So the model is about
-/// twice clarabel's own increment (~42 MiB) and above the whole run's peak: conservative, as a
-/// refusal must be.  (OSQP on the same scene: estimate 143 MiB, peak 113.2 MiB, increment
-/// ~72 MiB.)
+/// twice clarabel's own increment (~42 MiB) and about the whole run's peak: conservative, as a
+/// refusal must be.  (OSQP on the same scene: estimate 133 MiB, peak 113.4 MiB, increment
+/// ~72 MiB; BENCHMARKS.md "Memory guards of every backend".)
 pub const MEMORY_MODEL: KktModel = KktModel {
     factors: 1.0,
     bytes_per_value: 16.0,

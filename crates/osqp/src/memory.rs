@@ -17,9 +17,10 @@ use crate::NAME;
 
 /// OSQP's memory, in the units of [`KktModel`] (see the module documentation).  Measured once
 /// (release build, `/usr/bin/time -v`): on `fixtures/seed/exp3-both-h0.08.toml` at
-/// `hmax = 0.019` (33 108 DOFs, 54 rows) the estimate is 143 MiB; the whole
-/// `signorini solve --backend osqp` peaked at 113.2 MiB resident, 41.0 MiB of which `signorini
-/// check` alone reaches: about twice OSQP's own increment, and above the run's peak.
+/// `hmax = 0.019` (33 108 DOFs, 54 rows) the estimate is 133 MiB; the whole
+/// `signorini solve --backend osqp` peaked at 113.4 MiB resident, 41.1 MiB of which `signorini
+/// check` alone reaches: about twice OSQP's own increment, and above the run's peak
+/// (BENCHMARKS.md "Memory guards of every backend").
 pub const MEMORY_MODEL: KktModel = KktModel {
     factors: 2.0,
     bytes_per_value: 16.0,
