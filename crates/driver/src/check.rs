@@ -8,7 +8,7 @@
 //! It also prices every backend's memory from the symbolic analyses the backends themselves
 //! run before allocating ([`MemoryNeeds`]), so that a user sees which backend will not fit.
 
-use signorini_core::memory::{self, FactorEstimate, KktEstimate, KktModel};
+use signorini_core::memory::{self, FactorEstimate, KktEstimate};
 use signorini_core::mesh::MeshLimits;
 use signorini_core::preflight::{check_factor_memory, preflight, Preflight, PreflightError};
 use signorini_core::qp::{QpError, QpProblem, BYTES_PER_DUAL_ENTRY};
@@ -64,18 +64,6 @@ impl MemoryNeeds {
             .max_by(|a, b| a.bytes.total_cmp(&b.bytes))
     }
 }
-
-/// pdas factors the KKT matrix [A, Bᵀ; B, −δI] once per active set: one factor at 8 B per
-/// value, K (16 B per entry) and about ten vectors of n + m — the terms pdas checks itself
-/// before it allocates (`crates/pdas/src/active_set.rs`), priced here on nnz(L) (pdas's faer
-/// factor may store some more values where it goes supernodal).
-const PDAS_MODEL: KktModel = KktModel {
-    factors: 1.0,
-    bytes_per_value: 8.0,
-    kkt_copies: 16.0 / 24.0,
-    data_copies: 0.0,
-    vectors: 10.0,
-};
 
 /// Validates `scene` the way `solve` does (up to and including assembly).
 pub fn check(scene: &Scene, limits: &MeshLimits) -> Result<CheckReport, RunError> {
@@ -141,7 +129,7 @@ fn need_of(
             "two LDLᵀ factors (ADMM's, the polish's)",
         ),
         BackendKind::Pdas => kkt(
-            KktEstimate::of("pdas", qp, &PDAS_MODEL)?,
+            signorini_pdas::memory_need(qp)?,
             "the LDLᵀ factor",
         ),
         BackendKind::DualPgs => dense(1.0, "the dense dual Hessian H (m × m)"),

@@ -221,7 +221,7 @@ fn fuzz_cases_replay() {
 /// until they are fixed (run it with `--ignored`; the cases and why are listed in README's
 /// Fuzzing section).
 #[test]
-#[ignore = "open gaps of issue 18 (a load that reaches a pair through a separating contact; a region box that cuts a master segment): fails until fixed"]
+#[ignore = "runs only the saved cases marked # fuzz-open (none at present): fails until each is fixed"]
 fn fuzz_open_cases() {
     replay(|case, _| header(case, "# fuzz-open:").is_some());
 }

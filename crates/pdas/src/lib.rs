@@ -204,10 +204,12 @@ mod factor;
 mod kernel;
 mod kkt;
 mod measure;
+mod memory;
 mod refine;
 mod settings;
 mod update;
 
 pub use backend::PdasBackend;
 pub use error::PdasError;
+pub use memory::{memory_need, MEMORY_MODEL};
 pub use settings::{PdasSettings, StartSet};

@@ -7,7 +7,8 @@
 //!
 //! For each contact pair, candidate boundary nodes are those in the pair's region box (or, with no
 //! box, within one element size of the other body).  The side with more candidates is the slave
-//! (unless the scene names it).  Each slave node X is projected onto the closest master segment
+//! (unless the scene names it).  The master's candidate segments are its boundary edges with both
+//! ends candidates and, with a box, those that cross it ([`master_segments`]).  Each slave node X is projected onto the closest master segment
 //! A–B, X ≈ Y = (1 − t) A + t B, and gives one row
 //!
 //! ```text
@@ -271,6 +272,38 @@ fn candidates(
         .collect()
 }
 
+/// The master's candidate segments: boundary edges with both ends candidates and, with a region
+/// box, every boundary edge that runs through the box (longer than the tolerance inside it) with
+/// no end left out inside it (by a `group`).
+///
+/// A box that cuts a master segment leaves one end outside: the segment still bounds the master
+/// where the box is, and without it a slave node facing its inner part had no row and sank in
+/// (found by the fuzz harness: a region box ending between two nodes of a coarse Gmsh master).
+/// An edge that only touches the box at a candidate corner adds nothing inside it, and taking it
+/// would turn that corner's row onto it (the shoulders of `fixtures/hard/inclined.toml`, whose
+/// box is the slope's bounding box).
+fn master_segments(
+    master: &Mesh,
+    cand_m: &[bool],
+    region: Option<&[f64; 4]>,
+    tol: f64,
+) -> Vec<[usize; 2]> {
+    master
+        .boundary
+        .iter()
+        .copied()
+        .filter(|&[a, b]| {
+            (cand_m[a] && cand_m[b])
+                || region.is_some_and(|r| {
+                    let (pa, pb) = (master.nodes[a], master.nodes[b]);
+                    let kept = |n: usize, p: Point| cand_m[n] || !geometry::in_box(p, r, tol);
+                    let through = geometry::clip_to_box(pa, pb, r, 0.0).is_some_and(|l| l > tol);
+                    kept(a, pa) && kept(b, pb) && through
+                })
+        })
+        .collect()
+}
+
 /// A master segment faces a slave node when cos(angle between their outward normals) < −FACING.
 const FACING: f64 = 0.3;
 
@@ -403,12 +436,13 @@ fn contact_rows_with(
                 });
             }
         }
+        let segments = master_segments(&meshes[master], cand_m, region, tol);
         let built = match pair.formulation {
             Formulation::NodeToSegment => pair_rows(
                 &meshes[slave],
                 &meshes[master],
                 cand_s,
-                cand_m,
+                &segments,
                 inside_s,
                 tol,
                 limit,
@@ -418,7 +452,7 @@ fn contact_rows_with(
                 &meshes[slave],
                 &meshes[master],
                 cand_s,
-                cand_m,
+                &segments,
                 inside_s,
                 tol,
                 limit,
@@ -731,19 +765,12 @@ fn pair_rows(
     slave: &Mesh,
     master: &Mesh,
     cand_s: &[bool],
-    cand_m: &[bool],
+    segments: &[[usize; 2]],
     inside_s: &[Option<f64>],
     tol: f64,
     limit: f64,
     search: Search,
 ) -> Built {
-    // Master segments: boundary edges with both ends candidates.
-    let segments: Vec<[usize; 2]> = master
-        .boundary
-        .iter()
-        .copied()
-        .filter(|&[a, b]| cand_m[a] && cand_m[b])
-        .collect();
     let slave_edges = edges_at_nodes(slave);
     let mut built = Built {
         rows: Vec::new(),
@@ -758,7 +785,7 @@ fn pair_rows(
             let any_inside =
                 (0..slave.nodes.len()).any(|i| cand_s[i] && strictly_inside(inside_s[i], tol));
             (
-                Some(SegmentIndex::new(&master.nodes, &segments)),
+                Some(SegmentIndex::new(&master.nodes, segments)),
                 any_inside.then(|| SegmentIndex::new(&master.nodes, &master.boundary)),
             )
         }
@@ -806,9 +833,9 @@ fn pair_rows(
         // closest boundary segment of the master, candidate or not, of any orientation (the
         // shortest way out), projection clamped to the segment.
         let (admissible, index) = if inside {
-            (&master.boundary, inside_index.as_ref())
+            (master.boundary.as_slice(), inside_index.as_ref())
         } else {
-            (&segments, outside_index.as_ref())
+            (segments, outside_index.as_ref())
         };
         let best = match index {
             Some(index) if !index.is_empty() => probe.select_indexed(master, admissible, index),

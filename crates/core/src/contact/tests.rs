@@ -113,11 +113,12 @@ fn same_rows(
     limit: f64,
     case: &str,
 ) -> Built {
+    let segments = master_segments(master, cand_m, None, tol);
     let fast = pair_rows(
         slave,
         master,
         cand_s,
-        cand_m,
+        &segments,
         inside_s,
         tol,
         limit,
@@ -127,7 +128,7 @@ fn same_rows(
         slave,
         master,
         cand_s,
-        cand_m,
+        &segments,
         inside_s,
         tol,
         limit,
@@ -417,12 +418,13 @@ fn long_interface_costs_a_bounded_number_of_evaluations_per_node() {
     let (slave, master) = interface(n, 0.01, [1.0, 0.0], 0.0, 0.0);
     let (cand_s, cand_m) = interface_masks(&slave, &master, n);
     let inside_s = vec![None; slave.nodes.len()];
+    let segments = master_segments(&master, &cand_m, None, 1e-9);
     EVALUATIONS.with(|c| c.set(0));
     let built = pair_rows(
         &slave,
         &master,
         &cand_s,
-        &cand_m,
+        &segments,
         &inside_s,
         1e-9,
         0.01,
@@ -480,14 +482,13 @@ fn a_region_box_over_whole_bodies_stays_cheap_and_matches_the_scan() {
         (&foundation, &strip, "foundation slave"),
     ] {
         let cand_s = vec![true; slave.nodes.len()];
-        let cand_m = vec![true; master.nodes.len()];
         let inside_s = vec![None; slave.nodes.len()];
         EVALUATIONS.with(|c| c.set(0));
         let built = pair_rows(
             slave,
             master,
             &cand_s,
-            &cand_m,
+            &master.boundary,
             &inside_s,
             1e-9,
             0.01,
@@ -507,6 +508,7 @@ fn a_region_box_over_whole_bodies_stays_cheap_and_matches_the_scan() {
             "{name}: {evaluations} evaluations for {} nodes",
             slave.nodes.len()
         );
+        let cand_m = vec![true; master.nodes.len()];
         same_rows(slave, master, &cand_s, &cand_m, &inside_s, 1e-9, 0.01, name);
     }
 }
@@ -1084,4 +1086,64 @@ fn tributary_lengths_sum_to_the_interface_length_on_meshed_fixtures() {
         let sum: f64 = p.rows.iter().map(|r| r.tributary).sum();
         assert!((sum - 1.0).abs() < 1e-14, "{name}: Σ tributary = {sum}");
     }
+}
+
+#[test]
+fn a_region_box_that_cuts_a_master_edge_keeps_that_edge() {
+    // A coarse base (top nodes at x = 0, 1, 2) under a fine block (bottom nodes every 0.1), the
+    // contact box ending at x = 1.5, between two base nodes (a Gmsh master: the polygon mesher
+    // puts a node where a box crosses an edge).  With only edges whose both ends lie in the box
+    // as master segments, the block's bottom nodes in (1, 1.5] faced no segment, got no row and
+    // could sink into the base (the fuzz replay
+    // unmatched-slave-corner-inside-master-where-region-cuts-master-segment).  The edge from 1
+    // to 2 crosses the box: every candidate gets a row, in both formulations.
+    let master = loop_mesh(vec![
+        [0.0, -1.0],
+        [2.0, -1.0],
+        [2.0, 0.0],
+        [1.0, 0.0],
+        [0.0, 0.0],
+    ]);
+    let mut block: Vec<Point> = (0..=20).map(|i| [0.1 * i as f64, 0.0]).collect();
+    block.extend([[2.0, 1.0], [0.0, 1.0]]);
+    let slave = loop_mesh(block);
+    let (region, tol) = ([0.0, 1.5, -0.01, 0.01], 1e-9);
+    let in_box = |m: &Mesh| -> Vec<bool> {
+        m.nodes
+            .iter()
+            .map(|&p| geometry::in_box(p, &region, tol))
+            .collect()
+    };
+    let (cand_s, cand_m) = (in_box(&slave), in_box(&master));
+    assert_eq!(cand_s.iter().filter(|c| **c).count(), 16);
+    let inside_s = vec![None; slave.nodes.len()];
+    let old = master_segments(&master, &cand_m, None, tol);
+    let built = pair_rows(
+        &slave,
+        &master,
+        &cand_s,
+        &old,
+        &inside_s,
+        tol,
+        0.5,
+        Search::Indexed,
+    );
+    assert_eq!((built.rows.len(), built.unmatched), (11, 5));
+    let segments = master_segments(&master, &cand_m, Some(&region), tol);
+    // The top's two edges and the base's left side (it crosses the box at x = 0; it faces no
+    // slave node, so no row takes it).
+    assert_eq!(segments, vec![[2, 3], [3, 4], [4, 0]]);
+    let built = pair_rows(
+        &slave,
+        &master,
+        &cand_s,
+        &segments,
+        &inside_s,
+        tol,
+        0.5,
+        Search::Indexed,
+    );
+    assert_eq!((built.rows.len(), built.unmatched), (16, 0));
+    let mortar = mortar::pair_rows(&slave, &master, &cand_s, &segments, &inside_s, tol, 0.5);
+    assert_eq!((mortar.rows.len(), mortar.unmatched), (16, 0));
 }

@@ -9,13 +9,26 @@ use super::scales::TINY;
 
 /// How far (x, λ) is from the KKT conditions.  All but `max_penetration` are dimensionless.
 ///
-/// Every measure is taken against fixed scales of the problem's data (see [`ResidualScales`]),
-/// never against the answer itself, so a wrong x cannot scale its own residual down, and every
-/// backend is judged by the same yardstick.  With the row length scales Xᵢ and the force scales
-/// F_c of each connected component c (row i's component c(i), DOF j's component c(j)):
+/// Every measure is taken against scales of the problem's data (see [`ResidualScales`]): the row
+/// length scales Xᵢ and the force scales F_c of each connected component c (row i's component
+/// c(i), DOF j's component c(j)).  Those are upper bounds: a body that the answer separates from
+/// the rest of its component (a contact that opens) is out of reach of the component's other
+/// loads, however large, so the two measures such a load could hide are tightened by what the
+/// answer shows acts on each body b (a connected component of A alone) — only ever downwards,
+/// so a wrong answer cannot loosen its own test:
+/// * the motion of the row's bodies Mᵢ = max |xⱼ| over the DOFs of the bodies row i touches,
+///   and the row's length X̃ᵢ = max(max(0, −gᵢ), min(Xᵢ, Mᵢ)) (a penetration is judged against
+///   the pair's own motion, or the row's initial overlap, whichever is larger);
+/// * the force on body b, F_b = max |fⱼ| and |(Bᵀλ)ⱼ| over its DOFs (its loads and the contact
+///   forces the answer puts on it), and the DOF's force F̃ⱼ = min(F_c(j), max(F_b, δ F_c(j)))
+///   with δ = [`BODY_FORCE_FLOOR`] (a body in equilibrium under its own forces, judged against
+///   them down to δ of its component's scale, which a solver of the whole component still
+///   resolves).
+///
+/// Then:
 /// * `max_penetration` = max(0, maxᵢ (Bx − g)ᵢ), in the problem's length unit;
-/// * `relative_penetration` = maxᵢ max(0, (Bx − g)ᵢ) / Xᵢ;
-/// * `stationarity` = maxⱼ |(Ax − f + Bᵀλ)ⱼ| / F_c(j);
+/// * `relative_penetration` = maxᵢ max(0, (Bx − g)ᵢ) / X̃ᵢ;
+/// * `stationarity` = maxⱼ |(Ax − f + Bᵀλ)ⱼ| / F̃ⱼ;
 /// * `complementarity` = maxᵢ |λᵢ (g − Bx)ᵢ| / (F_c(i) Xᵢ);
 /// * `min_multiplier` = minᵢ min(0, λᵢ / F_c(i)) (zero when every λᵢ ≥ 0).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Default, schemars::JsonSchema)]
@@ -99,6 +112,8 @@ pub fn kkt_residuals_with(
         || multipliers.len() != problem.rows()
         || scales.dof_forces.len() != problem.dofs()
         || scales.rows.len() != problem.rows()
+        || scales.dof_bodies.len() != problem.dofs()
+        || scales.row_body_starts.len() != problem.rows() + 1
         || x.iter().chain(multipliers).any(|v| !v.is_finite())
     {
         return KktResiduals::UNMEASURABLE;
@@ -106,28 +121,40 @@ pub fn kkt_residuals_with(
     let ax = mat_vec(&problem.stiffness, x);
     let bx = mat_vec(&problem.constraints, x);
     let btl = mat_t_vec(&problem.constraints, multipliers);
+    let (motion, force) = body_motion_and_force(problem, scales, x, &btl);
     let stationarity = ax
         .iter()
         .zip(&problem.load)
         .zip(&btl)
         .zip(&scales.dof_forces)
-        .map(|(((a, f), b), force)| (a - f + b).abs() / force)
+        .zip(&scales.dof_bodies)
+        .map(|((((a, f), b), &component), &body)| {
+            let own = force[body].max(BODY_FORCE_FLOOR * component);
+            (a - f + b).abs() / component.min(own)
+        })
         .fold(0.0, f64::max);
     let mut max_penetration = 0.0_f64;
     let mut complementarity = 0.0_f64;
     let mut relative_penetration = 0.0_f64;
     let mut min_multiplier = 0.0_f64;
-    for ((((bxi, gi), li), xi), force) in bx
+    for (i, ((((bxi, gi), li), xi), force)) in bx
         .iter()
         .zip(&problem.gap)
         .zip(multipliers)
         .zip(&scales.rows)
         .zip(&scales.row_forces)
+        .enumerate()
     {
         let slack = gi - bxi;
         let xi = xi.max(TINY);
+        let moved = scales
+            .bodies_of_row(i)
+            .iter()
+            .map(|&b| motion[b])
+            .fold(0.0, f64::max);
+        let own_length = (-gi).max(xi.min(moved)).max(TINY);
         max_penetration = max_penetration.max(-slack);
-        relative_penetration = relative_penetration.max(-slack / xi);
+        relative_penetration = relative_penetration.max(-slack / own_length);
         // F·Xᵢ can underflow to 0 when both are tiny: keep the quotient finite.
         complementarity = complementarity.max((li * slack).abs() / (force * xi).max(TINY));
         min_multiplier = min_multiplier.min(li / force);
@@ -140,4 +167,28 @@ pub fn kkt_residuals_with(
         complementarity: finite_or_inf(complementarity),
         min_multiplier,
     }
+}
+
+/// δ of [`KktResiduals`]: a body's equilibrium is judged against its own forces down to this
+/// fraction of its component's force scale.  With a tolerance of 1e-8 that is an equilibrium
+/// error of 1e-12 of the component's largest force, the accuracy an interior-point or direct
+/// solver of the whole component still reaches (their residuals are relative to the whole
+/// system); a body whose forces the answer gets wrong by more than 1e-4 of its component's
+/// scale (a load left unbalanced, a contact force without a counterpart) is still caught.
+pub const BODY_FORCE_FLOOR: f64 = 1e-4;
+
+/// Per body: the motion max |xⱼ| and the force max(|fⱼ|, |(Bᵀλ)ⱼ|) over its DOFs.
+fn body_motion_and_force(
+    problem: &QpProblem,
+    scales: &ResidualScales,
+    x: &[f64],
+    btl: &[f64],
+) -> (Vec<f64>, Vec<f64>) {
+    let mut motion = vec![0.0_f64; scales.bodies];
+    let mut force = vec![0.0_f64; scales.bodies];
+    for (j, &b) in scales.dof_bodies.iter().enumerate() {
+        motion[b] = motion[b].max(x[j].abs());
+        force[b] = force[b].max(problem.load[j].abs()).max(btl[j].abs());
+    }
+    (motion, force)
 }

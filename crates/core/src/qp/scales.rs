@@ -35,6 +35,14 @@ pub(super) const TINY: f64 = 1e-300;
 /// * the component force F_c = max(‖f_c‖∞, k̄_c G_c), with k̄_c the harmonic mean of A's diagonal
 ///   over J(c); when zero, k̄_c times the component's length max(G_c, W_c) (or its fallback).
 ///
+/// These are upper bounds fixed by the data.  A component may hold several bodies (the connected
+/// components of A alone), and a contact that opens in the answer isolates them: a body pulled
+/// far away by a huge load sets W_c and F_c of the pair it has left.  No fixed datum can tell
+/// which contacts open, so the residuals tighten the two measures such a load could hide with
+/// what the answer shows reaches each body, only ever downwards (a wrong answer cannot buy
+/// itself a looser test; see [`super::kkt_residuals`]).  `dof_bodies` and the rows' bodies are
+/// recorded here for that.
+///
 /// The whole problem's scales (`force`, `length`) are kept for reports and heuristics:
 /// k̄ = the harmonic mean of A's diagonal, G the deepest overlap, X = max(‖f‖₁ / k̄, G) (‖g‖∞,
 /// then 1, when zero) and F = max(‖f‖∞, k̄ G) (k̄ X when zero).
@@ -51,6 +59,25 @@ pub struct ResidualScales {
     pub row_forces: Vec<f64>,
     /// Force scale F_c of each DOF's component (stationarity is measured DOF by DOF).
     pub dof_forces: Vec<f64>,
+    /// The body of each DOF: its connected component of A alone, numbered 0..bodies.
+    #[serde(skip)]
+    pub dof_bodies: Vec<usize>,
+    /// The bodies row i touches are `row_bodies[row_body_starts[i]..row_body_starts[i + 1]]`.
+    #[serde(skip)]
+    pub row_body_starts: Vec<usize>,
+    /// See `row_body_starts`.
+    #[serde(skip)]
+    pub row_bodies: Vec<usize>,
+    /// Number of bodies.
+    #[serde(skip)]
+    pub bodies: usize,
+}
+
+impl ResidualScales {
+    /// The bodies row `i` touches (distinct, in increasing order).
+    pub fn bodies_of_row(&self, i: usize) -> &[usize] {
+        &self.row_bodies[self.row_body_starts[i]..self.row_body_starts[i + 1]]
+    }
 }
 
 /// What one connected component holds.
@@ -134,9 +161,40 @@ impl Dsu {
     }
 }
 
-/// The component of every DOF (numbered 0..count) and, per row, the component it lies in (None
-/// for a row that touches no DOF).
-fn components(problem: &QpProblem) -> (Vec<usize>, Vec<Option<usize>>, usize) {
+impl Dsu {
+    /// The representative of every element, numbered 0..count in order of first appearance,
+    /// and the count.
+    fn numbered(&mut self) -> (Vec<usize>, usize) {
+        let n = self.0.len();
+        let mut id = vec![usize::MAX; n];
+        let mut count = 0;
+        let mut of = Vec::with_capacity(n);
+        for j in 0..n {
+            let root = self.find(j);
+            if id[root] == usize::MAX {
+                id[root] = count;
+                count += 1;
+            }
+            of.push(id[root]);
+        }
+        (of, count)
+    }
+}
+
+/// The bodies (connected components of A alone) and components (of A ∪ BᵀB) of a problem.
+struct Partition {
+    /// Component of every DOF, numbered 0..components.
+    of_dof: Vec<usize>,
+    /// Component of every row (None for a row that touches no DOF).
+    of_row: Vec<Option<usize>>,
+    components: usize,
+    /// Body of every DOF, numbered 0..bodies.
+    body_of_dof: Vec<usize>,
+    bodies: usize,
+}
+
+/// The bodies and the components of `problem`.
+fn components(problem: &QpProblem) -> Partition {
     let n = problem.dofs();
     let mut dsu = Dsu((0..n).collect());
     for (j, col) in problem.stiffness.outer_iterator().enumerate() {
@@ -144,6 +202,7 @@ fn components(problem: &QpProblem) -> (Vec<usize>, Vec<Option<usize>>, usize) {
             dsu.union(i, j);
         }
     }
+    let (body_of_dof, bodies) = dsu.numbered();
     let mut first_dof: Vec<Option<usize>> = vec![None; problem.rows()];
     for (j, col) in problem.constraints.outer_iterator().enumerate() {
         for (i, _) in col.iter() {
@@ -153,19 +212,35 @@ fn components(problem: &QpProblem) -> (Vec<usize>, Vec<Option<usize>>, usize) {
             }
         }
     }
-    let mut id = vec![usize::MAX; n];
-    let mut count = 0;
-    let mut of_dof = Vec::with_capacity(n);
-    for j in 0..n {
-        let root = dsu.find(j);
-        if id[root] == usize::MAX {
-            id[root] = count;
-            count += 1;
-        }
-        of_dof.push(id[root]);
-    }
+    let (of_dof, components) = dsu.numbered();
     let of_row = first_dof.iter().map(|d| d.map(|j| of_dof[j])).collect();
-    (of_dof, of_row, count)
+    Partition {
+        of_dof,
+        of_row,
+        components,
+        body_of_dof,
+        bodies,
+    }
+}
+
+/// The bodies each row touches, as (starts, bodies) in compressed rows.
+fn row_bodies(problem: &QpProblem, body_of_dof: &[usize]) -> (Vec<usize>, Vec<usize>) {
+    let mut per_row: Vec<Vec<usize>> = vec![Vec::new(); problem.rows()];
+    for (j, col) in problem.constraints.outer_iterator().enumerate() {
+        for (i, _) in col.iter() {
+            per_row[i].push(body_of_dof[j]);
+        }
+    }
+    let mut starts = Vec::with_capacity(problem.rows() + 1);
+    let mut all = Vec::new();
+    starts.push(0);
+    for mut row in per_row {
+        row.sort_unstable();
+        row.dedup();
+        all.extend(row);
+        starts.push(all.len());
+    }
+    (starts, all)
 }
 
 impl ResidualScales {
@@ -186,7 +261,14 @@ impl ResidualScales {
         let diag: Vec<f64> = (0..problem.dofs())
             .map(|j| problem.stiffness.get(j, j).copied().unwrap_or(0.0).abs())
             .collect();
-        let (of_dof, of_row, count) = components(problem);
+        let Partition {
+            of_dof,
+            of_row,
+            components: count,
+            body_of_dof,
+            bodies,
+        } = components(problem);
+        let (row_body_starts, row_bodies) = row_bodies(problem, &body_of_dof);
         let mut parts = vec![Component::default(); count];
         let mut whole = Component::default();
         for (j, (&d, &f)) in diag.iter().zip(&problem.load).enumerate() {
@@ -234,6 +316,10 @@ impl ResidualScales {
             rows,
             row_forces,
             dof_forces,
+            dof_bodies: body_of_dof,
+            row_body_starts,
+            row_bodies,
+            bodies,
         }
     }
 

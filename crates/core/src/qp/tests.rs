@@ -37,10 +37,10 @@ fn each_violation_is_seen() {
     let p = tiny();
     let s = ResidualScales::of(&p);
     assert_eq!((s.force, s.length), (1.0, 2.0));
-    // Bx − g = 0.4 → 0.4 / X.
+    // Bx − g = 0.4 → 0.4 / X̃ with X̃ = min(X, M) = 0.7, the motion of the row's DOFs.
     let pen = kkt_residuals(&p, &[0.7, 0.7], &[0.3]);
     assert!((pen.max_penetration - 0.4).abs() < 1e-15);
-    assert!((pen.relative_penetration - 0.2).abs() < 1e-15);
+    assert!((pen.relative_penetration - 0.4 / 0.7).abs() < 1e-15);
     // Ax − f + Bᵀλ = (−0.5, −0.5) → 0.5 / F.
     assert!((kkt_residuals(&p, &[0.5, 0.5], &[0.0]).stationarity - 0.5).abs() < 1e-15);
     // λ s = 0.6 · 0.2 → 0.12 / (F X).
@@ -118,10 +118,12 @@ fn rejects_bad_dimensions_and_nan() {
 }
 
 #[test]
-fn scales_do_not_depend_on_the_answer() {
+fn a_large_motion_elsewhere_does_not_loosen_a_row() {
     // Three DOFs, the third free of the constraint: the same penetration of 0.1 must give the
     // same relative penetration however large the unconstrained component of a wrong x is.
-    // (When X was ‖x‖∞, x₂ = 1e9 shrank it to 1e-10 and a tolerance of 1e-9 was met.)
+    // (When X was ‖x‖∞, x₂ = 1e9 shrank it to 1e-10 and a tolerance of 1e-9 was met.)  The
+    // answer only tightens a row's length, through the motion of the row's own body:
+    // X̃ = min(X = 2, |x₀| = 1.1).
     let mut a = TriMat::new((3, 3));
     for j in 0..3 {
         a.add_triplet(j, j, 1.0);
@@ -132,7 +134,7 @@ fn scales_do_not_depend_on_the_answer() {
     let small = kkt_residuals(&p, &[1.1, 0.0, 0.0], &[0.9]);
     let huge = kkt_residuals(&p, &[1.1, 0.0, 1e9], &[0.9]);
     assert_eq!(small.relative_penetration, huge.relative_penetration);
-    assert!((small.relative_penetration - 0.05).abs() < 1e-15);
+    assert!((small.relative_penetration - 0.1 / 1.1).abs() < 1e-15);
     assert!(!huge.meet(1e-9));
 }
 
@@ -194,8 +196,12 @@ fn a_soft_dof_elsewhere_does_not_loosen_a_stiff_row() {
     let s = ResidualScales::of(&p);
     assert!(s.length > 1e199);
     assert_eq!(s.rows, vec![1.0]);
+    // The answer tightens it further to the row's own motion 0.501.
     let r = kkt_residuals(&p, &[0.501, 0.0], &[0.499]);
-    assert!((r.relative_penetration - 1e-3).abs() < 1e-12, "{r:?}");
+    assert!(
+        (r.relative_penetration - 1e-3 / 0.501).abs() < 1e-12,
+        "{r:?}"
+    );
 }
 
 #[test]
@@ -250,10 +256,11 @@ fn a_load_that_cannot_reach_a_row_does_not_loosen_it() {
     assert_eq!(s.dof_forces, vec![1.0, 1e10]);
     let exact = kkt_residuals(&p, &[0.5, 1e10], &[0.5]);
     assert!(exact.meet(1e-15), "{exact:?}");
-    // The wrong answer keeps equilibrium on DOF 0 (λ = 1 − x₀) and penetrates by 1e-3.
+    // The wrong answer keeps equilibrium on DOF 0 (λ = 1 − x₀) and penetrates by 1e-3 (of its
+    // own motion 0.501: the answer tightens X₀ = 1 to it).
     let wrong = kkt_residuals(&p, &[0.501, 1e10], &[0.499]);
     assert!(
-        (wrong.relative_penetration - 1e-3).abs() < 1e-12,
+        (wrong.relative_penetration - 1e-3 / 0.501).abs() < 1e-12,
         "{wrong:?}"
     );
     assert!(!wrong.meet(1e-9));
@@ -324,4 +331,64 @@ fn a_soft_loaded_body_on_a_stiff_pair_is_judged_by_the_pair_s_stiffness() {
     assert!(kkt_residuals(&p, &[x0, x1], &[lambda]).meet(1e-12));
     let deeper = kkt_residuals(&p, &[x0 + 5e-5, x1], &[lambda]);
     assert!(deeper.relative_penetration > 9e-8, "{deeper:?}");
+}
+
+#[test]
+fn a_body_pulled_away_from_a_pair_does_not_loosen_its_rows() {
+    // The stacked-body fuzz cases of issue 18 in one dimension.  b0 (DOF 0) pushes b1 (DOF 1)
+    // with a load of 1: row x₀ − x₁ ≤ 0, optimum x₀ = x₁ = ½, λ₀ = ½.  b2 (DOF 2) lies beyond b1
+    // (row x₁ − x₂ ≤ 0) and is pulled away by 1e12: the row opens, and b2's load cannot act on
+    // the pair.  Through the rows all three DOFs are one component, so the fixed scale is
+    // X₀ = min(W, ‖f‖₁ / k₀) ≈ 1e12 and a penetration of 1e-3 (0.2 % of the pair's motion) was
+    // 1e-15 of it; the answer moves the pair's bodies by 0.5005, and the row is judged by that.
+    let p = springs(
+        &[1.0, 1.0, 1.0],
+        &[1.0, 0.0, 1e12],
+        &[(&[(0, 1.0), (1, -1.0)], 0.0), (&[(1, 1.0), (2, -1.0)], 0.0)],
+    );
+    let s = ResidualScales::of(&p);
+    assert!(s.rows[0] > 1e11, "{s:?}");
+    assert!(kkt_residuals(&p, &[0.5, 0.5, 1e12], &[0.5, 0.0]).meet(1e-15));
+    // Equilibrium kept on every DOF (x₀ = 1 − λ₀, x₁ = λ₀), b1 sunk 1e-3 into b0.
+    let wrong = kkt_residuals(&p, &[0.5005, 0.4995, 1e12], &[0.4995, 0.0]);
+    assert!(wrong.stationarity < 1e-15, "{wrong:?}");
+    assert!(
+        (wrong.relative_penetration - 1e-3 / 0.5005).abs() < 1e-12,
+        "{wrong:?}"
+    );
+    assert!(!wrong.meet(1e-9));
+}
+
+#[test]
+fn a_body_left_by_its_contacts_is_judged_by_its_own_forces() {
+    // The force side (the mortar fuzz case: a 1e100 lift elsewhere in the component let an
+    // unbalanced floating body pass).  b0 (DOF 0) is pushed into b1 (DOF 1) by 1e12: row
+    // x₀ − x₁ ≤ 0, x₀ = x₁ = 5e11, λ₀ = 5e11.  b2 (DOF 2, load 1) lies 1e15 beyond b1 (row
+    // x₁ − x₂ ≤ 1e15, open): x₂ = 1.  F_c = ‖f‖∞ = 1e12 for the whole component, so a wrong x₂
+    // off by 1e3 was 1e-9 of it.  The answer puts no contact force on b2, so its forces are its
+    // load (1) — judged against δ F_c = 1e8 (BODY_FORCE_FLOOR), the error is 1e-5.
+    let p = springs(
+        &[1.0, 1.0, 1.0],
+        &[1e12, 0.0, 1.0],
+        &[
+            (&[(0, 1.0), (1, -1.0)], 0.0),
+            (&[(1, 1.0), (2, -1.0)], 1e15),
+        ],
+    );
+    assert_eq!(ResidualScales::of(&p).dof_forces, vec![1e12; 3]);
+    assert!(kkt_residuals(&p, &[5e11, 5e11, 1.0], &[5e11, 0.0]).meet(1e-15));
+    let wrong = kkt_residuals(&p, &[5e11, 5e11, 1.0 + 1e3], &[5e11, 0.0]);
+    let expected = 1e3 / (BODY_FORCE_FLOOR * 1e12);
+    assert!(
+        (wrong.stationarity - expected).abs() < 1e-12 * expected,
+        "{wrong:?}"
+    );
+    assert!(!wrong.meet(1e-8));
+    // A contact force of 1e3 on b2 with no counterpart: b2's forces are now 1e3, still below
+    // δ F_c, so the error is again 1e3 / 1e8.
+    let pushed = kkt_residuals(&p, &[5e11, 5e11, 1.0], &[5e11, 1e3]);
+    assert!(
+        (pushed.stationarity - expected).abs() < 1e-12 * expected,
+        "{pushed:?}"
+    );
 }

@@ -162,7 +162,7 @@ pub struct NeumannSection {
 pub struct ContactSection {
     /// The two body names.
     pub bodies: Vec<String>,
-    /// Optional box limiting the candidate boundary nodes.
+    /// Optional box limiting the candidate boundary nodes (master edges that cross it count too).
     pub region: Option<Vec<f64>>,
     /// Optional physical group limiting the candidate nodes of each body of the pair whose Gmsh
     /// mesh defines it (at least one must).

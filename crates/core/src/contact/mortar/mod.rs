@@ -151,7 +151,7 @@ pub(super) fn pair_rows(
     slave: &Mesh,
     master: &Mesh,
     cand_s: &[bool],
-    cand_m: &[bool],
+    master_segments: &[[usize; 2]],
     inside_s: &[Option<f64>],
     tol: f64,
     limit: f64,
@@ -162,13 +162,10 @@ pub(super) fn pair_rows(
         tributary_fallbacks: 0,
         unit_tributaries: 0,
     };
-    let segments: Vec<[usize; 2]> = master
-        .boundary
+    let segments: Vec<[usize; 2]> = master_segments
         .iter()
         .copied()
-        .filter(|&[a, b]| {
-            cand_m[a] && cand_m[b] && edge_normal(master.nodes[a], master.nodes[b]).is_some()
-        })
+        .filter(|&[a, b]| edge_normal(master.nodes[a], master.nodes[b]).is_some())
         .collect();
     let index = SegmentIndex::new(&master.nodes, &segments);
     // Candidate slave edges with the master segments that face them nearby.

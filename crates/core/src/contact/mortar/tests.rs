@@ -29,9 +29,8 @@ fn master_flat(xs: &[f64], y: f64) -> Mesh {
 
 fn rows(slave: &Mesh, master: &Mesh) -> super::Built {
     let cs = vec![true; slave.nodes.len()];
-    let cm = vec![true; master.nodes.len()];
     let inside = vec![None; slave.nodes.len()];
-    pair_rows(slave, master, &cs, &cm, &inside, 1e-12, 1.0)
+    pair_rows(slave, master, &cs, &master.boundary, &inside, 1e-12, 1.0)
 }
 
 fn weight_sum(r: &ContactRow) -> f64 {
@@ -362,13 +361,12 @@ fn conforming_meshes_give_the_node_to_segment_rows() {
     };
     for (slave, master) in [flat, curved] {
         let cs = vec![true; slave.nodes.len()];
-        let cm = vec![true; master.nodes.len()];
         let inside = vec![None; slave.nodes.len()];
         let nts = node_to_segment(
             &slave,
             &master,
             &cs,
-            &cm,
+            &master.boundary,
             &inside,
             1e-12,
             1.0,

@@ -74,8 +74,8 @@ fn print_memory(con: &mut Console, needs: &MemoryNeeds) -> Result<()> {
         "  memory from the symbolic analyses ({available}; {LIMIT_VAR} caps it):"
     ))?;
     con.line(format_args!(
-        "    {:<14} {:>10}  the factor of A, its scratch, A, B and vectors (every backend)",
-        "every run",
+        "    {:<14} {:>10}  the factor of A, its scratch, A, B and vectors (solve checks it before any backend; the timing floor and the dual backends factor A)",
+        "factor of A",
         size(needs.base)
     ))?;
     let fits = |bytes: f64| match needs.available {
