@@ -4,7 +4,7 @@ use std::time::{Duration, Instant};
 
 use clarabel::algebra::CscMatrix as ClarabelCsc;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
-use signorini_core::qp::{
+use signorini_qp::{
     checked_status, csc_parts, kkt_residuals, QpBackend, QpError, QpProblem, QpScaling, QpSolution,
     QpStatus, SolveOptions,
 };
@@ -17,7 +17,7 @@ use crate::NAME;
 /// # Example
 /// ```
 /// use signorini_clarabel::{ClarabelBackend, ClarabelSettings};
-/// use signorini_core::qp::{kkt_residuals, QpBackend, QpProblem, QpStatus, SolveOptions};
+/// use signorini_qp::{kkt_residuals, QpBackend, QpProblem, QpStatus, SolveOptions};
 /// use sprs::TriMat;
 /// // min x² − 4x  s.t.  x ≤ 1   →  x = 1, λ = 2
 /// let mut a = TriMat::new((1, 1));
@@ -30,7 +30,7 @@ use crate::NAME;
 /// assert_eq!(solution.status, QpStatus::Solved);
 /// assert!((solution.x[0] - 1.0).abs() < 1e-8 && (solution.multipliers[0] - 2.0).abs() < 1e-8);
 /// assert!(kkt_residuals(&qp, &solution.x, &solution.multipliers).meet(1e-9));
-/// # Ok::<(), signorini_core::qp::QpError>(())
+/// # Ok::<(), signorini_qp::QpError>(())
 /// ```
 #[derive(Debug, Clone, Default)]
 pub struct ClarabelBackend {

@@ -1,5 +1,5 @@
 //! What clarabel will allocate, estimated before it runs (see
-//! [`signorini_core::memory::KktEstimate`]).
+//! [`signorini_qp::memory::KktEstimate`]).
 //!
 //! clarabel factors the quasidefinite KKT matrix [P + εI, Aᵀ; A, −(W² + εI)] (n + m, P = triu of
 //! our A, A = B, W diagonal for the nonnegative cone) by LDLᵀ, after an AMD ordering: qdldl
@@ -8,11 +8,11 @@
 //! K and its permuted copy (with the map from P and A into it), its own equilibrated copies of
 //! P and A, and some forty vectors of n + m (iterates, residuals, step directions, the cone's
 //! scaling, the refinement work vectors).  On our side of the hand-over the rescaled problem
-//! ([`signorini_core::qp::QpScaling`]) and the CSC parts handed over are two more copies of A
+//! ([`signorini_qp::QpScaling`]) and the CSC parts handed over are two more copies of A
 //! and B.
 
-use signorini_core::memory::{KktEstimate, KktModel};
-use signorini_core::qp::{QpError, QpProblem};
+use signorini_qp::memory::{KktEstimate, KktModel};
+use signorini_qp::{QpError, QpProblem};
 
 use crate::NAME;
 

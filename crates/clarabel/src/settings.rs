@@ -1,6 +1,6 @@
 //! Knobs of the clarabel backend, with their defaults.
 
-use signorini_core::qp::{QpError, SolveOptions};
+use signorini_qp::{QpError, SolveOptions};
 
 /// Sparse LDLᵀ factorisation clarabel uses for its KKT systems.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -28,7 +28,7 @@ impl DirectSolver {
 /// Settings of [`ClarabelBackend`](crate::ClarabelBackend).
 ///
 /// Tolerances are those of clarabel (relative to its own scaled residuals), not those of
-/// [`signorini_core::qp::kkt_residuals`]; they default to a tenth of [`SolveOptions::tol`] so
+/// [`signorini_qp::kkt_residuals`]; they default to a tenth of [`SolveOptions::tol`] so
 /// that clarabel's answer usually also meets ours.
 ///
 /// ```
@@ -52,7 +52,7 @@ pub struct ClarabelSettings {
     pub direct_solver: DirectSolver,
     /// clarabel's presolve (drops rows with infinite right-hand side).  Default `true`.
     pub presolve: bool,
-    /// Rescale the problem with [`signorini_core::qp::QpScaling`] (A, f, g to O(1)) before
+    /// Rescale the problem with [`signorini_qp::QpScaling`] (A, f, g to O(1)) before
     /// handing it over, and the answer back.  Default `true`.
     pub rescale: bool,
     /// Re-solve with tolerances ×10⁻² (down to 1e-15), then without equilibration, while

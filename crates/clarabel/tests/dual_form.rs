@@ -5,8 +5,8 @@
 #![allow(clippy::unwrap_used)]
 
 use signorini_clarabel::{ClarabelBackend, NAME};
-use signorini_core::examples::{self, max_diff, Known};
-use signorini_core::qp::{
+use signorini_qp::examples::{self, max_diff, Known};
+use signorini_qp::{
     checked_status, kkt_residuals, CondensedDual, QpBackend, QpError, QpProblem, QpSolution,
     QpStatus, SolveOptions,
 };

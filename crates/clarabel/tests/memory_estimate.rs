@@ -5,11 +5,11 @@
 
 use clarabel::algebra::CscMatrix as ClarabelCsc;
 use clarabel::qdldl::{QDLDLFactorisation, QDLDLSettingsBuilder};
-use signorini_core::linalg::kkt::kkt_pattern;
 use signorini_core::mesh::MeshLimits;
 use signorini_core::model;
-use signorini_core::qp::QpProblem;
 use signorini_core::scene::Scene;
+use signorini_qp::linalg::kkt::kkt_pattern;
+use signorini_qp::QpProblem;
 
 /// The seed's Experiment 3 (two bodies, both meshed) at `hmax`, assembled.
 fn seed_qp(hmax: &str) -> QpProblem {

@@ -17,17 +17,18 @@
 //! with A the stiffness on the free degrees of freedom, f the loads, B the node-to-segment
 //! contact rows and g the initial gaps.  Backends implement [`qp::QpBackend`].
 
+pub use signorini_qp as qp;
+pub use signorini_qp::{examples, linalg, memory};
+
 pub mod accuracy;
 pub mod contact;
-pub mod examples;
 pub mod fem;
 pub mod geometry;
-pub mod linalg;
-pub mod memory;
+#[cfg(test)]
+mod linalg_measure;
 pub mod mesh;
 pub mod model;
 pub mod preflight;
-pub mod qp;
 pub mod report;
 pub mod scene;
 pub mod solve;

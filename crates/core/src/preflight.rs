@@ -209,16 +209,7 @@ pub fn gib(bytes: u64) -> String {
     gib_f64(bytes as f64 / (1024.0 * 1024.0 * 1024.0))
 }
 
-/// [`gib`] of a figure already in GiB.
-pub fn gib_f64(g: f64) -> String {
-    if g < 1.0 {
-        format!("{g:.1} GiB ({:.1} MiB)", g * 1024.0)
-    } else if g < 1e4 {
-        format!("{g:.1} GiB")
-    } else {
-        format!("{g:.2e} GiB")
-    }
-}
+pub use signorini_qp::memory::gib_f64;
 
 /// Estimated peak bytes of a solve with `dofs` unknowns: base + coefficient · n log₂ n,
 /// saturating at `u64::MAX`.

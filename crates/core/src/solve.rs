@@ -361,8 +361,8 @@ pub fn contact_forces(model: &Model, multipliers: &[f64]) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::examples::{eliminated_nnz, two_dof_grid};
     use crate::linalg::fill_reducing_order;
-    use crate::linalg::tests::{eliminated_nnz, two_dof_grid};
 
     fn qp_of(a: CscMatrix) -> QpProblem {
         let n = a.rows();

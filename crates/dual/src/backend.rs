@@ -2,7 +2,7 @@
 
 use std::time::Instant;
 
-use signorini_core::qp::{
+use signorini_qp::{
     kkt_residuals, norm_inf, QpBackend, QpError, QpProblem, QpSolution, QpStatus, SolveOptions,
 };
 
@@ -17,7 +17,7 @@ use crate::settings::{Condensation, DualMethod, DualSettings};
 ///
 /// # Example
 /// ```
-/// use signorini_core::qp::{checked_status, kkt_residuals, QpBackend, QpProblem, QpStatus,
+/// use signorini_qp::{checked_status, kkt_residuals, QpBackend, QpProblem, QpStatus,
 ///     SolveOptions};
 /// use signorini_dual::{DualBackend, DualSettings};
 /// use sprs::TriMat;
@@ -36,7 +36,7 @@ use crate::settings::{Condensation, DualMethod, DualSettings};
 ///     assert_eq!(checked_status(sol.status, &r, options.tol), QpStatus::Solved);
 ///     assert!((sol.x[0] - 1.0).abs() < 1e-8 && (sol.multipliers[0] - 2.0).abs() < 1e-8);
 /// }
-/// # Ok::<(), signorini_core::qp::QpError>(())
+/// # Ok::<(), signorini_qp::QpError>(())
 /// ```
 #[derive(Debug, Clone)]
 pub struct DualBackend {

@@ -13,7 +13,7 @@
 //! and the gradient of the inner objective is exactly g − B x(λ).  Without a kernel, c = 0 and
 //! x(λ) = A⁻¹(f − Bᵀλ).
 
-use signorini_core::qp::{dot, mat_t_vec, mat_vec, norm_inf, QpProblem, QpStatus};
+use signorini_qp::{dot, mat_t_vec, mat_vec, norm_inf, QpProblem, QpStatus};
 
 use crate::error::DualError;
 use crate::factor::StiffnessInverse;

@@ -1,7 +1,7 @@
 //! Typed errors of the dual backend.  They never escape as panics: a bad setting becomes a
 //! `QpError`, a singular stiffness becomes a `numerical-error` status with the message.
 
-use signorini_core::linalg::LinalgError;
+use signorini_qp::linalg::LinalgError;
 
 /// What went wrong while setting up or running the dual method.
 #[derive(Debug, thiserror::Error)]
@@ -53,7 +53,7 @@ pub enum DualError {
     /// A refusal the backend hands to its caller as `Err` (memory: `QpError::TooLarge`; a
     /// method that cannot run at this size: `QpError::Unavailable`).
     #[error(transparent)]
-    Refused(#[from] signorini_core::qp::QpError),
+    Refused(#[from] signorini_qp::QpError),
     /// The time limit passed inside a long step (forming H, a multi-right-hand-side loop).
     #[error("time limit reached {0}")]
     OutOfTime(String),

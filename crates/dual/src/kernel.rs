@@ -5,7 +5,7 @@
 //! Rᵀ(f − Bᵀλ) = 0; then x = A⁺(f − Bᵀλ) + R α, and α is (minus) the multiplier of that
 //! equality in the dual.
 
-use signorini_core::qp::{dot, mat_vec, norm_inf, QpProblem};
+use signorini_qp::{dot, mat_vec, norm_inf, QpProblem};
 
 use crate::error::DualError;
 
@@ -37,11 +37,15 @@ impl RigidModes {
         }
         let a_max = norm_inf(problem.stiffness.data());
         for (index, r) in basis.iter().enumerate() {
-            let scale = a_max * norm_inf(r);
-            let residual = if scale > 0.0 {
-                norm_inf(&mat_vec(&problem.stiffness, r)) / scale
-            } else {
+            let r_max = norm_inf(r);
+            // A zero vector is no kernel vector; every vector is one of A = 0 (A r = 0 exactly;
+            // the relative residual was 0 / 0 and refused it, found by the conformance suite).
+            let residual = if r_max == 0.0 {
                 f64::INFINITY
+            } else if a_max == 0.0 {
+                0.0
+            } else {
+                norm_inf(&mat_vec(&problem.stiffness, r)) / (a_max * r_max)
             };
             if residual.is_nan() || residual > KERNEL_RESIDUAL {
                 return Err(DualError::NotAKernelVector { index, residual });
@@ -292,4 +296,30 @@ fn least_squares(columns: &[Vec<f64>], e: &[f64]) -> Option<Vec<f64>> {
         z[c] = (normal[c][p] - tail) / normal[c][c];
     }
     Some(z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use signorini_qp::examples::csc;
+
+    #[test]
+    fn every_vector_is_a_kernel_vector_of_a_zero_stiffness() {
+        // A = 0: ‖A r‖ / (‖A‖ ‖r‖) was 0 / 0 and refused r = (1) as "not in the null space".
+        let zero = QpProblem::try_new(
+            csc(1, 1, &[&[0.0]]),
+            vec![1.0],
+            sprs::CsMat::zero((0, 1)).to_csc(),
+            vec![],
+        )
+        .and_then(|p| p.with_kernel(vec![vec![1.0]]))
+        .expect("valid");
+        assert!(RigidModes::of(&zero).is_ok());
+        // A zero vector is still refused.
+        let none = zero.clone().with_kernel(vec![vec![0.0]]).expect("valid");
+        assert!(matches!(
+            RigidModes::of(&none),
+            Err(DualError::NotAKernelVector { index: 0, .. })
+        ));
+    }
 }

@@ -31,13 +31,13 @@
 //! # Layout
 //! [`factor`](self) — the one sparse factorisation of A (contact DOFs last) as the generalised
 //! inverse A⁺, ordered by the project's one fill-reducing ordering
-//! (`signorini_core::linalg::fill_reducing_order`, the floor's path; the solution message names
+//! (`signorini_qp::linalg::fill_reducing_order`, the floor's path; the solution message names
 //! the ordering and nnz(L)); `hessian/` — the dense H, one file per way of forming it, each
 //! checked against the available memory before it allocates; `methods/` — one file per dual
 //! method, plus `newton` (the dense and the matrix-free solve of one active set's Newton
 //! system); `monitor` — stopping tests and limits shared by the methods; `dual` — the data every
 //! method works on (d, x(λ), the accurate x(λ) of the refinement); `backend` — the
-//! [`QpBackend`](signorini_core::qp::QpBackend) that picks a method.  Dependencies run one way:
+//! [`QpBackend`](signorini_qp::QpBackend) that picks a method.  Dependencies run one way:
 //! methods → hessian → factor.
 //!
 //! # Accuracy on ill-conditioned duals (long thin bodies)
@@ -63,7 +63,7 @@
 //! running to the limit (the thin strips: after 4 000–7 000 sweeps, ~17 s, instead of 100 000).
 //!
 //! # No dense cliff
-//! Nothing m × m is allocated without asking `signorini_core::memory::check_fits` first (the
+//! Nothing m × m is allocated without asking `signorini_qp::memory::check_fits` first (the
 //! dense H with its work arrays, the dense trailing block of the factor, and for `dual-ssn` the
 //! dense Newton matrices: ≈ 8·(m² + 3m²) bytes).  The rule:
 //!
@@ -100,15 +100,15 @@
 //! it overshoots `SolveOptions::time_limit` by at most one block of solves or one dense
 //! factorisation.
 //!
-//! Every method stops on the core's KKT residuals ([`signorini_core::qp::kkt_residuals`]) of
+//! Every method stops on the core's KKT residuals ([`signorini_qp::kkt_residuals`]) of
 //! (x(λ), λ), checked every `check_every` iterations or earlier when a cheap estimate from the
 //! dual gradient meets the tolerance.  Limits give `max-iterations` / `time-limit`; a primal
 //! without feasible point makes λ grow along a Farkas direction δ ≥ 0 (Bᵀδ = 0, gᵀδ < 0): the
 //! growth since the last check is reported as `primal-infeasible` only when the core's
-//! [`signorini_core::qp::FarkasRay`] certifies it against B and g.  A growth with gᵀδ < 0 that
+//! [`signorini_qp::FarkasRay`] certifies it against B and g.  A growth with gᵀδ < 0 that
 //! is no certificate (a feasible problem whose answer lies far away) lets the method go on, and
 //! the message of a run that ends unsolved says why it was no certificate.  The residual scales
-//! are computed once per solve ([`signorini_core::qp::ResidualScales`]).
+//! are computed once per solve ([`signorini_qp::ResidualScales`]).
 //!
 //! # Floating bodies
 //! When A is singular with a known kernel R (`QpProblem::kernel`, n × k), the dual is the

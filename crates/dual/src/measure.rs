@@ -8,7 +8,7 @@
 
 use std::time::Instant;
 
-use signorini_core::qp::{CscMatrix, QpProblem};
+use signorini_qp::{CscMatrix, QpProblem};
 use sprs::TriMat;
 
 use crate::dual::DualData;
@@ -124,8 +124,8 @@ fn measure_condensations() {
 #[ignore = "measurement: run by hand with --release --nocapture"]
 fn measure_methods() {
     use crate::{DualBackend, DualSettings};
-    use signorini_core::linalg::SparseCholesky;
-    use signorini_core::qp::{checked_status, kkt_residuals, QpBackend, SolveOptions};
+    use signorini_qp::linalg::SparseCholesky;
+    use signorini_qp::{checked_status, kkt_residuals, QpBackend, SolveOptions};
     println!(
         "| n | m | rows | floor (factor + solve) | method | status | iterations | time | × floor |"
     );
@@ -167,8 +167,8 @@ fn measure_methods() {
 #[ignore = "measurement: run by hand with --release --nocapture"]
 fn measure_newton_modes() {
     use crate::{DualBackend, DualSettings};
-    use signorini_core::linalg::SparseCholesky;
-    use signorini_core::qp::{checked_status, kkt_residuals, QpBackend, SolveOptions};
+    use signorini_qp::linalg::SparseCholesky;
+    use signorini_qp::{checked_status, kkt_residuals, QpBackend, SolveOptions};
     println!("| n | m | rows | floor | dense ssn (× floor) | matrix-free ssn (× floor) |");
     println!("|---|---|---|---|---|---|");
     for (side, m) in [(100, 50), (100, 500), (316, 50), (316, 500), (316, 2000)] {

@@ -4,7 +4,7 @@
 
 use std::time::{Duration, Instant};
 
-use signorini_core::qp::{
+use signorini_qp::{
     kkt_residuals_with, mat_t_vec, norm_inf, FarkasRay, KktResiduals, QpProblem, QpStatus,
     ResidualScales, SolveOptions,
 };

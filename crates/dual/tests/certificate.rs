@@ -1,11 +1,11 @@
 //! `primal-infeasible` only with a Farkas certificate checked against B and g
-//! (`signorini_core::qp::FarkasRay`), never from the size of an iterate.
+//! (`signorini_qp::FarkasRay`), never from the size of an iterate.
 #![allow(clippy::unwrap_used)]
 
 mod common;
 
 use common::{backends, qp};
-use signorini_core::qp::{FarkasRay, QpBackend, QpProblem, QpStatus, SolveOptions, FARKAS_MARGIN};
+use signorini_qp::{FarkasRay, QpBackend, QpProblem, QpStatus, SolveOptions, FARKAS_MARGIN};
 
 /// Solves with every dual backend and checks each says `primal-infeasible` with a certificate
 /// whose reach is at least the margin.
@@ -31,7 +31,7 @@ fn assert_certified_infeasible(p: &QpProblem) {
 #[test]
 fn contradicting_bounds_are_certified_infeasible() {
     // x ≤ −1 and −x ≤ −1: the exact ray y = (1, 1) has Bᵀy = 0 and gᵀy = −2.
-    assert_certified_infeasible(&signorini_core::examples::infeasible());
+    assert_certified_infeasible(&signorini_qp::examples::infeasible());
 }
 
 /// Two bodies, each two nodes on unit springs (node a–b and c–d, a and c tied to the ground by

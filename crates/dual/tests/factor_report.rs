@@ -1,12 +1,12 @@
 //! The solution message names the factor's ordering and size (issue 9: the dual solvers use the
-//! floor's ordering path, `signorini_core::linalg::fill_reducing_order`, and report it).
+//! floor's ordering path, `signorini_qp::linalg::fill_reducing_order`, and report it).
 #![allow(clippy::unwrap_used)]
 
 mod common;
 
 use common::{backends, qp, solve};
-use signorini_core::linalg::fill_reducing_order;
-use signorini_core::qp::{QpBackend, QpStatus};
+use signorini_qp::linalg::fill_reducing_order;
+use signorini_qp::{QpBackend, QpStatus};
 
 /// A = diag(2, …, 2) (5 DOFs), one row on DOF 2: L is diagonal whatever the ordering, so it has
 /// exactly 5 stored entries (one 1 × 1 supernode per column, nothing below the diagonal).

@@ -6,7 +6,7 @@
 mod common;
 
 use common::{backends, csc, rel_diff, solve};
-use signorini_core::qp::{QpBackend, QpProblem, QpStatus};
+use signorini_qp::{QpBackend, QpProblem, QpStatus};
 
 /// side × side nodes per body; returns the problem (with or without the kernel).
 fn two_bodies(side: usize, with_kernel: bool) -> QpProblem {

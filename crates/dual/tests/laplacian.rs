@@ -5,8 +5,8 @@
 mod common;
 
 use common::{backends, laplacian_obstacle, rel_diff, solve};
-use signorini_core::qp::{QpBackend, QpStatus};
 use signorini_dual::{Condensation, DualBackend, DualSettings};
+use signorini_qp::{QpBackend, QpStatus};
 
 #[test]
 fn methods_agree_and_meet_the_tolerance() {

@@ -13,9 +13,9 @@ use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
 use signorini_core::mesh::MeshLimits;
 use signorini_core::model;
-use signorini_core::qp::{kkt_residuals, QpProblem, QpStatus};
 use signorini_core::scene::Scene;
 use signorini_dual::{DualBackend, DualSettings};
+use signorini_qp::{kkt_residuals, QpProblem, QpStatus};
 
 /// The strip scene; `support` is the strip's left-end Dirichlet condition.
 fn strip(clamped: bool) -> QpProblem {
@@ -111,8 +111,8 @@ fn kkt_on(p: &QpProblem, active: &[bool]) -> (Vec<f64>, Vec<f64>) {
 }
 
 fn objective(p: &QpProblem, x: &[f64]) -> f64 {
-    let ax = signorini_core::qp::mat_vec(&p.stiffness, x);
-    0.5 * signorini_core::qp::dot(x, &ax) - signorini_core::qp::dot(&p.load, x)
+    let ax = signorini_qp::mat_vec(&p.stiffness, x);
+    0.5 * signorini_qp::dot(x, &ax) - signorini_qp::dot(&p.load, x)
 }
 
 fn check(clamped: bool) {

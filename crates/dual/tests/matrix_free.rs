@@ -7,9 +7,9 @@
 mod common;
 
 use common::{laplacian_obstacle, qp, rel_diff, solve};
-use signorini_core::memory::available_bytes;
-use signorini_core::qp::{QpBackend, QpError, QpProblem, QpStatus, SolveOptions};
 use signorini_dual::{DualBackend, DualSettings};
+use signorini_qp::memory::available_bytes;
+use signorini_qp::{QpBackend, QpError, QpProblem, QpStatus, SolveOptions};
 
 fn matrix_free() -> DualBackend {
     DualBackend::active_set(DualSettings {

@@ -7,9 +7,9 @@
 // Test code: a failed unwrap is a failed test.
 #![allow(clippy::unwrap_used)]
 
-use signorini_core::examples::laplacian_with_bounds;
-use signorini_core::qp::{checked_status, kkt_residuals, QpBackend, QpStatus, SolveOptions};
 use signorini_dual::{DualBackend, DualSettings};
+use signorini_qp::examples::laplacian_with_bounds;
+use signorini_qp::{checked_status, kkt_residuals, QpBackend, QpStatus, SolveOptions};
 
 /// "…, N refinement solves; …" in the solution message.
 fn refinement_solves(message: &str) -> usize {

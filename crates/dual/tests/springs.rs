@@ -5,7 +5,7 @@
 mod common;
 
 use common::{backends, qp, solve};
-use signorini_core::qp::{QpBackend, QpProblem, QpStatus};
+use signorini_qp::{QpBackend, QpProblem, QpStatus};
 
 /// N nodes on a line, springs of stiffness k from a support to node 0 and between neighbours,
 /// load p on every node toward a wall; row j: x_j ≤ (N − 1 − j) L + gap.

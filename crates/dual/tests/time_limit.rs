@@ -7,13 +7,13 @@ mod common;
 
 use std::time::{Duration, Instant};
 
-use signorini_core::qp::{QpBackend, QpStatus, SolveOptions};
 use signorini_dual::{DualBackend, DualSettings};
+use signorini_qp::{QpBackend, QpStatus, SolveOptions};
 
 /// A slender 2-D strip of 5-point Laplacian cells, 600 × 4 nodes, clamped at its left end
 /// only, pushed down onto an obstacle under its bottom row: every one of the 600 rows is active
 /// and the dual is as ill-conditioned as a cantilever's (PGS and Uzawa need minutes).
-fn slender_strip() -> signorini_core::qp::QpProblem {
+fn slender_strip() -> signorini_qp::QpProblem {
     let (nx, ny) = (600, 4);
     let n = nx * ny;
     let id = |i: usize, j: usize| j * nx + i;

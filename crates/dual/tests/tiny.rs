@@ -4,8 +4,8 @@
 mod common;
 
 use common::{backends, qp, solve};
-use signorini_core::qp::{QpBackend, QpStatus, SolveOptions};
 use signorini_dual::{DualBackend, DualSettings};
+use signorini_qp::{QpBackend, QpStatus, SolveOptions};
 
 #[test]
 fn one_dof_active_constraint() {

@@ -5,7 +5,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::time::{Duration, Instant};
 
 use osqp::{CscMatrix as OsqpCsc, PolishStatus, Problem, SetupError, Status};
-use signorini_core::qp::{
+use signorini_qp::{
     csc_parts, kkt_residuals, norm_inf, QpBackend, QpError, QpProblem, QpScaling, QpSolution,
     QpStatus, SolveOptions,
 };
@@ -21,7 +21,7 @@ const MINUS_INFINITY: f64 = -1e30;
 /// # Example
 /// ```
 /// use signorini_osqp::{OsqpBackend, OsqpSettings};
-/// use signorini_core::qp::{checked_status, kkt_residuals, QpBackend, QpProblem, QpStatus,
+/// use signorini_qp::{checked_status, kkt_residuals, QpBackend, QpProblem, QpStatus,
 ///     SolveOptions};
 /// use sprs::TriMat;
 /// // min x² − 4x  s.t.  x ≤ 1   →  x = 1, λ = 2
@@ -36,7 +36,7 @@ const MINUS_INFINITY: f64 = -1e30;
 /// let residuals = kkt_residuals(&qp, &solution.x, &solution.multipliers);
 /// assert_eq!(checked_status(solution.status, &residuals, options.tol), QpStatus::Solved);
 /// assert!((solution.x[0] - 1.0).abs() < 1e-8 && (solution.multipliers[0] - 2.0).abs() < 1e-8);
-/// # Ok::<(), signorini_core::qp::QpError>(())
+/// # Ok::<(), signorini_qp::QpError>(())
 /// ```
 #[derive(Debug, Clone, Default)]
 pub struct OsqpBackend {

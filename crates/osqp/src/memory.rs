@@ -1,5 +1,5 @@
 //! What OSQP will allocate, estimated before it runs (see
-//! [`signorini_core::memory::KktEstimate`]).
+//! [`signorini_qp::memory::KktEstimate`]).
 //!
 //! OSQP 0.6 factors the quasidefinite KKT matrix [P + σI, Aᵀ; A, −ρ⁻¹I] (n + m) by qdldl after
 //! an AMD ordering: `Lx` and `Li` (c_int is 64-bit), 16 B per nonzero of L.  Polish (on by
@@ -10,8 +10,8 @@
 //! the polish's).  On our side the rescaled problem, the CSC parts and the `osqp` crate's copy
 //! handed over are three more copies of A and B.
 
-use signorini_core::memory::{KktEstimate, KktModel};
-use signorini_core::qp::{QpError, QpProblem};
+use signorini_qp::memory::{KktEstimate, KktModel};
+use signorini_qp::{QpError, QpProblem};
 
 use crate::NAME;
 

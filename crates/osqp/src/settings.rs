@@ -2,7 +2,7 @@
 
 use std::time::Duration;
 
-use signorini_core::qp::{QpError, SolveOptions};
+use signorini_qp::{QpError, SolveOptions};
 
 /// The ADMM stages of one solve (see [`OsqpSettings::continuation`]).
 #[derive(Debug, Clone, Copy)]
@@ -70,7 +70,7 @@ pub struct OsqpSettings {
     /// Start from this backend's previous answer when the next problem has the same n and m.
     /// Default `false` (every solve starts cold, as the other backends do).
     pub warm_start: bool,
-    /// Rescale the problem with [`signorini_core::qp::QpScaling`] (A, f, g to O(1)) before
+    /// Rescale the problem with [`signorini_qp::QpScaling`] (A, f, g to O(1)) before
     /// handing it over, and the answer back.  Default `true`.
     pub rescale: bool,
     /// Print OSQP's iteration log (also on when [`SolveOptions::verbose`]).  Default `false`.

@@ -1,7 +1,7 @@
 //! OSQP's memory estimate against a factor size known analytically.
 #![allow(clippy::unwrap_used)]
 
-use signorini_core::examples::laplacian_with_bounds;
+use signorini_qp::examples::laplacian_with_bounds;
 
 /// A chain of n springs with c contact rows on distinct nodes: the KKT graph
 /// [A, Bᵀ; B, −ρ⁻¹I] is a tree (the chain, one leaf per row), which minimum degree eliminates

@@ -14,7 +14,7 @@
 use std::collections::HashSet;
 use std::time::{Duration, Instant};
 
-use signorini_core::qp::{
+use signorini_qp::{
     kkt_residuals_with, mat_vec, FarkasRay, QpProblem, QpStatus, ResidualScales, SolveOptions,
 };
 
@@ -106,7 +106,7 @@ impl<'p> ActiveSet<'p> {
         let (dim, nnz_k, nnz_l) = (kkt.dim(), kkt.matrix().nnz(), factor.nnz_l());
         // The factor and faer's workspace, plus K and about ten vectors of length n + m.
         let bytes = factor.bytes_needed() + (nnz_k * 16 + dim * 80) as f64;
-        signorini_core::memory::check_fits(
+        signorini_qp::memory::check_fits(
             "pdas",
             || format!("the LDLᵀ factor of the {dim}×{dim} KKT matrix (nnz(L) = {nnz_l:.3e})"),
             bytes,
@@ -245,7 +245,7 @@ impl<'p> ActiveSet<'p> {
         // machine has left.
         let new_bytes = missing as f64 * dim * 8.0;
         let fits = ((self.cache.len() + missing) as f64) * dim <= self.factor.nnz_l() as f64
-            && signorini_core::memory::available_bytes()
+            && signorini_qp::memory::available_bytes()
                 .is_none_or(|free| new_bytes <= 0.5 * free as f64);
         // Time: the missing columns (one batched solve), then the solves of the iteration
         // (one, and one or two of refinement once the set settles: two on average) with the
@@ -571,7 +571,7 @@ fn count(active: &[bool]) -> usize {
 #[derive(Debug)]
 pub enum SetupError {
     /// The factor would not fit in memory.
-    TooLarge(signorini_core::qp::QpError),
+    TooLarge(signorini_qp::QpError),
     /// Anything else (pattern, ordering, allocation).
     Pdas(PdasError),
 }

@@ -2,7 +2,7 @@
 
 use std::time::Instant;
 
-use signorini_core::qp::{QpBackend, QpError, QpProblem, QpSolution, QpStatus, SolveOptions};
+use signorini_qp::{QpBackend, QpError, QpProblem, QpSolution, QpStatus, SolveOptions};
 
 use crate::active_set::{ActiveSet, Outcome, SetupError};
 use crate::kernel::{check_kernel, unrestrained_mode};
@@ -14,7 +14,7 @@ use crate::settings::PdasSettings;
 ///
 /// # Example
 /// ```
-/// use signorini_core::qp::{checked_status, kkt_residuals, QpBackend, QpProblem, QpStatus,
+/// use signorini_qp::{checked_status, kkt_residuals, QpBackend, QpProblem, QpStatus,
 ///     SolveOptions};
 /// use signorini_pdas::PdasBackend;
 /// use sprs::TriMat;
@@ -30,7 +30,7 @@ use crate::settings::PdasSettings;
 /// let r = kkt_residuals(&qp, &sol.x, &sol.multipliers);
 /// assert_eq!(checked_status(sol.status, &r, options.tol), QpStatus::Solved);
 /// assert!((sol.x[0] - 1.0).abs() < 1e-12 && (sol.multipliers[0] - 2.0).abs() < 1e-12);
-/// # Ok::<(), signorini_core::qp::QpError>(())
+/// # Ok::<(), signorini_qp::QpError>(())
 /// ```
 #[derive(Debug, Clone, Default)]
 pub struct PdasBackend {

@@ -1,5 +1,5 @@
 //! The sparse LDLᵀ factor of the KKT matrix: one symbolic analysis (ordering from
-//! [`signorini_core::linalg::fill_reducing_order`]), a numeric factorisation per active set,
+//! [`signorini_qp::linalg::fill_reducing_order`]), a numeric factorisation per active set,
 //! and solves with it.
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -10,8 +10,8 @@ use faer::sparse::linalg::cholesky::{
     SymmetricOrdering,
 };
 use faer::{Conj, MatMut, Par, Side};
-use signorini_core::linalg::{faer_view, fill_reducing_order, OrderingMethod};
-use signorini_core::qp::CscMatrix;
+use signorini_qp::linalg::{faer_view, fill_reducing_order, OrderingMethod};
+use signorini_qp::CscMatrix;
 
 use crate::error::PdasError;
 

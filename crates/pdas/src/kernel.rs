@@ -1,7 +1,7 @@
 //! Floating bodies: checks of the known kernel R of A and the two ways a rigid motion makes the
 //! objective unbounded below (dual infeasibility).
 
-use signorini_core::qp::{dot, mat_vec, norm_inf, QpProblem};
+use signorini_qp::{dot, mat_vec, norm_inf, QpProblem};
 
 use crate::dense::DenseLu;
 use crate::error::PdasError;
@@ -107,7 +107,7 @@ pub fn pushed_away(problem: &QpProblem, r: &[f64]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use signorini_core::examples::csc;
+    use signorini_qp::examples::csc;
 
     #[test]
     fn rigid_part_recovers_a_kernel_combination() {

@@ -13,7 +13,7 @@
 //! a negative definite block, so an LDLᵀ factorisation without pivoting exists in any
 //! symmetric ordering.
 
-use signorini_core::qp::{CscMatrix, QpProblem};
+use signorini_qp::{CscMatrix, QpProblem};
 
 use crate::error::PdasError;
 
@@ -164,7 +164,7 @@ impl KktMatrix {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use signorini_core::examples::two_rows;
+    use signorini_qp::examples::two_rows;
 
     #[test]
     fn inactive_rows_keep_their_pattern_as_zeros() {

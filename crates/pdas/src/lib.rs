@@ -20,11 +20,11 @@
 //!
 //! (continued by an interior-point method when the sets flip, see below) until the set
 //! reproduces itself and (x, max(λ, 0)) meets the core's KKT residuals
-//! ([`signorini_core::qp::kkt_residuals`]) at the requested tolerance (an answer that meets
+//! ([`signorini_qp::kkt_residuals`]) at the requested tolerance (an answer that meets
 //! them while rows still want to change is taken only at a cycle or at the iteration cap).  The status is honest otherwise: a set that repeats without
 //! meeting them (`inaccurate`), an interior-point step that cannot move (`inaccurate`), the iteration or time limit,
 //! `primal-infeasible` only with a Farkas certificate y ≥ 0, Bᵀy ≈ 0, gᵀy < 0 checked by the
-//! core's [`signorini_core::qp::FarkasRay`] (any feasible x would move at least 10⁸ times the
+//! core's [`signorini_qp::FarkasRay`] (any feasible x would move at least 10⁸ times the
 //! displacement that closes the ray's gaps; y is the last refinement correction of λ, or λ⁺), and
 //! `dual-infeasible` only with a rigid motion r = R α that the load drives (fᵀr > 0) and that
 //! closes no contact (B r ≤ 0) — found before any factorisation when no row sees a loaded mode,
@@ -36,7 +36,7 @@
 //! of A), so its equation reads λᵢ = 0; an active row gets its B entries and a static
 //! Dᵢᵢ = δ = 10⁻⁸/s.  K is then quasi-definite (A + ρI positive definite, −D negative
 //! definite), so an LDLᵀ factorisation without pivoting exists in any symmetric ordering: one
-//! fill-reducing ordering ([`signorini_core::linalg::fill_reducing_order`], the same function
+//! fill-reducing ordering ([`signorini_qp::linalg::fill_reducing_order`], the same function
 //! as the timing floor) and one symbolic analysis (faer's, simplicial or supernodal as faer chooses) serve
 //! every set; each set costs one numeric LDLᵀ (faer, with dynamic regularisation of any pivot
 //! below 10⁻³ of the static ones as a safety net).  ρ = 10⁻¹⁰ s is added only when A has a
@@ -191,9 +191,9 @@
 //! near the factored one; `refine` — one set's refined solution; `kernel` — rigid modes and the
 //! dual-infeasibility certificate; `dense` — a small LU; `active_set` — the iteration and its
 //! stopping tests; `active_set::interior` — the interior-point continuation and the crossover;
-//! `backend` — the [`QpBackend`](signorini_core::qp::QpBackend).
+//! `backend` — the [`QpBackend`](signorini_qp::QpBackend).
 //! The memory of the factor (its values and faer's workspace, from the symbolic factor) is
-//! checked with [`signorini_core::memory::check_fits`] before the numeric factorisation; a
+//! checked with [`signorini_qp::memory::check_fits`] before the numeric factorisation; a
 //! factor that does not fit gives `QpError::TooLarge`.
 
 mod active_set;

@@ -16,12 +16,12 @@
 
 use std::time::{Duration, Instant};
 
-use signorini_core::linalg::fill_reducing_order;
 use signorini_core::mesh::MeshLimits;
 use signorini_core::model::{assemble, mesh_scene};
-use signorini_core::qp::{QpBackend, QpProblem, QpStatus, SolveOptions};
 use signorini_core::scene::Scene;
 use signorini_core::solve::{floor_time, ScaledQp};
+use signorini_qp::linalg::fill_reducing_order;
+use signorini_qp::{QpBackend, QpProblem, QpStatus, SolveOptions};
 
 use crate::factor::KktFactor;
 use crate::kkt::KktMatrix;
@@ -97,7 +97,7 @@ fn where_the_time_goes_on_the_strip() {
         let mut factor = KktFactor::analyse(kkt.matrix(), p.dofs()).unwrap();
         factor.allocate().unwrap();
         let numeric = median(|| timed(|| factor.factor(kkt.matrix(), 1e-13, 1e-10).unwrap()));
-        let pattern = signorini_core::linalg::CholeskyPattern::analyse(&p.stiffness);
+        let pattern = signorini_qp::linalg::CholeskyPattern::analyse(&p.stiffness);
         let llt_a = match &pattern {
             Ok(pattern) => median(|| timed(|| drop(pattern.factor(&p.stiffness)))),
             Err(_) => f64::NAN,

@@ -1,5 +1,5 @@
 //! What pdas will allocate, estimated before it runs (see
-//! [`signorini_core::memory::KktEstimate`]), for `signorini check`.
+//! [`signorini_qp::memory::KktEstimate`]), for `signorini check`.
 //!
 //! pdas factors the KKT matrix [A, Bᵀ; B, −δI] once per active set: one LDLᵀ factor at 8 B per
 //! value, K (16 B per entry) and about ten vectors of n + m.  These are the terms pdas checks
@@ -7,8 +7,8 @@
 //! estimate here prices the factor on nnz(L) of an AMD analysis (faer's supernodal factor may
 //! store some more values).
 
-use signorini_core::memory::{KktEstimate, KktModel};
-use signorini_core::qp::{QpError, QpProblem};
+use signorini_qp::memory::{KktEstimate, KktModel};
+use signorini_qp::{QpError, QpProblem};
 
 /// pdas's memory, in the units of [`KktModel`] (see the module documentation).
 pub const MEMORY_MODEL: KktModel = KktModel {

@@ -13,7 +13,7 @@
 
 use std::time::Instant;
 
-use signorini_core::qp::{CscMatrix, QpProblem, ResidualScales};
+use signorini_qp::{CscMatrix, QpProblem, ResidualScales};
 
 use crate::update::SetSolver;
 

@@ -6,7 +6,7 @@ use crate::error::PdasError;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StartSet {
     /// Rows whose initial gap is closed or overlapping: gᵢ ≤ `closed_gap` · Xᵢ, with Xᵢ the
-    /// row's length scale of [`signorini_core::qp::ResidualScales`].  A long interface pressed
+    /// row's length scale of [`signorini_qp::ResidualScales`].  A long interface pressed
     /// along its whole length (gaps all zero) is then solved by the first factorisation.
     ClosedGaps,
     /// No row: the first factorisation gives the unconstrained solution, the second starts from

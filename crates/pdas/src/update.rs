@@ -20,7 +20,7 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use signorini_core::qp::QpProblem;
+use signorini_qp::QpProblem;
 
 use crate::dense::DenseLu;
 use crate::error::PdasError;
@@ -284,7 +284,7 @@ impl SetSolver<'_> {
 mod tests {
     use super::*;
     use crate::kkt::KktMatrix;
-    use signorini_core::examples::laplacian_with_bounds;
+    use signorini_qp::examples::laplacian_with_bounds;
 
     /// The update must solve the new set's K exactly as a fresh factorisation does.  Both are
     /// direct solves of the same matrix, so they agree to its condition number times ε: with

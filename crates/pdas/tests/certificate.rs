@@ -1,12 +1,12 @@
 //! pdas says `primal-infeasible` only with the core's Farkas certificate
-//! (`signorini_core::qp::FarkasRay`), whose reach its message reports; feasible rows that meet
+//! (`signorini_qp::FarkasRay`), whose reach its message reports; feasible rows that meet
 //! only far away are not certified.
 #![allow(clippy::unwrap_used)]
 
 mod common;
 
 use common::{qp, solve};
-use signorini_core::qp::{FarkasRay, QpProblem, QpStatus, FARKAS_MARGIN};
+use signorini_qp::{FarkasRay, QpProblem, QpStatus, FARKAS_MARGIN};
 
 /// The tolerance the answers are judged by (the default).
 const TOL: f64 = 1e-9;
@@ -30,7 +30,7 @@ fn gap_and_overlap_at_different_scales() -> QpProblem {
 fn contact_rows_that_demand_a_gap_and_an_overlap_are_certified_infeasible() {
     for p in [
         gap_and_overlap_at_different_scales(),
-        signorini_core::examples::infeasible(),
+        signorini_qp::examples::infeasible(),
     ] {
         let (sol, status) = solve(&p, TOL);
         let message = sol.message.unwrap_or_default();

@@ -5,8 +5,8 @@
 mod common;
 
 use common::{qp, rel_diff, solve, solve_with};
-use signorini_core::qp::{QpProblem, QpStatus};
 use signorini_pdas::{PdasSettings, StartSet};
+use signorini_qp::{QpProblem, QpStatus};
 
 /// Body 1: DOF 0 held by a ground spring k1.  Body 2: DOFs 1, 2, 3 joined by springs k2, free
 /// (kernel r = (0, 1, 1, 1)).  Contact: x0 − x1 ≤ gap.  Load `push` on DOF 3 (negative =

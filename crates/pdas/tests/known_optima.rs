@@ -1,4 +1,5 @@
-//! pdas on the QPs of `signorini_core::examples` with hand-known optima, an infeasible one,
+//! pdas on the QPs of `signorini_qp::examples` beyond the conformance suite
+//! (tests/conformance.rs): one solve without rows, the infeasibility message, redundant rows,
 //! and the limits (iterations, time, settings).
 #![allow(clippy::unwrap_used)]
 
@@ -7,11 +8,9 @@ mod common;
 use std::time::Duration;
 
 use common::{qp, solve, solve_with};
-use signorini_core::examples::{
-    infeasible, scalar, spring_chain, two_rows, two_rows_scaled, unconstrained, Known,
-};
-use signorini_core::qp::{QpBackend, QpError, QpStatus, SolveOptions};
 use signorini_pdas::{PdasBackend, PdasSettings, StartSet};
+use signorini_qp::examples::{infeasible, spring_chain, two_rows, unconstrained, Known};
+use signorini_qp::{QpBackend, QpError, QpStatus, SolveOptions};
 
 /// The tolerance the answer is judged by; the known optima are exact rationals, and the
 /// KKT systems here are 1×1 to 11×11 with condition numbers below 10³, so an answer meeting
@@ -43,44 +42,11 @@ fn every_start() -> Vec<PdasSettings> {
 }
 
 #[test]
-fn scalar_with_active_and_inactive_bound() {
-    for s in every_start() {
-        check(&scalar(1.0), s.clone());
-        check(&scalar(3.0), s.clone());
-        check(&scalar(-2.0), s);
-    }
-}
-
-#[test]
-fn one_of_two_rows_active() {
-    for s in every_start() {
-        check(&two_rows(), s);
-    }
-}
-
-#[test]
-fn scaled_problems_have_the_same_answer() {
-    // The regularisations are relative to A's diagonal: a stiffness of 1e±8 must not matter.
-    for factor in [1e-8, 1e8] {
-        for s in every_start() {
-            check(&two_rows_scaled(factor), s);
-        }
-    }
-}
-
-#[test]
 fn no_rows_is_one_solve() {
     let known = unconstrained();
     check(&known, PdasSettings::default());
     let (sol, _) = solve(&known.problem, TOL);
     assert_eq!(sol.iterations, 1);
-}
-
-#[test]
-fn spring_chain_against_a_wall() {
-    for s in every_start() {
-        check(&spring_chain(), s);
-    }
 }
 
 #[test]
@@ -192,7 +158,7 @@ fn updates_and_factorisations_reach_the_same_answer() {
     // A 1-D chain with 40 obstacle rows, most of them active: several active-set steps.
     // Both runs end on the same set with refined solves, so they agree to about
     // cond · ε ≈ (2000²) · 1e-16 ≈ 4e-10 relative; 1e-8 leaves room.
-    let p = signorini_core::examples::laplacian_with_bounds(2000, 40);
+    let p = signorini_qp::examples::laplacian_with_bounds(2000, 40);
     let (a, status_a) = solve(&p, 1e-10);
     let no_updates = PdasSettings {
         max_update_rank: 0,

@@ -21,9 +21,9 @@ mod common;
 use common::solve;
 use signorini_core::mesh::MeshLimits;
 use signorini_core::model::{assemble, mesh_scene};
-use signorini_core::qp::{kkt_residuals, QpProblem, QpStatus};
 use signorini_core::scene::Scene;
 use signorini_core::solve::ScaledQp;
+use signorini_qp::{kkt_residuals, QpProblem, QpStatus};
 
 fn strip_loaded_in_its_middle(clamped: bool) -> QpProblem {
     let components = if clamped { "" } else { "components = [\"x\"]" };

@@ -12,8 +12,8 @@ use std::time::{Duration, Instant};
 use common::{csc, rel_diff, solve, solve_with};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
-use signorini_core::qp::{mat_vec, QpBackend, QpProblem, QpStatus, SolveOptions};
 use signorini_pdas::{PdasBackend, PdasSettings, StartSet};
+use signorini_qp::{mat_vec, QpBackend, QpProblem, QpStatus, SolveOptions};
 
 const FOUNDATION_ROWS: usize = 2;
 const STRIP_ROWS: usize = 3;
@@ -141,7 +141,7 @@ trait DenseReference {
     fn to_dense_reference(&self) -> Vec<Vec<(usize, f64)>>;
 }
 
-impl DenseReference for signorini_core::qp::CscMatrix {
+impl DenseReference for signorini_qp::CscMatrix {
     fn to_dense_reference(&self) -> Vec<Vec<(usize, f64)>> {
         let mut rows = vec![Vec::new(); self.rows()];
         for (col, column) in self.outer_iterator().enumerate() {

@@ -11,8 +11,8 @@
 //!
 //! which is all the FETI-style dual needs.  This keeps the factor as sparse as A's own.
 
-use signorini_core::memory;
-use signorini_core::qp::CscMatrix;
+use signorini_qp::memory;
+use signorini_qp::CscMatrix;
 
 use super::trailing::TrailingCholesky;
 use crate::error::DualError;

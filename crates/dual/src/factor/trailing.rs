@@ -8,7 +8,7 @@
 //!
 //! Then H = B_c S⁻¹ B_cᵀ = Yᵀ Y with Y = L_cc⁻¹ B_cᵀ: no sparse solve at all, only dense work of
 //! order |c|² m.  The interior is ordered by the project's one fill-reducing ordering,
-//! [`signorini_core::linalg::fill_reducing_order`] (the floor's ordering path), with the contact
+//! [`signorini_qp::linalg::fill_reducing_order`] (the floor's ordering path), with the contact
 //! DOFs moved to the end.  The same factor serves every later solve with A.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -20,9 +20,9 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
-use signorini_core::linalg::{faer_view, numeric_llt, LinalgError};
-use signorini_core::linalg::{fill_reducing_order, OrderingMethod};
-use signorini_core::qp::CscMatrix;
+use signorini_qp::linalg::{faer_view, numeric_llt, LinalgError};
+use signorini_qp::linalg::{fill_reducing_order, OrderingMethod};
+use signorini_qp::CscMatrix;
 
 /// A Cholesky factor of A with the `touched` DOFs last, and its dense trailing block.
 #[derive(Debug)]

@@ -59,7 +59,7 @@ pub fn dual_hessian(
 ) -> Result<DenseSym, DualError> {
     let m = data.rows();
     let bytes = dense_bytes(data, settings, extra_squares);
-    signorini_core::memory::check_fits(
+    signorini_qp::memory::check_fits(
         settings.method.backend_name(),
         || format!("the dense dual Hessian H = B A⁻¹ Bᵀ ({m} × {m}) and its work arrays"),
         bytes,

@@ -1,6 +1,6 @@
 //! H = B (A⁺ Bᵀ) by multi-right-hand-side solves with the cached factor.
 
-use signorini_core::qp::CscMatrix;
+use signorini_qp::CscMatrix;
 
 use super::dense::DenseSym;
 use crate::error::DualError;

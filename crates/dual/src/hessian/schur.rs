@@ -11,8 +11,8 @@
 
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
-use signorini_core::linalg::SparseCholesky;
-use signorini_core::qp::CscMatrix;
+use signorini_qp::linalg::SparseCholesky;
+use signorini_qp::CscMatrix;
 
 use super::dense::DenseSym;
 use super::multi_rhs::touched_columns;

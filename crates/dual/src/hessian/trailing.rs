@@ -3,7 +3,7 @@
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::{Accum, Mat, MatRef, Par};
-use signorini_core::qp::CscMatrix;
+use signorini_qp::CscMatrix;
 
 use super::dense::DenseSym;
 

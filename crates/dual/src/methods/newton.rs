@@ -11,7 +11,7 @@
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 
-use signorini_core::qp::{dot, mat_t_vec, mat_vec};
+use signorini_qp::{dot, mat_t_vec, mat_vec};
 
 use crate::dual::DualData;
 use crate::hessian::DenseSym;

@@ -13,7 +13,7 @@
 
 use std::time::{Duration, Instant};
 
-use signorini_core::qp::{dot, mat_t_vec, QpError, QpStatus};
+use signorini_qp::{dot, mat_t_vec, QpError, QpStatus};
 
 use crate::dual::{DualData, Outcome};
 use crate::error::DualError;
@@ -355,7 +355,7 @@ fn sweep(
 mod tests {
     use std::time::Instant;
 
-    use signorini_core::qp::{QpProblem, QpStatus, SolveOptions};
+    use signorini_qp::{QpProblem, QpStatus, SolveOptions};
     use sprs::TriMat;
 
     use super::run;

@@ -29,7 +29,7 @@
 
 use std::collections::HashSet;
 
-use signorini_core::qp::{norm_inf, QpStatus};
+use signorini_qp::{norm_inf, QpStatus};
 
 use super::newton::{lumped_compliance, DenseBlock, MatrixFreeBlock};
 use crate::dual::{two_sum, DualData, Outcome};
@@ -66,12 +66,9 @@ pub fn solve(
         return Ok(stopped(data, QpStatus::DualInfeasible, message));
     }
     // Besides H: the dense Newton matrix, its shifted copy and their factor.
-    let fits = signorini_core::memory::check_fits(
-        "dual-ssn",
-        String::new,
-        dense_bytes(data, settings, 3.0),
-    )
-    .is_ok();
+    let fits =
+        signorini_qp::memory::check_fits("dual-ssn", String::new, dense_bytes(data, settings, 3.0))
+            .is_ok();
     let hessian = if fits && m <= settings.matrix_free_rows {
         Some(dual_hessian(data, settings, 3.0, &|| {
             monitor.out_of_time()

@@ -10,7 +10,7 @@
 //! restart).  Because x is affine in λ, x(y) is the same combination of x(λₖ) and x(λₖ₋₁): still
 //! one solve per step.
 
-use signorini_core::qp::{dot, mat_vec, QpStatus};
+use signorini_qp::{dot, mat_vec, QpStatus};
 
 use crate::dual::{DualData, Outcome};
 use crate::error::DualError;

@@ -1,12 +1,12 @@
 //! Builders shared by the integration tests.
 #![allow(dead_code, unused_imports, clippy::unwrap_used)]
 
-use signorini_core::qp::{
+use signorini_dual::{DualBackend, DualSettings};
+use signorini_qp::{
     checked_status, kkt_residuals, QpBackend, QpProblem, QpSolution, QpStatus, SolveOptions,
 };
-use signorini_dual::{DualBackend, DualSettings};
 
-pub use signorini_core::examples::csc_from_triplets as csc;
+pub use signorini_qp::examples::csc_from_triplets as csc;
 
 /// A QP from triplets.
 pub fn qp(
@@ -17,7 +17,7 @@ pub fn qp(
     b: &[(usize, usize, f64)],
     g: Vec<f64>,
 ) -> QpProblem {
-    signorini_core::examples::qp_from_triplets(n, a, f, m, b, g).unwrap()
+    signorini_qp::examples::qp_from_triplets(n, a, f, m, b, g).unwrap()
 }
 
 /// The three dual backends with default settings.
@@ -77,5 +77,5 @@ pub fn laplacian_obstacle(nx: usize, ny: usize, rows: usize, stiffness: f64) -> 
 
 /// max |x − reference| / max |reference| (the reference first, as these tests write it).
 pub fn rel_diff(reference: &[f64], x: &[f64]) -> f64 {
-    signorini_core::examples::rel_diff(x, reference)
+    signorini_qp::examples::rel_diff(x, reference)
 }

@@ -22,7 +22,7 @@
 
 use std::time::Instant;
 
-use signorini_core::qp::{dot, kkt_residuals_with, mat_t_vec, mat_vec, QpStatus};
+use signorini_qp::{dot, kkt_residuals_with, mat_t_vec, mat_vec, QpStatus};
 
 use super::{count, ActiveSet, Outcome, Phase1};
 use crate::refine::{first_solve, refine, Limits};

@@ -1,12 +1,12 @@
 //! Builders and the solve helper shared by the integration tests.
 #![allow(dead_code, unused_imports, clippy::unwrap_used)]
 
-use signorini_core::qp::{
+use signorini_pdas::{PdasBackend, PdasSettings};
+use signorini_qp::{
     checked_status, kkt_residuals, QpBackend, QpProblem, QpSolution, QpStatus, SolveOptions,
 };
-use signorini_pdas::{PdasBackend, PdasSettings};
 
-pub use signorini_core::examples::{csc_from_triplets as csc, rel_diff};
+pub use signorini_qp::examples::{csc_from_triplets as csc, rel_diff};
 
 /// A QP from triplets.
 pub fn qp(
@@ -17,7 +17,7 @@ pub fn qp(
     b: &[(usize, usize, f64)],
     g: Vec<f64>,
 ) -> QpProblem {
-    signorini_core::examples::qp_from_triplets(n, a, f, m, b, g).unwrap()
+    signorini_qp::examples::qp_from_triplets(n, a, f, m, b, g).unwrap()
 }
 
 /// Solves with `settings` at `tol` and returns the solution with the core's checked status.

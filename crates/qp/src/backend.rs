@@ -75,7 +75,7 @@ impl QpSolution {
 /// A QP algorithm.
 ///
 /// ```
-/// use signorini_core::qp::{QpBackend, QpProblem, QpSolution, QpStatus, QpError, SolveOptions};
+/// use signorini_qp::{QpBackend, QpProblem, QpSolution, QpStatus, QpError, SolveOptions};
 /// /// A "backend" that only knows the unconstrained answer of a 1×1 problem.
 /// struct Scalar;
 /// impl QpBackend for Scalar {

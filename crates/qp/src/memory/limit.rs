@@ -19,7 +19,7 @@ pub struct LimitError {
 /// (case-insensitive, powers of 1024) and optionally `B` or `iB`; spaces around are ignored.
 ///
 /// ```
-/// use signorini_core::memory::parse_limit;
+/// use signorini_qp::memory::parse_limit;
 /// assert_eq!(parse_limit("512M"), Ok(512 << 20));
 /// assert_eq!(parse_limit(" 1.5 GiB "), Ok(3 << 29));
 /// assert!(parse_limit("lots").is_err());

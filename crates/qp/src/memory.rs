@@ -13,6 +13,17 @@ mod limit;
 pub use kkt::{KktEstimate, KktModel};
 pub use limit::{limit_from_env, parse_limit, LimitError, LIMIT_VAR};
 
+/// A size in GiB, written for a message: `0.5 GiB (512.0 MiB)`, `12.0 GiB`, `1.20e5 GiB`.
+pub fn gib_f64(g: f64) -> String {
+    if g < 1.0 {
+        format!("{g:.1} GiB ({:.1} MiB)", g * 1024.0)
+    } else if g < 1e4 {
+        format!("{g:.1} GiB")
+    } else {
+        format!("{g:.2e} GiB")
+    }
+}
+
 /// Bytes in a GiB.
 pub const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
 
@@ -41,9 +52,9 @@ pub fn check_fits(
     backend: &'static str,
     what: impl FnOnce() -> String,
     needed_bytes: f64,
-) -> Result<(), crate::qp::QpError> {
+) -> Result<(), crate::QpError> {
     match available_bytes() {
-        Some(available) if needed_bytes > available as f64 => Err(crate::qp::QpError::TooLarge {
+        Some(available) if needed_bytes > available as f64 => Err(crate::QpError::TooLarge {
             backend,
             what: what(),
             needed: needed_bytes / GIB,
@@ -77,8 +88,8 @@ pub struct FactorEstimate {
 
 impl FactorEstimate {
     /// Estimates the peak of a run on `qp` whose factor of A was analysed as `pattern`.
-    pub fn of(qp: &crate::qp::QpProblem, pattern: &crate::linalg::CholeskyPattern) -> Self {
-        let csc = |m: &crate::qp::CscMatrix| 12.0 * m.nnz() as f64 + 8.0 * (m.cols() + 1) as f64;
+    pub fn of(qp: &crate::QpProblem, pattern: &crate::linalg::CholeskyPattern) -> Self {
+        let csc = |m: &crate::CscMatrix| 12.0 * m.nnz() as f64 + 8.0 * (m.cols() + 1) as f64;
         let n = qp.dofs() as f64;
         Self {
             factor: 8.0 * pattern.stored_values() as f64,

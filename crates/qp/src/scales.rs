@@ -247,7 +247,7 @@ impl ResidualScales {
     /// The scales of `problem` (see the type's docs).
     ///
     /// ```
-    /// use signorini_core::qp::{QpProblem, ResidualScales};
+    /// use signorini_qp::{QpProblem, ResidualScales};
     /// use sprs::TriMat;
     /// let mut a = TriMat::new((2, 2)); a.add_triplet(0, 0, 4.0); a.add_triplet(1, 1, 4.0);
     /// let b = TriMat::new((0, 2));

@@ -1,4 +1,10 @@
-//! The quadratic program every backend solves, and the one residual check used for all of them.
+//! # signorini-qp
+//!
+//! The QP contract of signorini: the quadratic program every backend solves, the one residual
+//! check used for all of them, the backend trait, and what the backends share — the sparse
+//! factor path ([`linalg`]), the memory guards ([`memory`]) and QPs with known optima
+//! ([`examples`]).  Backend crates depend on this crate alone, never on the model (scene, mesh,
+//! FEM, contact) that builds the problems.
 //!
 //! ```text
 //! minimise   ½ xᵀ A x − fᵀ x
@@ -16,6 +22,11 @@
 //! with λ the contact forces.  [`kkt_residuals`] measures how far a pair (x, λ) is from them, the
 //! same way for every backend, and [`checked_status`] turns a backend's own verdict into the
 //! status the program reports: `solved` only when these residuals meet the requested tolerance.
+
+pub mod conformance;
+pub mod examples;
+pub mod linalg;
+pub mod memory;
 
 mod backend;
 mod certificate;

@@ -6,7 +6,7 @@
 
 use crate::linalg::kkt::{kkt_pattern, kkt_pattern_entries};
 use crate::linalg::CholeskyPattern;
-use crate::qp::{CscMatrix, QpError, QpProblem};
+use crate::{CscMatrix, QpError, QpProblem};
 
 use super::check_fits;
 

@@ -20,10 +20,9 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
-use crate::qp::CscMatrix;
+use crate::CscMatrix;
 
 pub mod kkt;
-mod measure;
 pub mod ordering;
 
 pub use ordering::{fill_reducing_order, order_with, FillOrdering, OrderingMethod};
@@ -133,7 +132,7 @@ impl FactorInfo {
 
 /// The column counts of L (diagonal included) for P A Pᵀ, `inverse[old] = new`: the exact
 /// nonzero pattern, without the explicit zeros a relaxed supernodal factor stores.
-fn column_counts(a: &CscMatrix, inverse: &[usize]) -> Result<Vec<usize>, LinalgError> {
+pub fn column_counts(a: &CscMatrix, inverse: &[usize]) -> Result<Vec<usize>, LinalgError> {
     let n = a.rows();
     let view = faer_view(a)?;
     let sym = view.symbolic();
@@ -339,7 +338,7 @@ impl SparseCholesky {
     /// Orders, analyses and factors the symmetric positive definite `a` in one go.
     ///
     /// ```
-    /// use signorini_core::linalg::SparseCholesky;
+    /// use signorini_qp::linalg::SparseCholesky;
     /// use sprs::TriMat;
     /// let mut a = TriMat::new((2, 2));
     /// for (i, j, v) in [(0, 0, 4.0), (1, 1, 3.0), (0, 1, 1.0), (1, 0, 1.0)] {
@@ -399,6 +398,7 @@ impl SparseCholesky {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::examples::{eliminated_nnz, two_dof_grid};
     use sprs::TriMat;
 
     fn laplacian(n: usize) -> CscMatrix {
@@ -421,7 +421,7 @@ pub(crate) mod tests {
             let a_s = a.map(|v| v * scale);
             let chol = pattern.factor(&a_s).unwrap();
             let x_true: Vec<f64> = (0..50).map(|i| (i as f64).sin()).collect();
-            let mut b = crate::qp::mat_vec(&a_s, &x_true);
+            let mut b = crate::mat_vec(&a_s, &x_true);
             chol.solve_in_place(&mut b);
             for (x, y) in b.iter().zip(&x_true) {
                 assert!((x - y).abs() < 1e-10, "{x} vs {y} at scale {scale}");
@@ -429,71 +429,12 @@ pub(crate) mod tests {
         }
     }
 
-    /// An SPD matrix with a 2D-elasticity-like pattern: a side × side grid of nodes with two
-    /// DOFs each, coupled to the 8 neighbouring nodes (both DOFs), diagonally dominant.
-    pub(crate) fn two_dof_grid(side: usize) -> CscMatrix {
-        let nodes = side * side;
-        let mut t = TriMat::new((2 * nodes, 2 * nodes));
-        let id = |i: usize, j: usize| j * side + i;
-        for j in 0..side {
-            for i in 0..side {
-                let a = id(i, j);
-                for (di, dj) in [(1i64, 0i64), (0, 1), (1, 1), (1, -1)] {
-                    let (ii, jj) = (i as i64 + di, j as i64 + dj);
-                    if ii < 0 || jj < 0 || ii >= side as i64 || jj >= side as i64 {
-                        continue;
-                    }
-                    let b = id(ii as usize, jj as usize);
-                    for (p, q) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
-                        let v = -0.5 - 0.1 * ((a + b + p + q) % 3) as f64;
-                        t.add_triplet(2 * a + p, 2 * b + q, v);
-                        t.add_triplet(2 * b + q, 2 * a + p, v);
-                    }
-                }
-                t.add_triplet(2 * a, 2 * a + 1, 0.3);
-                t.add_triplet(2 * a + 1, 2 * a, 0.3);
-                t.add_triplet(2 * a, 2 * a, 20.0);
-                t.add_triplet(2 * a + 1, 2 * a + 1, 20.0);
-            }
-        }
-        t.to_csc()
-    }
-
-    /// nnz of the lower triangle of L, diagonal included, counted by eliminating the graph of
-    /// P A Pᵀ vertex by vertex (each eliminated vertex joins its later neighbours into a
-    /// clique): independent of faer's elimination tree and column counts.
-    pub(crate) fn eliminated_nnz(a: &CscMatrix, forward_inverse: &[usize]) -> usize {
-        use std::collections::BTreeSet;
-        let n = a.rows();
-        let mut adj: Vec<BTreeSet<usize>> = vec![BTreeSet::new(); n];
-        for (_, (i, j)) in a.iter() {
-            let (p, q) = (forward_inverse[i], forward_inverse[j]);
-            if p != q {
-                adj[p].insert(q);
-                adj[q].insert(p);
-            }
-        }
-        let mut nnz = 0;
-        for k in 0..n {
-            let later: Vec<usize> = adj[k].range(k + 1..).copied().collect();
-            nnz += 1 + later.len();
-            for &u in &later {
-                for &v in &later {
-                    if u != v {
-                        adj[u].insert(v);
-                    }
-                }
-            }
-        }
-        nnz
-    }
-
     #[test]
     fn amd_and_metis_factors_solve_to_1e10_and_count_l_exactly() {
         let a = two_dof_grid(14);
         let n = a.rows();
         let x_true: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin() + 0.1).collect();
-        let b = crate::qp::mat_vec(&a, &x_true);
+        let b = crate::mat_vec(&a, &x_true);
         let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
         for method in [OrderingMethod::Amd, OrderingMethod::Metis] {
             let ordering = order_with(&a, method).unwrap();

@@ -32,8 +32,8 @@
 //! [`QpError::Unavailable`] — the dual backends (`dual-*`) handle that case with the FETI dual.
 //!
 //! ```
-//! use signorini_core::examples::two_rows;
-//! use signorini_core::qp::{CondensedDual, QpBackend, QpProblem, QpSolution, QpStatus, QpError,
+//! use signorini_qp::examples::two_rows;
+//! use signorini_qp::{CondensedDual, QpBackend, QpProblem, QpSolution, QpStatus, QpError,
 //!     SolveOptions};
 //! /// Projected Gauss–Seidel on `min ½xᵀAx − fᵀx, x ≥ 0` written as `−x ≤ 0` (enough for a tiny
 //! /// dual).
@@ -50,7 +50,7 @@
 //!                 x[i] = (x[i] + r / a(i, i)).max(0.0);
 //!             }
 //!         }
-//!         let ax = signorini_core::qp::mat_vec(&p.stiffness, &x);
+//!         let ax = signorini_qp::mat_vec(&p.stiffness, &x);
 //!         let mu = ax.iter().zip(&p.load).map(|(h, d)| h - d).collect();
 //!         Ok(QpSolution { x, multipliers: mu, status: QpStatus::Solved, iterations: 10_000,
 //!             solve_time: Default::default(), message: None })

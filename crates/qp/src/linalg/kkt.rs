@@ -10,7 +10,7 @@
 //! it.  The values are irrelevant (all ones): only the pattern is analysed.
 
 use super::LinalgError;
-use crate::qp::CscMatrix;
+use crate::CscMatrix;
 
 /// Stored entries of the lower triangle of K (an upper bound when A stores entries twice):
 /// what [`kkt_pattern`] allocates, so that a caller can check it fits before building it.

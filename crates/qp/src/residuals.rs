@@ -86,7 +86,7 @@ impl KktResiduals {
 /// The KKT residuals of (x, λ) for `problem`; see [`KktResiduals`] for the definitions.
 ///
 /// ```
-/// use signorini_core::qp::{kkt_residuals, QpProblem};
+/// use signorini_qp::{kkt_residuals, QpProblem};
 /// use sprs::TriMat;
 /// // min x² − 4x  s.t. x ≤ 1  →  x = 1, λ = 2.
 /// let mut a = TriMat::new((1, 1)); a.add_triplet(0, 0, 2.0);

@@ -32,8 +32,8 @@ pub enum QpError {
     /// see [`crate::memory`]).
     #[error(
         "backend `{backend}` refused: {what} would need {} but {} is available",
-        crate::preflight::gib_f64(*.needed),
-        crate::preflight::gib_f64(*.available)
+        crate::memory::gib_f64(*.needed),
+        crate::memory::gib_f64(*.available)
     )]
     TooLarge {
         /// Backend name.
@@ -75,7 +75,7 @@ impl QpProblem {
     /// Checks dimensions, storage and finiteness, then builds the problem.
     ///
     /// ```
-    /// use signorini_core::qp::QpProblem;
+    /// use signorini_qp::QpProblem;
     /// use sprs::TriMat;
     /// let mut a = TriMat::new((1, 1));
     /// a.add_triplet(0, 0, 2.0);

@@ -78,7 +78,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::amd;
 
 use super::{faer_view, LinalgError};
-use crate::qp::CscMatrix;
+use crate::CscMatrix;
 
 /// Which algorithm produced a [`FillOrdering`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -197,17 +197,23 @@ fn metis_order(a: &CscMatrix) -> Result<FillOrdering, LinalgError> {
 /// of a node, numbered one after the other) merged into one weighted vertex: half the vertices
 /// and a quarter of the edges of a 2D elasticity DOF graph, so METIS orders it several times
 /// faster than the DOF graph (its own compression finds the same groups but only after reading
-/// the whole DOF graph).
-pub(crate) struct Compressed {
+/// the whole DOF graph).  Public for the hand-run measurement of the ordering rule
+/// (`signorini-core`'s `linalg_measure`), not for use.
+#[doc(hidden)]
+pub struct Compressed {
     /// Group g holds the vertices `start[g]..start[g + 1]`.
-    pub(crate) start: Vec<usize>,
-    pub(crate) weight: Vec<usize>,
-    pub(crate) xadj: Vec<usize>,
-    pub(crate) adjncy: Vec<usize>,
+    pub start: Vec<usize>,
+    /// Number of vertices of each group.
+    pub weight: Vec<usize>,
+    /// The compressed graph's adjacency, CSR offsets.
+    pub xadj: Vec<usize>,
+    /// The compressed graph's adjacency, CSR neighbours.
+    pub adjncy: Vec<usize>,
 }
 
 impl Compressed {
-    pub(crate) fn of(xadj: &[usize], adjncy: &[usize]) -> Self {
+    /// The compressed graph of the CSR graph (`xadj`, `adjncy`).
+    pub fn of(xadj: &[usize], adjncy: &[usize]) -> Self {
         let n = xadj.len() - 1;
         let closed = |v: usize| -> Vec<usize> {
             let mut l: Vec<usize> = adjncy[xadj[v]..xadj[v + 1]].to_vec();

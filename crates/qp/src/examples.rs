@@ -1,12 +1,12 @@
 //! Small QPs with hand-known optima (and an infeasible one), the same for every backend's tests.
 //!
 //! ```
-//! use signorini_core::examples::scalar;
+//! use signorini_qp::examples::scalar;
 //! let k = scalar(1.0); // min x² − 4x s.t. x ≤ 1
 //! assert_eq!((k.x[0], k.multipliers[0]), (1.0, 2.0));
 //! ```
 
-use crate::qp::QpProblem;
+use crate::{CscMatrix, QpProblem};
 use sprs::TriMat;
 
 /// A QP with its known optimum.
@@ -54,7 +54,7 @@ pub fn qp_from_triplets(
     m: usize,
     b: &[(usize, usize, f64)],
     g: Vec<f64>,
-) -> Result<QpProblem, crate::qp::QpError> {
+) -> Result<QpProblem, crate::QpError> {
     QpProblem::try_new(csc_from_triplets(n, n, a), f, csc_from_triplets(m, n, b), g)
 }
 
@@ -215,4 +215,63 @@ impl Known {
         }
         None
     }
+}
+
+/// An SPD matrix with a 2D-elasticity-like pattern: a side × side grid of nodes with two
+/// DOFs each, coupled to the 8 neighbouring nodes (both DOFs), diagonally dominant.
+pub fn two_dof_grid(side: usize) -> CscMatrix {
+    let nodes = side * side;
+    let mut t = TriMat::new((2 * nodes, 2 * nodes));
+    let id = |i: usize, j: usize| j * side + i;
+    for j in 0..side {
+        for i in 0..side {
+            let a = id(i, j);
+            for (di, dj) in [(1i64, 0i64), (0, 1), (1, 1), (1, -1)] {
+                let (ii, jj) = (i as i64 + di, j as i64 + dj);
+                if ii < 0 || jj < 0 || ii >= side as i64 || jj >= side as i64 {
+                    continue;
+                }
+                let b = id(ii as usize, jj as usize);
+                for (p, q) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                    let v = -0.5 - 0.1 * ((a + b + p + q) % 3) as f64;
+                    t.add_triplet(2 * a + p, 2 * b + q, v);
+                    t.add_triplet(2 * b + q, 2 * a + p, v);
+                }
+            }
+            t.add_triplet(2 * a, 2 * a + 1, 0.3);
+            t.add_triplet(2 * a + 1, 2 * a, 0.3);
+            t.add_triplet(2 * a, 2 * a, 20.0);
+            t.add_triplet(2 * a + 1, 2 * a + 1, 20.0);
+        }
+    }
+    t.to_csc()
+}
+
+/// nnz of the lower triangle of L, diagonal included, counted by eliminating the graph of
+/// P A Pᵀ vertex by vertex (each eliminated vertex joins its later neighbours into a
+/// clique): independent of faer's elimination tree and column counts.
+pub fn eliminated_nnz(a: &CscMatrix, forward_inverse: &[usize]) -> usize {
+    use std::collections::BTreeSet;
+    let n = a.rows();
+    let mut adj: Vec<BTreeSet<usize>> = vec![BTreeSet::new(); n];
+    for (_, (i, j)) in a.iter() {
+        let (p, q) = (forward_inverse[i], forward_inverse[j]);
+        if p != q {
+            adj[p].insert(q);
+            adj[q].insert(p);
+        }
+    }
+    let mut nnz = 0;
+    for k in 0..n {
+        let later: Vec<usize> = adj[k].range(k + 1..).copied().collect();
+        nnz += 1 + later.len();
+        for &u in &later {
+            for &v in &later {
+                if u != v {
+                    adj[u].insert(v);
+                }
+            }
+        }
+    }
+    nnz
 }

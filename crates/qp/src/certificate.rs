@@ -68,7 +68,7 @@ impl FarkasRay {
     /// negative or non-finite entry, or no positive entry.
     ///
     /// ```
-    /// use signorini_core::qp::{FarkasRay, QpProblem};
+    /// use signorini_qp::{FarkasRay, QpProblem};
     /// use sprs::TriMat;
     /// // x ≤ −1 and −x ≤ −1: y = (1, 1) gives Bᵀy = 0, gᵀy = −2.
     /// let mut a = TriMat::new((1, 1)); a.add_triplet(0, 0, 1.0);

@@ -1,9 +1,9 @@
-//! The measurement behind the ordering rule of [`super::ordering`] (run by hand; prints a
+//! The measurement behind the ordering rule of [`crate::linalg::ordering`] (run by hand; prints a
 //! Markdown table):
 //!
 //! ```text
 //! SIGNORINI_MEASURE_SCENES="a.toml b.toml" \
-//!   cargo test --release -p signorini-core --lib linalg::measure -- --ignored --nocapture
+//!   cargo test --release -p signorini-core --lib linalg_measure -- --ignored --nocapture
 //! ```
 //!
 //! (`SIGNORINI_MEASURE_METHODS="metis"` restricts the orderings measured.)
@@ -16,7 +16,7 @@
 
 use std::time::Instant;
 
-use super::{order_with, CholeskyPattern, OrderingMethod};
+use crate::linalg::{order_with, CholeskyPattern, OrderingMethod};
 use crate::mesh::MeshLimits;
 use crate::model;
 use crate::scene::Scene;
@@ -83,7 +83,7 @@ fn measure_orderings() {
             );
             drop(chol);
             let t5 = Instant::now();
-            let counts = super::column_counts(a, &ordering.inverse).unwrap();
+            let counts = crate::linalg::column_counts(a, &ordering.inverse).unwrap();
             println!(
                 "|   (column counts alone: {:.3} s, nnz(L) {}) |",
                 t5.elapsed().as_secs_f64(),
@@ -95,7 +95,7 @@ fn measure_orderings() {
             // threshold), numeric LLᵀ with faer's default parallelism, one solve.
             use faer::linalg::solvers::Solve;
             use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-            let view = super::faer_view(a).unwrap();
+            let view = crate::linalg::faer_view(a).unwrap();
             let t0 = Instant::now();
             let symbolic = SymbolicLlt::try_new(view.symbolic(), faer::Side::Lower).unwrap();
             let t1 = Instant::now();
@@ -144,7 +144,7 @@ fn measure_old_vs_new_floor() {
             .unwrap_or(5);
         for _ in 0..reps {
             let t = Instant::now();
-            let view = super::faer_view(a).unwrap();
+            let view = crate::linalg::faer_view(a).unwrap();
             let symbolic = SymbolicLlt::try_new(view.symbolic(), faer::Side::Lower).unwrap();
             let llt = Llt::try_new_with_symbolic(symbolic, view, faer::Side::Lower).unwrap();
             let mut x = qp.load.clone();
@@ -193,9 +193,9 @@ fn measure_metis_steps() {
         let qp = model::assemble(&scene, meshes).unwrap().qp;
         let a = &qp.stiffness;
         let t0 = Instant::now();
-        let (xadj, adjncy) = super::ordering::adjacency(a).unwrap();
+        let (xadj, adjncy) = crate::linalg::ordering::adjacency(a).unwrap();
         let t1 = Instant::now();
-        let c = super::ordering::Compressed::of(&xadj, &adjncy);
+        let c = crate::linalg::ordering::Compressed::of(&xadj, &adjncy);
         let t2 = Instant::now();
         let _ = signorini_metis::node_nd_weighted(&c.xadj, &c.adjncy, Some(&c.weight)).unwrap();
         let t3 = Instant::now();
