@@ -10,53 +10,28 @@ use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::ValueEnum;
 use signorini_core::qp::{CondensedDual, QpBackend};
 
-/// A backend the command line can name.  Parsed by clap as a [`ValueEnum`] through
-/// [`ChoiceParser`] (help lists the names, a typo gets a suggestion); the first line of each
-/// variant's doc is its help text.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, ValueEnum)]
+/// A backend the command line can name: one row of [`REGISTRY`], which holds its name, help,
+/// form and constructor.  Parsed by clap as a [`ValueEnum`] derived from the registry, through
+/// [`ChoiceParser`] (help lists the names, a typo gets a suggestion).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum BackendKind {
     /// The fastest backend likely to succeed, with fall-backs (see [`crate::auto`]).
-    #[value(
-        name = "auto",
-        help = "the fastest backend likely to succeed, with fall-backs"
-    )]
     Auto,
     /// Interior point (clarabel).
-    #[value(name = "clarabel", help = "interior point (clarabel)")]
     Clarabel,
     /// ADMM (OSQP), when built with the `osqp` feature.
-    #[value(name = "osqp", help = "ADMM (OSQP; builds with the osqp feature)")]
     Osqp,
     /// Projected Gauss–Seidel on the condensed dual.
-    #[value(
-        name = "dual-pgs",
-        help = "projected Gauss–Seidel on the condensed dual"
-    )]
     DualPgs,
     /// Uzawa / projected gradient on the dual.
-    #[value(
-        name = "dual-uzawa",
-        help = "Uzawa / projected gradient on the condensed dual"
-    )]
     DualUzawa,
     /// Primal–dual active set (semismooth Newton) on the condensed dual.
-    #[value(
-        name = "dual-ssn",
-        help = "primal–dual active set (semismooth Newton) on the condensed dual"
-    )]
     DualSsn,
     /// Primal–dual active set on the sparse primal KKT system.
-    #[value(
-        name = "pdas",
-        help = "primal–dual active set on the sparse primal KKT system"
-    )]
     Pdas,
-    /// clarabel on the condensed dual (`"clarabel/dual"`, see
-    /// [`CondensedDual`]).
-    #[value(name = "clarabel/dual", help = "clarabel on the condensed dual")]
+    /// clarabel on the condensed dual (`"clarabel/dual"`, see [`CondensedDual`]).
     ClarabelDual,
     /// OSQP on the condensed dual (`"osqp/dual"`).
-    #[value(name = "osqp/dual", help = "OSQP on the condensed dual")]
     OsqpDual,
 }
 
@@ -72,14 +47,6 @@ pub enum Form {
 }
 
 impl Form {
-    /// Every name the command line accepts besides [`BackendKind::ALL`]: the chain and the
-    /// condensed-dual forms (not in `ALL`, which lists each algorithm once, in its own form).
-    pub const EXTRA: [BackendKind; 3] = [
-        BackendKind::Auto,
-        BackendKind::ClarabelDual,
-        BackendKind::OsqpDual,
-    ];
-
     /// The command-line name.
     pub fn name(self) -> &'static str {
         match self {
@@ -101,69 +68,264 @@ impl FromStr for Form {
     }
 }
 
+/// What the driver knows of one backend name: the one place a backend is registered (after
+/// clarabel's list of direct solvers, `kktsolvers/direct/quasidef/ldlsolvers/config.rs`: one
+/// table, the automatic choice beside it).
+#[derive(Debug, Clone, Copy)]
+pub struct Entry {
+    /// The variant.
+    pub kind: BackendKind,
+    /// The command-line name.
+    pub name: &'static str,
+    /// One line of help.
+    pub help: &'static str,
+    /// The formulation it runs on (`auto` counts as primal: it picks its own per attempt).
+    pub form: Form,
+    /// An algorithm in its own form: listed once in [`BackendKind::ALL`] (not `auto`, not the
+    /// condensed-dual forms of clarabel and osqp).
+    pub algorithm: bool,
+    /// `--form` can choose its formulation (clarabel and osqp run on either).
+    pub has_forms: bool,
+    /// Run by `compare` and `sweep` when `--backends` is not given.
+    pub compare_default: bool,
+    /// In this build.
+    pub available: bool,
+    /// Creates it with its default settings.
+    pub make: fn() -> Result<Box<dyn QpBackend>, BackendError>,
+}
+
+/// Every backend, in the order reports list them: the algorithms ([`BackendKind::ALL`]) first,
+/// then `auto` and the condensed-dual forms.
+pub const REGISTRY: [Entry; 9] = [
+    Entry {
+        kind: BackendKind::Clarabel,
+        name: "clarabel",
+        help: "interior point (clarabel)",
+        form: Form::Primal,
+        algorithm: true,
+        has_forms: true,
+        compare_default: true,
+        available: true,
+        make: make_clarabel,
+    },
+    Entry {
+        kind: BackendKind::Osqp,
+        name: "osqp",
+        help: "ADMM (OSQP; builds with the osqp feature)",
+        form: Form::Primal,
+        algorithm: true,
+        has_forms: true,
+        compare_default: true,
+        available: cfg!(feature = "osqp"),
+        make: make_osqp,
+    },
+    Entry {
+        kind: BackendKind::DualPgs,
+        name: "dual-pgs",
+        help: "projected Gauss–Seidel on the condensed dual",
+        form: Form::Dual,
+        algorithm: true,
+        has_forms: false,
+        compare_default: true,
+        available: true,
+        make: || {
+            Ok(Box::new(signorini_dual::DualBackend::pgs(
+                Default::default(),
+            )))
+        },
+    },
+    Entry {
+        kind: BackendKind::DualUzawa,
+        name: "dual-uzawa",
+        help: "Uzawa / projected gradient on the condensed dual",
+        form: Form::Dual,
+        algorithm: true,
+        has_forms: false,
+        compare_default: true,
+        available: true,
+        make: || {
+            Ok(Box::new(signorini_dual::DualBackend::uzawa(
+                Default::default(),
+            )))
+        },
+    },
+    Entry {
+        kind: BackendKind::Pdas,
+        name: "pdas",
+        help: "primal–dual active set on the sparse primal KKT system",
+        form: Form::Primal,
+        algorithm: true,
+        has_forms: false,
+        compare_default: false,
+        available: true,
+        make: || Ok(Box::new(signorini_pdas::PdasBackend::default())),
+    },
+    Entry {
+        kind: BackendKind::DualSsn,
+        name: "dual-ssn",
+        help: "primal–dual active set (semismooth Newton) on the condensed dual",
+        form: Form::Dual,
+        algorithm: true,
+        has_forms: false,
+        compare_default: false,
+        available: true,
+        make: || {
+            Ok(Box::new(signorini_dual::DualBackend::active_set(
+                Default::default(),
+            )))
+        },
+    },
+    Entry {
+        kind: BackendKind::Auto,
+        name: "auto",
+        help: "the fastest backend likely to succeed, with fall-backs",
+        form: Form::Primal,
+        algorithm: false,
+        has_forms: false,
+        compare_default: false,
+        available: true,
+        make: || Ok(Box::new(crate::auto::AutoBackend::default())),
+    },
+    Entry {
+        kind: BackendKind::ClarabelDual,
+        name: "clarabel/dual",
+        help: "clarabel on the condensed dual",
+        form: Form::Dual,
+        algorithm: false,
+        has_forms: true,
+        compare_default: false,
+        available: true,
+        make: || {
+            Ok(Box::new(CondensedDual::new(
+                signorini_clarabel::ClarabelBackend::default(),
+                "clarabel/dual",
+            )))
+        },
+    },
+    Entry {
+        kind: BackendKind::OsqpDual,
+        name: "osqp/dual",
+        help: "OSQP on the condensed dual",
+        form: Form::Dual,
+        algorithm: false,
+        has_forms: true,
+        compare_default: false,
+        available: cfg!(feature = "osqp"),
+        make: make_osqp_dual,
+    },
+];
+
+fn make_clarabel() -> Result<Box<dyn QpBackend>, BackendError> {
+    Ok(Box::new(signorini_clarabel::ClarabelBackend::default()))
+}
+
+#[cfg(feature = "osqp")]
+fn make_osqp() -> Result<Box<dyn QpBackend>, BackendError> {
+    Ok(Box::new(signorini_osqp::OsqpBackend::default()))
+}
+
+#[cfg(not(feature = "osqp"))]
+fn make_osqp() -> Result<Box<dyn QpBackend>, BackendError> {
+    Err(BackendError::NotCompiled("osqp"))
+}
+
+#[cfg(feature = "osqp")]
+fn make_osqp_dual() -> Result<Box<dyn QpBackend>, BackendError> {
+    Ok(Box::new(CondensedDual::new(
+        signorini_osqp::OsqpBackend::default(),
+        "osqp/dual",
+    )))
+}
+
+#[cfg(not(feature = "osqp"))]
+fn make_osqp_dual() -> Result<Box<dyn QpBackend>, BackendError> {
+    Err(BackendError::NotCompiled("osqp"))
+}
+
+/// A list derived from the registry.
+#[derive(Clone, Copy)]
+enum List {
+    /// Rows with `algorithm`.
+    Algorithms,
+    /// Rows without.
+    Extra,
+    /// Rows with `compare_default`.
+    CompareDefault,
+    /// Every row.
+    Every,
+}
+
+impl List {
+    const fn keeps(self, e: &Entry) -> bool {
+        match self {
+            List::Algorithms => e.algorithm,
+            List::Extra => !e.algorithm,
+            List::CompareDefault => e.compare_default,
+            List::Every => true,
+        }
+    }
+}
+
+/// The kinds of the registry's rows in `list`, in its order (N must be their count: checked at
+/// compile time).
+const fn pick<const N: usize>(list: List) -> [BackendKind; N] {
+    let mut out = [BackendKind::Auto; N];
+    let (mut i, mut n) = (0, 0);
+    while i < REGISTRY.len() {
+        if list.keeps(&REGISTRY[i]) {
+            assert!(n < N, "more registry rows than N");
+            out[n] = REGISTRY[i].kind;
+            n += 1;
+        }
+        i += 1;
+    }
+    assert!(n == N, "fewer registry rows than N");
+    out
+}
+
 impl BackendKind {
-    /// Every backend, in the order reports list them.
-    pub const ALL: [BackendKind; 6] = [
-        BackendKind::Clarabel,
-        BackendKind::Osqp,
-        BackendKind::DualPgs,
-        BackendKind::DualUzawa,
-        BackendKind::Pdas,
-        BackendKind::DualSsn,
-    ];
+    /// Every algorithm, each once in its own form, in the order reports list them.
+    pub const ALL: [BackendKind; 6] = pick(List::Algorithms);
 
     /// Every name the command line accepts besides [`BackendKind::ALL`]: the chain and the
-    /// condensed-dual forms (not in `ALL`, which lists each algorithm once, in its own form).
-    pub const EXTRA: [BackendKind; 3] = [
-        BackendKind::Auto,
-        BackendKind::ClarabelDual,
-        BackendKind::OsqpDual,
-    ];
+    /// condensed-dual forms.
+    pub const EXTRA: [BackendKind; 3] = pick(List::Extra);
+
+    /// What `compare` and `sweep` run when `--backends` is not given (those not in this build
+    /// left out by the caller).
+    pub const COMPARE_DEFAULT: [BackendKind; 4] = pick(List::CompareDefault);
+
+    /// Every backend, in the registry's order.
+    const EVERY: [BackendKind; 9] = pick(List::Every);
+
+    /// Its row of [`REGISTRY`].
+    pub fn entry(self) -> &'static Entry {
+        let mut rows = REGISTRY.iter();
+        match rows.find(|e| e.kind == self) {
+            Some(e) => e,
+            // Every variant has a row: `every_variant_is_registered_once` checks it.
+            None => &REGISTRY[0],
+        }
+    }
 
     /// The command-line name.
     pub fn name(self) -> &'static str {
-        match self {
-            BackendKind::Clarabel => "clarabel",
-            BackendKind::Osqp => "osqp",
-            BackendKind::DualPgs => "dual-pgs",
-            BackendKind::DualUzawa => "dual-uzawa",
-            BackendKind::DualSsn => "dual-ssn",
-            BackendKind::Pdas => "pdas",
-            BackendKind::ClarabelDual => "clarabel/dual",
-            BackendKind::OsqpDual => "osqp/dual",
-            BackendKind::Auto => "auto",
-        }
+        self.entry().name
     }
 
     /// Whether this build contains the backend.
     pub fn available(self) -> bool {
-        match self {
-            BackendKind::Osqp | BackendKind::OsqpDual => cfg!(feature = "osqp"),
-            _ => true,
-        }
+        self.entry().available
     }
 
     /// The formulation the backend works on (`auto` counts as primal: it picks its own).
     pub fn form(self) -> Form {
-        match self {
-            BackendKind::ClarabelDual
-            | BackendKind::OsqpDual
-            | BackendKind::DualPgs
-            | BackendKind::DualUzawa
-            | BackendKind::DualSsn => Form::Dual,
-            _ => Form::Primal,
-        }
+        self.entry().form
     }
 
     /// Whether `--form` can choose this backend's formulation: clarabel and osqp run on either.
     pub fn has_forms(self) -> bool {
-        matches!(
-            self,
-            BackendKind::Clarabel
-                | BackendKind::Osqp
-                | BackendKind::ClarabelDual
-                | BackendKind::OsqpDual
-        )
+        self.entry().has_forms
     }
 
     /// The same algorithm on `form`: clarabel and osqp take either; every other backend only
@@ -188,19 +350,55 @@ impl BackendKind {
     }
 }
 
+impl ValueEnum for BackendKind {
+    fn value_variants<'a>() -> &'a [Self] {
+        // `auto` first (the default), then the registry's order.
+        &Self::VALUE_ORDER
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.name()).help(self.entry().help))
+    }
+}
+
+impl BackendKind {
+    /// The order `--help` lists the names in: `auto` (the default), then the algorithms, then
+    /// the condensed-dual forms.
+    const VALUE_ORDER: [BackendKind; 9] = {
+        let mut out = [BackendKind::Auto; 9];
+        let mut i = 0;
+        let mut n = 1;
+        while i < Self::EVERY.len() {
+            if !matches!(Self::EVERY[i], BackendKind::Auto) {
+                out[n] = Self::EVERY[i];
+                n += 1;
+            }
+            i += 1;
+        }
+        out
+    };
+}
+
 impl fmt::Display for BackendKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
     }
 }
 
+/// Every name the command line accepts, comma-separated, for error messages.
+fn known_names() -> String {
+    BackendKind::VALUE_ORDER
+        .iter()
+        .map(|k| k.name())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// A backend name that is not known or not compiled in.
 #[derive(Debug, thiserror::Error)]
 pub enum BackendError {
     /// Unknown name.
-    #[error(
-        "unknown backend \"{0}\" (known: auto, clarabel, osqp, dual-pgs, dual-uzawa, pdas, dual-ssn, clarabel/dual, osqp/dual)"
-    )]
+    #[error("unknown backend \"{0}\" (known: {names})", names = known_names())]
     Unknown(String),
     /// Unknown formulation.
     #[error("unknown form \"{0}\" (known: primal, dual)")]
@@ -221,16 +419,11 @@ pub enum BackendError {
 impl FromStr for BackendKind {
     type Err = BackendError;
 
-    /// A name of [`BackendKind::ALL`] or [`BackendKind::EXTRA`], optionally with its form as
-    /// `name/primal` or `name/dual` (`clarabel/primal` is `clarabel`).
+    /// A name of [`REGISTRY`], optionally with its form as `name/primal` or `name/dual`
+    /// (`clarabel/primal` is `clarabel`).
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         let s = s.trim();
-        let known = |name: &str| {
-            BackendKind::ALL
-                .into_iter()
-                .chain(BackendKind::EXTRA)
-                .find(|k| k.name() == name)
-        };
+        let known = |name: &str| REGISTRY.iter().find(|e| e.name == name).map(|e| e.kind);
         if let Some(kind) = known(s) {
             return Ok(kind);
         }
@@ -246,40 +439,28 @@ impl FromStr for BackendKind {
 
 /// Creates the backend with its default settings.
 pub fn make_backend(kind: BackendKind) -> Result<Box<dyn QpBackend>, BackendError> {
-    match kind {
-        BackendKind::Clarabel => Ok(Box::new(signorini_clarabel::ClarabelBackend::default())),
-        #[cfg(feature = "osqp")]
-        BackendKind::Osqp => Ok(Box::new(signorini_osqp::OsqpBackend::default())),
-        #[cfg(not(feature = "osqp"))]
-        BackendKind::Osqp => Err(BackendError::NotCompiled("osqp")),
-        BackendKind::DualPgs => Ok(Box::new(signorini_dual::DualBackend::pgs(
-            Default::default(),
-        ))),
-        BackendKind::DualUzawa => Ok(Box::new(signorini_dual::DualBackend::uzawa(
-            Default::default(),
-        ))),
-        BackendKind::DualSsn => Ok(Box::new(signorini_dual::DualBackend::active_set(
-            Default::default(),
-        ))),
-        BackendKind::Pdas => Ok(Box::new(signorini_pdas::PdasBackend::default())),
-        BackendKind::ClarabelDual => Ok(Box::new(CondensedDual::new(
-            signorini_clarabel::ClarabelBackend::default(),
-            "clarabel/dual",
-        ))),
-        #[cfg(feature = "osqp")]
-        BackendKind::OsqpDual => Ok(Box::new(CondensedDual::new(
-            signorini_osqp::OsqpBackend::default(),
-            "osqp/dual",
-        ))),
-        #[cfg(not(feature = "osqp"))]
-        BackendKind::OsqpDual => Err(BackendError::NotCompiled("osqp")),
-        BackendKind::Auto => Ok(Box::new(crate::auto::AutoBackend::default())),
-    }
+    (kind.entry().make)()
 }
 
 #[cfg(test)]
 mod names_tests {
     use super::*;
+
+    /// Every variant has exactly one row of the registry, and the lists derived from it
+    /// partition it.
+    #[test]
+    fn every_variant_is_registered_once() {
+        for kind in BackendKind::EVERY {
+            let rows = REGISTRY.iter().filter(|e| e.kind == kind).count();
+            assert_eq!(rows, 1, "{kind:?}");
+            assert_eq!(kind.entry().kind, kind);
+            assert_eq!(kind.name().parse::<BackendKind>().ok(), Some(kind));
+        }
+        let mut all: Vec<BackendKind> = BackendKind::ALL.into_iter().collect();
+        all.extend(BackendKind::EXTRA);
+        assert_eq!(all.len(), REGISTRY.len());
+        assert_eq!(BackendKind::value_variants().len(), REGISTRY.len());
+    }
 
     /// The "known" list of the unknown-backend message names every backend the parser accepts
     /// (pdas was missing from it when it joined `ALL`).

@@ -221,7 +221,7 @@ fn fuzz_cases_replay() {
 /// until they are fixed (run it with `--ignored`; the cases and why are listed in README's
 /// Fuzzing section).
 #[test]
-#[ignore = "runs only the saved cases marked # fuzz-open (none at present): fails until each is fixed"]
+#[ignore = "open gaps (issue 18 survey): a slave node left inside a coarse floating mortar master; a slave node inside a slid Gmsh master beyond the linearisation allowance — fails until fixed"]
 fn fuzz_open_cases() {
     replay(|case, _| header(case, "# fuzz-open:").is_some());
 }

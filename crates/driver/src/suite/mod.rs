@@ -43,14 +43,7 @@ use report::{CaseReport, CaseRun, Figures, PairForce, ProbeValue, SuiteReport, V
 
 /// The backends a suite runs when none are named: every method, each in its own form (those
 /// not compiled in are left out by the caller, see [`BackendKind::available`]).
-pub const DEFAULT_BACKENDS: [BackendKind; 6] = [
-    BackendKind::Clarabel,
-    BackendKind::Osqp,
-    BackendKind::DualPgs,
-    BackendKind::DualUzawa,
-    BackendKind::DualSsn,
-    BackendKind::Pdas,
-];
+pub const DEFAULT_BACKENDS: [BackendKind; 6] = BackendKind::ALL;
 
 /// What every case is run with.
 #[derive(Debug, Clone)]

@@ -75,20 +75,11 @@ pub(crate) fn limits(common: &Common) -> MeshLimits {
     }
 }
 
-/// The backends `compare` and `sweep` run when `--backends` is not given (osqp only when built
-/// with it).
-pub(crate) const DEFAULT_BACKENDS: [BackendKind; 4] = [
-    BackendKind::Clarabel,
-    BackendKind::Osqp,
-    BackendKind::DualPgs,
-    BackendKind::DualUzawa,
-];
-
 /// The backends named (or the defaults), each of clarabel and osqp once per form of `forms`
 /// when it is not empty (the other backends once, in their own form).
 pub(crate) fn parse_backends(names: &[BackendKind], forms: &[Form]) -> Result<Vec<BackendKind>> {
     let named: Vec<BackendKind> = if names.is_empty() {
-        DEFAULT_BACKENDS
+        BackendKind::COMPARE_DEFAULT
             .into_iter()
             .filter(|k| k.available())
             .collect()
