@@ -4,8 +4,9 @@
 //! call them; the binary (`src/bin/signorini/`) parses the command line in `main.rs` and hands
 //! each subcommand to its handler in `commands/`.
 
-pub mod auto;
 pub mod backends;
+/// `auto` lives with backend selection ([`backends::auto`]); re-exported under its old path.
+pub use backends::auto;
 pub mod check;
 pub mod compare;
 pub mod contract;

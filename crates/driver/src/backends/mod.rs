@@ -1,4 +1,7 @@
-//! The QP backends the driver can run, picked by name at run time.
+//! The QP backends the driver can run, picked by name at run time: the registry, and `auto`
+//! (the automatic choice among them) beside it.
+
+pub mod auto;
 
 use std::ffi::OsStr;
 use std::fmt;
@@ -15,7 +18,7 @@ use signorini_core::qp::{CondensedDual, QpBackend};
 /// [`ChoiceParser`] (help lists the names, a typo gets a suggestion).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum BackendKind {
-    /// The fastest backend likely to succeed, with fall-backs (see [`crate::auto`]).
+    /// The fastest backend likely to succeed, with fall-backs (see [`auto`]).
     Auto,
     /// Interior point (clarabel).
     Clarabel,
@@ -184,7 +187,7 @@ pub const REGISTRY: [Entry; 9] = [
         has_forms: false,
         compare_default: false,
         available: true,
-        make: || Ok(Box::new(crate::auto::AutoBackend::default())),
+        make: || Ok(Box::new(auto::AutoBackend::default())),
     },
     Entry {
         kind: BackendKind::ClarabelDual,

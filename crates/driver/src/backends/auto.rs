@@ -49,7 +49,7 @@ use signorini_core::qp::{
 };
 use signorini_core::report::{AttemptReport, RunReport};
 
-use crate::backends::{make_backend, BackendKind};
+use super::{make_backend, BackendKind};
 
 /// dual-ssn goes first only up to this many contact rows (its H is dense, m² doubles, and each
 /// Newton step factors the active block of it).
@@ -182,7 +182,7 @@ pub fn plan(f: &Features) -> Plan {
 }
 
 /// A backend of the chain by name, with the chain's own limits ([`OSQP_MAX_ITER`]).
-fn chain_backend(kind: BackendKind) -> Result<Box<dyn QpBackend>, crate::backends::BackendError> {
+fn chain_backend(kind: BackendKind) -> Result<Box<dyn QpBackend>, super::BackendError> {
     #[cfg(feature = "osqp")]
     if kind == BackendKind::Osqp {
         return Ok(Box::new(signorini_osqp::OsqpBackend::new(
