@@ -87,8 +87,9 @@ pub struct Entry {
     /// An algorithm in its own form: listed once in [`BackendKind::ALL`] (not `auto`, not the
     /// condensed-dual forms of clarabel and osqp).
     pub algorithm: bool,
-    /// `--form` can choose its formulation (clarabel and osqp run on either).
-    pub has_forms: bool,
+    /// The same algorithm on the other formulation, when it has one (clarabel and osqp run on
+    /// either; `--form` chooses).
+    pub other_form: Option<BackendKind>,
     /// Run by `compare` and `sweep` when `--backends` is not given.
     pub compare_default: bool,
     /// In this build.
@@ -106,7 +107,7 @@ pub const REGISTRY: [Entry; 9] = [
         help: "interior point (clarabel)",
         form: Form::Primal,
         algorithm: true,
-        has_forms: true,
+        other_form: Some(BackendKind::ClarabelDual),
         compare_default: true,
         available: true,
         make: make_clarabel,
@@ -117,7 +118,7 @@ pub const REGISTRY: [Entry; 9] = [
         help: "ADMM (OSQP; builds with the osqp feature)",
         form: Form::Primal,
         algorithm: true,
-        has_forms: true,
+        other_form: Some(BackendKind::OsqpDual),
         compare_default: true,
         available: cfg!(feature = "osqp"),
         make: make_osqp,
@@ -128,7 +129,7 @@ pub const REGISTRY: [Entry; 9] = [
         help: "projected Gauss–Seidel on the condensed dual",
         form: Form::Dual,
         algorithm: true,
-        has_forms: false,
+        other_form: None,
         compare_default: true,
         available: true,
         make: || {
@@ -143,7 +144,7 @@ pub const REGISTRY: [Entry; 9] = [
         help: "Uzawa / projected gradient on the condensed dual",
         form: Form::Dual,
         algorithm: true,
-        has_forms: false,
+        other_form: None,
         compare_default: true,
         available: true,
         make: || {
@@ -158,7 +159,7 @@ pub const REGISTRY: [Entry; 9] = [
         help: "primal–dual active set on the sparse primal KKT system",
         form: Form::Primal,
         algorithm: true,
-        has_forms: false,
+        other_form: None,
         compare_default: false,
         available: true,
         make: || Ok(Box::new(signorini_pdas::PdasBackend::default())),
@@ -169,7 +170,7 @@ pub const REGISTRY: [Entry; 9] = [
         help: "primal–dual active set (semismooth Newton) on the condensed dual",
         form: Form::Dual,
         algorithm: true,
-        has_forms: false,
+        other_form: None,
         compare_default: false,
         available: true,
         make: || {
@@ -184,7 +185,7 @@ pub const REGISTRY: [Entry; 9] = [
         help: "the fastest backend likely to succeed, with fall-backs",
         form: Form::Primal,
         algorithm: false,
-        has_forms: false,
+        other_form: None,
         compare_default: false,
         available: true,
         make: || Ok(Box::new(auto::AutoBackend::default())),
@@ -195,7 +196,7 @@ pub const REGISTRY: [Entry; 9] = [
         help: "clarabel on the condensed dual",
         form: Form::Dual,
         algorithm: false,
-        has_forms: true,
+        other_form: Some(BackendKind::Clarabel),
         compare_default: false,
         available: true,
         make: || {
@@ -211,7 +212,7 @@ pub const REGISTRY: [Entry; 9] = [
         help: "OSQP on the condensed dual",
         form: Form::Dual,
         algorithm: false,
-        has_forms: true,
+        other_form: Some(BackendKind::Osqp),
         compare_default: false,
         available: cfg!(feature = "osqp"),
         make: make_osqp_dual,
@@ -303,12 +304,12 @@ impl BackendKind {
 
     /// Its row of [`REGISTRY`].
     pub fn entry(self) -> &'static Entry {
-        let mut rows = REGISTRY.iter();
-        match rows.find(|e| e.kind == self) {
-            Some(e) => e,
-            // Every variant has a row: `every_variant_is_registered_once` checks it.
-            None => &REGISTRY[0],
-        }
+        // Every variant has a row (`every_variant_is_registered_once` checks it): a missing one
+        // is a programming error, not a reason to answer for another backend.
+        REGISTRY
+            .iter()
+            .find(|e| e.kind == self)
+            .unwrap_or_else(|| unreachable!("{self:?} has no row in REGISTRY"))
     }
 
     /// The command-line name.
@@ -328,28 +329,23 @@ impl BackendKind {
 
     /// Whether `--form` can choose this backend's formulation: clarabel and osqp run on either.
     pub fn has_forms(self) -> bool {
-        self.entry().has_forms
+        self.entry().other_form.is_some()
     }
 
-    /// The same algorithm on `form`: clarabel and osqp take either; every other backend only
-    /// its own (`dual-*` work on the dual, `pdas` and `auto` on the primal), and asking for the
-    /// other is [`BackendError::NoForm`].
+    /// The same algorithm on `form`: clarabel and osqp take either ([`Entry::other_form`]);
+    /// every other backend only its own (`dual-*` work on the dual, `pdas` and `auto` on the
+    /// primal), and asking for the other is [`BackendError::NoForm`].
     pub fn with_form(self, form: Form) -> Result<BackendKind, BackendError> {
-        match (self, form) {
-            (BackendKind::Clarabel | BackendKind::ClarabelDual, Form::Primal) => {
-                Ok(BackendKind::Clarabel)
-            }
-            (BackendKind::Clarabel | BackendKind::ClarabelDual, Form::Dual) => {
-                Ok(BackendKind::ClarabelDual)
-            }
-            (BackendKind::Osqp | BackendKind::OsqpDual, Form::Primal) => Ok(BackendKind::Osqp),
-            (BackendKind::Osqp | BackendKind::OsqpDual, Form::Dual) => Ok(BackendKind::OsqpDual),
-            (kind, form) if kind.form() == form => Ok(kind),
-            (kind, form) => Err(BackendError::NoForm {
-                backend: kind.name(),
-                form: form.name(),
-            }),
+        if self.form() == form {
+            return Ok(self);
         }
+        self.entry()
+            .other_form
+            .filter(|other| other.form() == form)
+            .ok_or(BackendError::NoForm {
+                backend: self.name(),
+                form: form.name(),
+            })
     }
 }
 
@@ -458,6 +454,10 @@ mod names_tests {
             assert_eq!(rows, 1, "{kind:?}");
             assert_eq!(kind.entry().kind, kind);
             assert_eq!(kind.name().parse::<BackendKind>().ok(), Some(kind));
+            if let Some(other) = kind.entry().other_form {
+                assert_eq!(other.entry().other_form, Some(kind), "{kind:?}");
+                assert_ne!(other.form(), kind.form(), "{kind:?}");
+            }
         }
         let mut all: Vec<BackendKind> = BackendKind::ALL.into_iter().collect();
         all.extend(BackendKind::EXTRA);
