@@ -350,11 +350,23 @@ impl SizeField {
             let centre = [0.5 * (c[0] + c[1]), 0.5 * (c[2] + c[3])];
             let h = self.at(centre);
             if w.max(hgt) > h {
+                // Halve the longer side only when the cell is more than twice as long as it is
+                // high (or the reverse): the cells of a thin strip stay as thin as the strip,
+                // ~length / h of them, where quartering made ~(length / h)² (a 1e-5-thin strip
+                // under a refine band ran into MAX_WORK).
                 let (xm, ym) = (centre[0], centre[1]);
-                stack.push([c[0], xm, c[2], ym]);
-                stack.push([xm, c[1], c[2], ym]);
-                stack.push([c[0], xm, ym, c[3]]);
-                stack.push([xm, c[1], ym, c[3]]);
+                if w > 2.0 * hgt {
+                    stack.push([c[0], xm, c[2], c[3]]);
+                    stack.push([xm, c[1], c[2], c[3]]);
+                } else if hgt > 2.0 * w {
+                    stack.push([c[0], c[1], c[2], ym]);
+                    stack.push([c[0], c[1], ym, c[3]]);
+                } else {
+                    stack.push([c[0], xm, c[2], ym]);
+                    stack.push([xm, c[1], c[2], ym]);
+                    stack.push([c[0], xm, ym, c[3]]);
+                    stack.push([xm, c[1], ym, c[3]]);
+                }
             } else if contains(polygon, centre, 0.0) {
                 excess[usize::from(h > hmin)] += w * hgt * inv2(h);
             }
@@ -540,6 +552,33 @@ mod tests {
         // the box (∫ ds / h ≈ 4 ln(…) pieces, logarithmic in the size ratio).
         let near = f.pieces_along([0.0, 0.2], [1.0, 0.2]);
         assert!(near.is_finite() && near > 0.0, "{near}");
+    }
+
+    /// A strip 1.7 × 1.7e-5 (the fuzz survey's thin bodies) inside a refine band of size
+    /// 1e-3 on a body of hmax 0.05: h = 1e-3 on the whole strip, so the integral is exactly
+    /// area · (1/h² − 1/hmax²).  Quartering cells ran past MAX_WORK (~2 s, then +∞, and the
+    /// body was refused as needing 1.8e19 elements); halving along the strip makes ~1 700
+    /// cells.
+    #[test]
+    fn a_thin_strip_under_a_refine_band_is_integrated_exactly() {
+        let (length, thickness, h, hmax) = (1.7, 1.7e-5, 1e-3, 0.05);
+        let f = SizeField::new(
+            hmax,
+            &[Refinement {
+                region: [-0.1, length + 0.1, -0.1, 0.1],
+                hmax: h,
+            }],
+        );
+        let strip = [
+            [0.0, 0.0],
+            [length, 0.0],
+            [length, thickness],
+            [0.0, thickness],
+        ];
+        let [finest, graded] = f.excess_inverse_square(&strip);
+        let exact = length * thickness * (1.0 / (h * h) - 1.0 / (hmax * hmax));
+        assert!((finest - exact).abs() < 1e-9 * exact, "{finest} vs {exact}");
+        assert_eq!(graded, 0.0);
     }
 
     #[test]
