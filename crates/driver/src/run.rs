@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use signorini_core::contact;
 use signorini_core::memory;
 use signorini_core::mesh::MeshLimits;
 use signorini_core::model::{self, Model, ModelError};
@@ -184,16 +185,58 @@ pub fn finish_with_fields(
     if solution.status == QpStatus::Solved {
         if let Some(path) = first_non_finite(&report, fields) {
             let note = format!("{path} is not finite in the scene's units");
-            solution.status = QpStatus::NumericalError;
-            solution.message = Some(match solution.message.take() {
-                Some(m) => format!("{note}; backend: {m}"),
-                None => note,
-            });
-            report.status = solution.status.as_str().to_string();
-            report.message = solution.message.clone();
+            demote(&mut solution, &mut report, QpStatus::NumericalError, note);
+        }
+    }
+    if solution.status == QpStatus::Solved {
+        if let Some(note) = deformed_overlap_note(scene, model, fields) {
+            demote(&mut solution, &mut report, QpStatus::DeformedOverlap, note);
         }
     }
     (solution, report)
+}
+
+/// Gives `solution` and its `report` the status `to`, `note` heading the message (the
+/// backend's own message kept after it).
+fn demote(solution: &mut Solution, report: &mut RunReport, to: QpStatus, note: String) {
+    solution.status = to;
+    solution.message = Some(match solution.message.take() {
+        Some(m) => format!("{note}; backend: {m}"),
+        None => note,
+    });
+    report.status = to.as_str().to_string();
+    report.message = solution.message.clone();
+}
+
+/// The deformed-geometry check of a solved answer ([`contact::deformed_overlap`]): the deepest
+/// slave node inside its deformed master beyond the small-displacement model's allowance,
+/// described, or `None` when every slave node keeps out.
+pub fn deformed_overlap_note(
+    scene: &Scene,
+    model: &Model,
+    fields: &[BodyFields],
+) -> Option<String> {
+    let displacement: Vec<&[[f64; 2]]> = fields.iter().map(|f| f.displacement.as_slice()).collect();
+    let o = contact::deformed_overlap(&model.meshes, &model.contacts, &displacement)?;
+    let name = |b: usize| scene.bodies.get(b).map_or("?", |body| body.name.as_str());
+    let why = if o.has_row {
+        "its row holds, but it slid past its master segment"
+    } else {
+        "it has no contact row (outside the region box, or beyond the master's end)"
+    };
+    Some(format!(
+        "contact #{}: slave \"{}\" node at {:?} ends {:.3e} inside master \"{}\" in the deformed \
+         configuration ({:.1e} of the pair's motion {:.3e}; the small-displacement model allows \
+         {:.1e}): {why}",
+        o.pair + 1,
+        name(o.slave),
+        o.position,
+        o.depth,
+        name(o.master),
+        o.depth / o.motion,
+        o.motion,
+        o.allowed,
+    ))
 }
 
 /// The first number of the report (as a JSON path) or of the output fields that is NaN or

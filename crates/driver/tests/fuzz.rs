@@ -220,8 +220,8 @@ fn fuzz_cases_replay() {
 /// The saved failures whose fix is open, each with every property enforced: this test fails
 /// until they are fixed (run it with `--ignored`; the cases and why are listed in README's
 /// Fuzzing section).
+#[ignore = "the saved failures headed # fuzz-open, whose fix is open (none at present; README, Fuzzing): fails until each is fixed"]
 #[test]
-#[ignore = "open gaps found by the 100 000-case survey of issue 18 (slave nodes without a row, or over a moved master corner, inside the deformed master; mortar corners; an overlap below the scene tolerance; slow estimates of thin graded strips): fails until fixed, listed in README Fuzzing"]
 fn fuzz_open_cases() {
     replay(|case, _| header(case, "# fuzz-open:").is_some());
 }

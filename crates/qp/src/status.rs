@@ -22,6 +22,11 @@ pub enum QpStatus {
     DualInfeasible,
     /// A factorisation or step broke down, or the answer held NaN.
     NumericalError,
+    /// The program's verdict only (no backend gives it): the QP is solved, but in the deformed
+    /// configuration a slave node ends inside its master beyond what the small-displacement
+    /// contact model allows (a node without a row that the master moves over, or one that slid
+    /// past its segment).
+    DeformedOverlap,
 }
 
 impl QpStatus {
@@ -35,6 +40,7 @@ impl QpStatus {
             QpStatus::PrimalInfeasible => "primal-infeasible",
             QpStatus::DualInfeasible => "dual-infeasible",
             QpStatus::NumericalError => "numerical-error",
+            QpStatus::DeformedOverlap => "deformed-overlap",
         }
     }
 }

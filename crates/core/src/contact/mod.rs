@@ -74,12 +74,14 @@
 //! What remains superlinear is the P1 mesher's Delaunay bulk load (see [`crate::mesh`]): 25 %
 //! of the new time at L = 100, 61 % at L = 400.
 
+mod deformed;
 mod mortar;
 mod overlap;
 mod search;
 #[cfg(test)]
 mod tests;
 
+pub use deformed::{deformed_overlap, DeformedOverlap};
 pub use overlap::{overlap_limit, Overlap};
 
 use crate::geometry::{self, Point};

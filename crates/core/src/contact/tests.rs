@@ -43,16 +43,6 @@ impl Rng {
     }
 }
 
-/// A boundary-only mesh: the closed loop `points` (counter-clockwise for a body on the left).
-fn loop_mesh(points: Vec<Point>) -> Mesh {
-    let n = points.len();
-    Mesh {
-        nodes: points,
-        cells: Cells::Triangles(Vec::new()),
-        boundary: (0..n).map(|i| [i, (i + 1) % n]).collect(),
-    }
-}
-
 /// A star-shaped counter-clockwise loop of `n` vertices around `center`, radii in [r/2, r],
 /// optionally snapped to a grid of `snap` (which makes coincident vertices, zero-length
 /// segments, horizontal and vertical edges and exact distance ties).
@@ -174,10 +164,10 @@ fn random_geometries_match_the_scan() {
         };
         let ns = 3 + rng.below(60);
         let nm = 3 + rng.below(60);
-        let slave = loop_mesh(star(&mut rng, [0.0, 0.0], 4.0, ns, snap));
+        let slave = Mesh::boundary_loop(star(&mut rng, [0.0, 0.0], 4.0, ns, snap));
         // Separated, touching or overlapping: the master's centre 0 to 10 away.
         let offset = [rng.range(-10.0, 10.0), rng.range(-10.0, 10.0)];
-        let master = loop_mesh(star(&mut rng, offset, 4.0, nm, snap));
+        let master = Mesh::boundary_loop(star(&mut rng, offset, 4.0, nm, snap));
         // Tolerances from none to very coarse (many near-ties within tol).
         let tol = [0.0, 1e-9, 1e-3, 0.05, 0.5][rng.below(5)];
         let reach = rng.range(0.1, 6.0);
@@ -219,7 +209,7 @@ fn interface(n: usize, h: f64, dir: Point, shift: f64, lift: f64) -> (Mesh, Mesh
     let mut master: Vec<Point> = (0..=n).rev().map(|i| at(i as f64 * h, 0.0)).collect();
     master.push(at(0.0, -4.0 * h));
     master.push(at(len, -4.0 * h));
-    (loop_mesh(slave), loop_mesh(master))
+    (Mesh::boundary_loop(slave), Mesh::boundary_loop(master))
 }
 
 /// Candidate masks of the interface nodes (the first n + 1 of each loop).
@@ -283,7 +273,7 @@ fn curved_masters_match_the_scan() {
                 [2.0 * a.cos(), 2.0 * a.sin()]
             })
             .collect();
-        let master = loop_mesh(disc.clone());
+        let master = Mesh::boundary_loop(disc.clone());
         // Slave: an arc above the disc, clockwise seen from the disc (body outside it), with
         // every third node a master vertex, the others on a circle of radius 2.001.
         let mut arc: Vec<Point> = (0..=nm / 2)
@@ -299,12 +289,12 @@ fn curved_masters_match_the_scan() {
             .collect();
         arc.push([-3.0, 3.0]);
         arc.push([3.0, 3.0]);
-        let slave = loop_mesh(arc);
+        let slave = Mesh::boundary_loop(arc);
         let case = format!("curved master, tol {tol}");
         let built = same_pipeline(&slave, &master, 0.05, tol, &case);
         assert!(!built.rows.is_empty(), "{case}");
         // The centre of the disc, inside: every segment at the same distance (up to rounding).
-        let centre = loop_mesh(vec![[0.0, 0.0], [0.01, 0.0], [0.0, 0.01]]);
+        let centre = Mesh::boundary_loop(vec![[0.0, 0.0], [0.01, 0.0], [0.0, 0.01]]);
         let cand = vec![true; 3];
         let inside = vec![Some(2.0); 3];
         let cand_m = vec![true; nm];
@@ -348,7 +338,7 @@ fn tolerance_chains_match_the_scan() {
             boundary: segments,
         };
         // The slave: a node at the origin on a top edge facing up.
-        let slave = loop_mesh(vec![[0.0, 0.0], [-0.5, -0.5], [0.5, -0.5]]);
+        let slave = Mesh::boundary_loop(vec![[0.0, 0.0], [-0.5, -0.5], [0.5, -0.5]]);
         let slave = Mesh {
             boundary: vec![[1, 2], [2, 0], [0, 1]],
             ..slave
@@ -466,7 +456,7 @@ fn strip_on_foundation(n: usize, h: f64) -> (Mesh, Mesh) {
     foundation.extend((1..=3).map(|j| [0.0, -y(j)]));
     foundation.extend((0..=n).map(|i| [x(i), -y(4)]));
     foundation.extend((1..=3).rev().map(|j| [x(n), -y(j)]));
-    (loop_mesh(strip), loop_mesh(foundation))
+    (Mesh::boundary_loop(strip), Mesh::boundary_loop(foundation))
 }
 
 #[test]
@@ -608,7 +598,7 @@ fn skew_interface(
     let (lo, hi) = (xi_m[0], xi_m[xi_m.len() - 1]);
     master.push(at(lo, -1.0));
     master.push(at(hi, -1.0));
-    (loop_mesh(slave), loop_mesh(master), at)
+    (Mesh::boundary_loop(slave), Mesh::boundary_loop(master), at)
 }
 
 #[test]
@@ -689,7 +679,7 @@ fn cap(polar: &[(f64, f64)]) -> Mesh {
         .collect();
     pts.push([-5.0, 5.0]);
     pts.push([5.0, 5.0]);
-    loop_mesh(pts)
+    Mesh::boundary_loop(pts)
 }
 
 #[test]
@@ -703,7 +693,7 @@ fn projections_on_a_curved_master_follow_the_chords_trigonometry() {
     // angle that keep the projection inside it, at gaps from 0 to 0.01: non-matching.
     let (n, r) = (24, 2.0);
     let delta = std::f64::consts::TAU / n as f64;
-    let master = loop_mesh(disc(n, r));
+    let master = Mesh::boundary_loop(disc(n, r));
     // (chord k, fraction of Δ from vertex k, radius ρ), listed clockwise.
     let nodes = [
         (9usize, 0.7, 2.0),
@@ -760,12 +750,12 @@ fn a_slave_node_on_a_master_vertex_of_a_curved_master_couples_that_vertex_alone(
     let (n, r) = (24, 2.0);
     let delta = std::f64::consts::TAU / n as f64;
     let vertices = disc(n, r);
-    let master = loop_mesh(vertices.clone());
+    let master = Mesh::boundary_loop(vertices.clone());
     let ks: Vec<usize> = (3..=9).rev().collect();
     let mut pts: Vec<Point> = ks.iter().map(|&k| vertices[k]).collect();
     pts.push([-5.0, 5.0]);
     pts.push([5.0, 5.0]);
-    let slave = loop_mesh(pts);
+    let slave = Mesh::boundary_loop(pts);
     let cand_s: Vec<bool> = (0..slave.nodes.len()).map(|i| i < ks.len()).collect();
     let built = rows_outside(&slave, &master, &cand_s, &vec![true; n], 1e-9);
     assert_eq!(built.rows.len(), ks.len());
@@ -787,7 +777,7 @@ fn a_slave_node_on_a_master_vertex_of_a_curved_master_couples_that_vertex_alone(
 /// [2, 3] ((2, 1) → (1, 1), outward normal (0, 1)) and edge [3, 4] ((1, 1) → (1, 2), outward
 /// normal (1, 0)).
 fn l_master() -> Mesh {
-    loop_mesh(vec![
+    Mesh::boundary_loop(vec![
         [0.0, 0.0],
         [2.0, 0.0],
         [2.0, 1.0],
@@ -806,12 +796,12 @@ fn slave_apex(x: Point, towards: Point) -> Mesh {
     let q = [back[0] - 0.1 * side[0], back[1] - 0.1 * side[1]];
     // Counter-clockwise: X, then the left back corner, then the right one (as seen looking along
     // `towards`).
-    let mesh = loop_mesh(vec![x, p, q]);
+    let mesh = Mesh::boundary_loop(vec![x, p, q]);
     let area = crate::geometry::orient(mesh.nodes[0], mesh.nodes[1], mesh.nodes[2]);
     if area > 0.0 {
         mesh
     } else {
-        loop_mesh(vec![x, q, p])
+        Mesh::boundary_loop(vec![x, q, p])
     }
 }
 
@@ -905,8 +895,8 @@ fn slave_nodes_without_a_facing_master_segment_are_counted_never_dropped() {
     let mut slave: Vec<Point> = xs.iter().map(|&x| [x, 0.01]).collect();
     slave.push([3.0, 1.0]);
     slave.push([-1.0, 1.0]);
-    let slave = loop_mesh(slave);
-    let master = loop_mesh(vec![
+    let slave = Mesh::boundary_loop(slave);
+    let master = Mesh::boundary_loop(vec![
         [2.0, 0.0],
         [1.0, 0.0],
         [0.0, 0.0],
@@ -1030,7 +1020,7 @@ fn tributary_lengths_sum_to_the_slave_interface_length_on_straight_interfaces() 
 fn tributary_lengths_sum_to_the_slave_interface_length_on_curved_interfaces() {
     let (n, r) = (24, 2.0);
     let delta = std::f64::consts::TAU / n as f64;
-    let master = loop_mesh(disc(n, r));
+    let master = Mesh::boundary_loop(disc(n, r));
     let cand_m = vec![true; n];
     // Conforming: slave nodes on vertices 3..=9, six chords of 2 R sin(Δ/2).
     let polar: Vec<(f64, f64)> = (3..=9).rev().map(|k| (r, k as f64 * delta)).collect();
@@ -1097,7 +1087,7 @@ fn a_region_box_that_cuts_a_master_edge_keeps_that_edge() {
     // could sink into the base (the fuzz replay
     // unmatched-slave-corner-inside-master-where-region-cuts-master-segment).  The edge from 1
     // to 2 crosses the box: every candidate gets a row, in both formulations.
-    let master = loop_mesh(vec![
+    let master = Mesh::boundary_loop(vec![
         [0.0, -1.0],
         [2.0, -1.0],
         [2.0, 0.0],
@@ -1106,7 +1096,7 @@ fn a_region_box_that_cuts_a_master_edge_keeps_that_edge() {
     ]);
     let mut block: Vec<Point> = (0..=20).map(|i| [0.1 * i as f64, 0.0]).collect();
     block.extend([[2.0, 1.0], [0.0, 1.0]]);
-    let slave = loop_mesh(block);
+    let slave = Mesh::boundary_loop(block);
     let (region, tol) = ([0.0, 1.5, -0.01, 0.01], 1e-9);
     let in_box = |m: &Mesh| -> Vec<bool> {
         m.nodes

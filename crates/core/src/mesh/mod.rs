@@ -131,6 +131,20 @@ pub struct Mesh {
     pub boundary: Vec<[usize; 2]>,
 }
 
+#[cfg(test)]
+impl Mesh {
+    /// A boundary-only mesh (no cells) of the closed loop `points`, counter-clockwise for a body
+    /// on the left: what the contact and report tests build by hand.
+    pub(crate) fn boundary_loop(points: Vec<Point>) -> Self {
+        let n = points.len();
+        Mesh {
+            nodes: points,
+            cells: Cells::Triangles(Vec::new()),
+            boundary: (0..n).map(|i| [i, (i + 1) % n]).collect(),
+        }
+    }
+}
+
 /// A region of a body meshed finer than the body's `hmax` (`[[body.refine]]`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Refinement {

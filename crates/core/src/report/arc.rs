@@ -192,23 +192,12 @@ mod tests {
     #![allow(clippy::unwrap_used)]
 
     use super::*;
-    use crate::mesh::Cells;
-
-    /// A boundary-only mesh of the counter-clockwise loop `points`.
-    fn loop_mesh(points: Vec<Point>) -> Mesh {
-        let n = points.len();
-        Mesh {
-            nodes: points,
-            cells: Cells::Triangles(Vec::new()),
-            boundary: (0..n).map(|i| [i, (i + 1) % n]).collect(),
-        }
-    }
 
     #[test]
     fn a_flat_bottom_runs_left_to_right_in_row_order_whatever_the_node_numbering() {
         // The bottom of a block (counter-clockwise: left to right along y = 0) with nodes at
         // x = 0, 0.3, 1, 1.5, then the top; rows listed in a scrambled order.
-        let mesh = loop_mesh(vec![
+        let mesh = Mesh::boundary_loop(vec![
             [0.0, 0.0],
             [0.3, 0.0],
             [1.0, 0.0],
@@ -230,7 +219,7 @@ mod tests {
     fn a_top_surface_runs_left_to_right_against_the_boundary_direction() {
         // The top of a foundation runs right to left counter-clockwise; s still starts at the
         // left end.
-        let mesh = loop_mesh(vec![
+        let mesh = Mesh::boundary_loop(vec![
             [0.0, -1.0],
             [2.0, -1.0],
             [2.0, 0.0],
@@ -253,7 +242,7 @@ mod tests {
             })
             .collect();
         pts.push([0.0, 2.0]); // close the loop above
-        let mesh = loop_mesh(pts);
+        let mesh = Mesh::boundary_loop(pts);
         let rows: Vec<usize> = (0..=12).rev().collect();
         let arc = interface_arc(&mesh, &rows);
         let chord = 2.0 * (std::f64::consts::PI / 24.0).sin();
@@ -268,7 +257,7 @@ mod tests {
     fn disjoint_pieces_are_laid_end_to_end_with_the_straight_jump_between_them() {
         // A punch with two feet: bottom edges [0, 1] and [2, 3] at y = 0, joined through the
         // body above (not rows).  s equals x on both feet.
-        let mesh = loop_mesh(vec![
+        let mesh = Mesh::boundary_loop(vec![
             [0.0, 0.0],
             [1.0, 0.0],
             [1.0, 1.0],
@@ -293,7 +282,7 @@ mod tests {
     #[test]
     fn a_vertical_interface_runs_bottom_to_top_and_a_closed_loop_counter_clockwise() {
         // Right side of a unit square: nodes 1 (1, 0), 2 (1, 0.5), 3 (1, 1).
-        let mesh = loop_mesh(vec![
+        let mesh = Mesh::boundary_loop(vec![
             [0.0, 0.0],
             [1.0, 0.0],
             [1.0, 0.5],
