@@ -555,13 +555,13 @@ mod tests {
     }
 
     /// A strip 1.7 × 1.7e-5 (the fuzz survey's thin bodies) inside a refine band of size
-    /// 1e-3 on a body of hmax 0.05: h = 1e-3 on the whole strip, so the integral is exactly
-    /// area · (1/h² − 1/hmax²).  Quartering cells ran past MAX_WORK (~2 s, then +∞, and the
-    /// body was refused as needing 1.8e19 elements); halving along the strip makes ~1 700
-    /// cells.
+    /// 2.5e-4 on a body of hmax 0.05: h = 2.5e-4 on the whole strip, so the integral is exactly
+    /// area · (1/h² − 1/hmax²).  Quartering cells needed 13 levels, 4¹³ = 6.7e7 leaves, past
+    /// MAX_WORK (~2 s, then +∞, and the body was refused as needing 1.8e19 elements); halving
+    /// along the strip makes 2¹³ = 8 192.
     #[test]
     fn a_thin_strip_under_a_refine_band_is_integrated_exactly() {
-        let (length, thickness, h, hmax) = (1.7, 1.7e-5, 1e-3, 0.05);
+        let (length, thickness, h, hmax) = (1.7, 1.7e-5, 2.5e-4, 0.05);
         let f = SizeField::new(
             hmax,
             &[Refinement {
