@@ -50,13 +50,12 @@ impl QpBackend for ClarabelBackend {
         NAME
     }
 
-    fn solve(
+    fn solve_valid(
         &mut self,
         problem: &QpProblem,
         options: &SolveOptions,
     ) -> Result<QpSolution, QpError> {
         let start = Instant::now();
-        problem.validate()?;
         let settings = self.settings.to_clarabel(options)?;
         if problem.dofs() == 0 {
             return Ok(no_unknowns(problem, start));

@@ -160,7 +160,7 @@ impl QpBackend for NoQp {
     fn name(&self) -> &'static str {
         "none"
     }
-    fn solve(&mut self, _: &QpProblem, _: &SolveOptions) -> Result<QpSolution, QpError> {
+    fn solve_valid(&mut self, _: &QpProblem, _: &SolveOptions) -> Result<QpSolution, QpError> {
         panic!("a scene without contact must not reach a QP backend")
     }
 }

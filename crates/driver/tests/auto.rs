@@ -249,7 +249,7 @@ impl QpBackend for Sleeper {
     fn name(&self) -> &'static str {
         self.name
     }
-    fn solve(
+    fn solve_valid(
         &mut self,
         p: &signorini_core::qp::QpProblem,
         o: &SolveOptions,
@@ -330,7 +330,7 @@ impl QpBackend for Refuses {
     fn name(&self) -> &'static str {
         self.0
     }
-    fn solve(
+    fn solve_valid(
         &mut self,
         _: &signorini_core::qp::QpProblem,
         _: &SolveOptions,

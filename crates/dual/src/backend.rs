@@ -119,7 +119,7 @@ impl QpBackend for DualBackend {
         self.settings.method.backend_name()
     }
 
-    fn solve(
+    fn solve_valid(
         &mut self,
         problem: &QpProblem,
         options: &SolveOptions,
@@ -132,7 +132,6 @@ impl QpBackend for DualBackend {
                 backend,
                 reason: e.to_string(),
             })?;
-        problem.validate()?;
         let outcome = self.run(problem, options, start)?;
         let solution = QpSolution {
             x: outcome.x,
@@ -141,8 +140,7 @@ impl QpBackend for DualBackend {
             iterations: outcome.iterations,
             solve_time: start.elapsed(),
             message: Some(outcome.message),
-        }
-        .finite_or_numerical_error();
+        };
         if options.verbose {
             eprintln!(
                 "{backend}: {} after {} iterations ({})",

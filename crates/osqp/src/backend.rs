@@ -61,13 +61,12 @@ impl QpBackend for OsqpBackend {
         NAME
     }
 
-    fn solve(
+    fn solve_valid(
         &mut self,
         problem: &QpProblem,
         options: &SolveOptions,
     ) -> Result<QpSolution, QpError> {
         let start = Instant::now();
-        problem.validate()?;
         self.settings.validate()?;
         if problem.dofs() == 0 {
             return Ok(no_unknowns(problem, start));

@@ -76,7 +76,7 @@ impl QpBackend for PdasBackend {
         "pdas"
     }
 
-    fn solve(
+    fn solve_valid(
         &mut self,
         problem: &QpProblem,
         options: &SolveOptions,
@@ -86,7 +86,6 @@ impl QpBackend for PdasBackend {
             backend: "pdas",
             reason: e.to_string(),
         })?;
-        problem.validate()?;
         let outcome = self.run(problem, options, start)?;
         let solution = QpSolution {
             x: outcome.x,
@@ -95,8 +94,7 @@ impl QpBackend for PdasBackend {
             iterations: outcome.iterations,
             solve_time: start.elapsed(),
             message: Some(outcome.message),
-        }
-        .finite_or_numerical_error();
+        };
         if options.verbose {
             eprintln!(
                 "pdas: {} after {} iterations ({})",

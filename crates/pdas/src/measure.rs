@@ -105,6 +105,7 @@ fn where_the_time_goes_on_the_strip() {
         let a_only = QpProblem {
             constraints: sprs::CsMat::zero((0, p.dofs())).to_csc(),
             gap: Vec::new(),
+            blocks: Vec::new(),
             ..p.clone()
         };
         let kkt_a = KktMatrix::new(&a_only).unwrap();

@@ -2,6 +2,7 @@
 
 use std::time::Duration;
 
+use super::blocks::BlockKind;
 use super::problem::{QpError, QpProblem};
 use super::status::QpStatus;
 
@@ -74,13 +75,19 @@ impl QpSolution {
 
 /// A QP algorithm.
 ///
+/// A backend implements [`QpBackend::solve_valid`]; callers call [`QpBackend::solve`], which runs
+/// the checks every backend shares around it: the problem's data ([`QpProblem::validate`]), the
+/// kinds of constraint block the backend solves ([`QpBackend::supports`]; any other is refused
+/// with [`QpError::UnsupportedBlock`] before it runs), then the answer's lengths and finiteness
+/// ([`QpSolution::finite_or_numerical_error`]).
+///
 /// ```
 /// use signorini_qp::{QpBackend, QpProblem, QpSolution, QpStatus, QpError, SolveOptions};
 /// /// A "backend" that only knows the unconstrained answer of a 1×1 problem.
 /// struct Scalar;
 /// impl QpBackend for Scalar {
 ///     fn name(&self) -> &'static str { "scalar" }
-///     fn solve(&mut self, p: &QpProblem, _: &SolveOptions) -> Result<QpSolution, QpError> {
+///     fn solve_valid(&mut self, p: &QpProblem, _: &SolveOptions) -> Result<QpSolution, QpError> {
 ///         let a = p.stiffness.data()[0];
 ///         Ok(QpSolution { x: vec![p.load[0] / a], multipliers: vec![], status: QpStatus::Solved,
 ///             iterations: 1, solve_time: Default::default(), message: None })
@@ -90,7 +97,58 @@ impl QpSolution {
 pub trait QpBackend: Send {
     /// Short name used on the command line and in reports (`"clarabel"`, `"dual-pgs"`, …).
     fn name(&self) -> &'static str;
-    /// Solves the problem.  `Err` only when the backend cannot run at all.
-    fn solve(&mut self, problem: &QpProblem, options: &SolveOptions)
-        -> Result<QpSolution, QpError>;
+
+    /// Whether the backend solves constraint rows of `kind` (see [`crate::ConstraintBlock`]).
+    /// Default: the non-negative rows of contact only.
+    fn supports(&self, kind: BlockKind) -> bool {
+        kind == BlockKind::NonNegative
+    }
+
+    /// Solves a problem that passed [`QpBackend::solve`]'s checks (valid data, supported blocks).
+    /// `Err` only when the backend cannot run at all.
+    fn solve_valid(
+        &mut self,
+        problem: &QpProblem,
+        options: &SolveOptions,
+    ) -> Result<QpSolution, QpError>;
+
+    /// Solves the problem with the shared checks around [`QpBackend::solve_valid`] (see the
+    /// trait's documentation).  `Err` only when the backend cannot run at all.
+    fn solve(
+        &mut self,
+        problem: &QpProblem,
+        options: &SolveOptions,
+    ) -> Result<QpSolution, QpError> {
+        problem.validate()?;
+        if let Some(kind) = problem
+            .block_kinds()
+            .into_iter()
+            .find(|k| !self.supports(*k))
+        {
+            let supported: Vec<&str> = BlockKind::ALL
+                .into_iter()
+                .filter(|k| self.supports(*k))
+                .map(BlockKind::as_str)
+                .collect();
+            return Err(QpError::UnsupportedBlock {
+                backend: self.name(),
+                kind,
+                supported: supported.join(", "),
+            });
+        }
+        let solution = self.solve_valid(problem, options)?;
+        if solution.x.len() != problem.dofs() || solution.multipliers.len() != problem.rows() {
+            return Err(QpError::Backend {
+                backend: self.name(),
+                reason: format!(
+                    "its answer has {} unknowns and {} multipliers for a problem of {} and {}",
+                    solution.x.len(),
+                    solution.multipliers.len(),
+                    problem.dofs(),
+                    problem.rows()
+                ),
+            });
+        }
+        Ok(solution.finite_or_numerical_error())
+    }
 }

@@ -8,7 +8,7 @@
 //! # struct Nothing;
 //! # impl QpBackend for Nothing {
 //! #     fn name(&self) -> &'static str { "nothing" }
-//! #     fn solve(&mut self, p: &QpProblem, _: &SolveOptions) -> Result<QpSolution, QpError> {
+//! #     fn solve_valid(&mut self, p: &QpProblem, _: &SolveOptions) -> Result<QpSolution, QpError> {
 //! #         Ok(QpSolution { x: vec![0.0; p.dofs()], multipliers: vec![0.0; p.rows()],
 //! #             status: QpStatus::Solved, iterations: 0,
 //! #             solve_time: std::time::Duration::ZERO, message: None })
@@ -32,12 +32,16 @@
 //! * **infeasible**: x ≤ −1 and x ≥ 1 — `primal-infeasible` for a backend that certifies it,
 //!   otherwise anything but `solved`;
 //! * **unbounded**: the floating body loaded with no wall — `dual-infeasible` for a backend
-//!   that certifies it, otherwise anything but `solved`.
+//!   that certifies it, otherwise anything but `solved`;
+//! * **blocks**: Tresca's spring on one box row, slipping and sticking — its optimum from a
+//!   backend that [supports](QpBackend::supports) box rows, [`QpError::UnsupportedBlock`] from
+//!   any other.
 
 use crate::examples::{
-    csc, infeasible, scalar, spring_chain, two_rows, two_rows_scaled, unconstrained, Known,
+    csc, infeasible, scalar, spring_chain, tresca_spring, two_rows, two_rows_scaled, unconstrained,
+    Known,
 };
-use crate::{checked_status, kkt_residuals, QpBackend, QpProblem, QpStatus, SolveOptions};
+use crate::{checked_status, kkt_residuals, QpBackend, QpError, QpProblem, QpStatus, SolveOptions};
 
 /// What a backend promises, and how tightly it is held to it.
 #[derive(Debug, Clone, PartialEq)]
@@ -79,6 +83,9 @@ enum Expect {
     Infeasible(QpProblem),
     /// Not `solved`; `dual-infeasible` when the backend certifies it.
     Unbounded(QpProblem),
+    /// The known optimum when the backend supports every block kind of the problem, otherwise
+    /// the refusal [`QpError::UnsupportedBlock`] (never a panic or an answer).
+    Blocks(Known),
 }
 
 /// The suite's cases, named.
@@ -108,6 +115,8 @@ fn cases() -> Vec<(&'static str, Expect)> {
             "floating body, nothing holds it",
             Expect::Unbounded(unbounded()),
         ),
+        ("box row, slip", Expect::Blocks(tresca_spring(3.0))),
+        ("box row, stick", Expect::Blocks(tresca_spring(-0.5))),
     ]
 }
 
@@ -179,12 +188,26 @@ pub fn failures(make: &mut dyn FnMut() -> Box<dyn QpBackend>, spec: &Conformance
     for (name, expect) in cases() {
         let mut backend = make();
         let problem = match &expect {
-            Expect::Optimum(k) => &k.problem,
+            Expect::Optimum(k) | Expect::Blocks(k) => &k.problem,
             Expect::Primal(p, _) | Expect::Infeasible(p) | Expect::Unbounded(p) => p,
         };
-        let solution = match backend.solve(problem, &options) {
-            Ok(s) => s,
-            Err(e) => {
+        let supported = problem
+            .block_kinds()
+            .into_iter()
+            .all(|k| backend.supports(k));
+        let refused = matches!(expect, Expect::Blocks(_)) && !supported;
+        let solution = match (backend.solve(problem, &options), refused) {
+            (Err(QpError::UnsupportedBlock { .. }), true) => continue,
+            (Ok(s), true) => {
+                found.push(format!(
+                    "{}: {name}: {} instead of refusing a block it does not support",
+                    backend.name(),
+                    s.status
+                ));
+                continue;
+            }
+            (Ok(s), false) => s,
+            (Err(e), _) => {
                 found.push(format!("{}: {name}: error {e}", backend.name()));
                 continue;
             }
@@ -192,14 +215,14 @@ pub fn failures(make: &mut dyn FnMut() -> Box<dyn QpBackend>, spec: &Conformance
         let residuals = kkt_residuals(problem, &solution.x, &solution.multipliers);
         let status = checked_status(solution.status, &residuals, spec.tol);
         let why = match &expect {
-            Expect::Optimum(known) if status == QpStatus::Solved => known
+            Expect::Optimum(known) | Expect::Blocks(known) if status == QpStatus::Solved => known
                 .mismatch(&solution.x, &solution.multipliers, spec.optimum_tol)
                 .map(|m| format!("solved, but {m}")),
             Expect::Primal(_, x) if status == QpStatus::Solved => {
                 let off = crate::examples::max_diff(&solution.x, x);
                 (off > spec.optimum_tol).then(|| format!("solved, but x = {:?}", solution.x))
             }
-            Expect::Optimum(_) | Expect::Primal(..) => {
+            Expect::Optimum(_) | Expect::Blocks(_) | Expect::Primal(..) => {
                 Some(format!("{status} ({residuals:?}), expected solved"))
             }
             Expect::Infeasible(_) => expect_refusal(

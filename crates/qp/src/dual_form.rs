@@ -40,7 +40,7 @@
 //! struct Pgs;
 //! impl QpBackend for Pgs {
 //!     fn name(&self) -> &'static str { "pgs" }
-//!     fn solve(&mut self, p: &QpProblem, _: &SolveOptions) -> Result<QpSolution, QpError> {
+//!     fn solve_valid(&mut self, p: &QpProblem, _: &SolveOptions) -> Result<QpSolution, QpError> {
 //!         let n = p.dofs();
 //!         let a = |i: usize, j: usize| p.stiffness.get(i, j).copied().unwrap_or(0.0);
 //!         let mut x = vec![0.0; n];
@@ -68,6 +68,7 @@ use std::time::{Duration, Instant};
 use sprs::{CsMat, TriMat};
 
 use super::backend::{QpBackend, QpSolution, SolveOptions};
+use super::blocks::ConstraintBlock;
 use super::ops::{mat_t_vec, mat_vec};
 use super::problem::{CscMatrix, QpError, QpProblem};
 use super::residuals::kkt_residuals;
@@ -239,6 +240,7 @@ pub fn condense(
         constraints: minus_identity.to_csc(),
         gap: vec![0.0; m],
         kernel: Vec::new(),
+        blocks: vec![ConstraintBlock::NonNegative { rows: m }],
     };
     Ok(Ok(Condensed { dual, factor }))
 }
@@ -273,7 +275,7 @@ impl<B: QpBackend> QpBackend for CondensedDual<B> {
         self.name
     }
 
-    fn solve(
+    fn solve_valid(
         &mut self,
         problem: &QpProblem,
         options: &SolveOptions,

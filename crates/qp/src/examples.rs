@@ -88,6 +88,30 @@ pub fn scalar(bound: f64) -> Known {
     }
 }
 
+/// Tresca's 1-D spring on a box row ([`crate::ConstraintBlock::Box`]): min ½ x² − f x + |x|
+/// (A = 1, B = [1], g = 0, bound 1), solved by hand: stick (x = 0, λ = f) for |f| ≤ 1, else
+/// slip x = f − sign f, λ = sign f.
+pub fn tresca_spring(f: f64) -> Known {
+    let problem = qp(
+        csc(1, 1, &[&[1.0]]),
+        vec![f],
+        csc(1, 1, &[&[1.0]]),
+        vec![0.0],
+    )
+    .with_blocks(vec![crate::ConstraintBlock::Box { bounds: vec![1.0] }])
+    .unwrap_or_else(|e| unreachable!("hand-built example is valid: {e}"));
+    let (x, multiplier) = if f.abs() <= 1.0 {
+        (0.0, f)
+    } else {
+        (f - f.signum(), f.signum())
+    };
+    Known {
+        problem,
+        x: vec![x],
+        multipliers: vec![multiplier],
+    }
+}
+
 /// A = [[2, −1], [−1, 2]], f = (1, 1) (free optimum (1, 1)); x₀ + x₁ ≤ 1 active,
 /// x₀ − x₁ ≤ 10 inactive: x = (½, ½), λ = (½, 0).
 pub fn two_rows() -> Known {

@@ -29,6 +29,7 @@ pub mod linalg;
 pub mod memory;
 
 mod backend;
+mod blocks;
 mod certificate;
 mod dual_form;
 mod ops;
@@ -42,6 +43,7 @@ mod status;
 mod tests;
 
 pub use backend::{QpBackend, QpSolution, SolveOptions};
+pub use blocks::{row_sets, BlockKind, ConstraintBlock, RowSet};
 pub use certificate::{FarkasRay, FARKAS_MARGIN};
 pub use dual_form::{
     condensable, condense, primal_of, touched_dofs, CondenseStop, Condensed, CondensedDual,

@@ -2,6 +2,7 @@
 
 use sprs::CsMat;
 
+use super::blocks::{BlockKind, ConstraintBlock};
 use super::ops::{dot, mat_vec};
 
 /// Sparse matrix type of the QP: compressed sparse columns, `f64` values.
@@ -45,6 +46,17 @@ pub enum QpError {
         /// Memory available to the process, GiB.
         available: f64,
     },
+    /// The problem holds a block of constraint rows the backend does not solve (see
+    /// [`crate::QpBackend::supports`]).
+    #[error("backend `{backend}` does not solve {kind} constraint rows (it solves: {supported})")]
+    UnsupportedBlock {
+        /// Backend name.
+        backend: &'static str,
+        /// The kind it does not solve.
+        kind: BlockKind,
+        /// The kinds it solves, comma-separated.
+        supported: String,
+    },
     /// The backend failed in a way it could not express as a status.
     #[error("backend `{backend}` failed: {reason}")]
     Backend {
@@ -55,7 +67,8 @@ pub enum QpError {
     },
 }
 
-/// `min ½ xᵀ A x − fᵀ x  s.t.  B x ≤ g`, all matrices in CSC.
+/// `min ½ xᵀ A x − fᵀ x  s.t.  B x ≤ g`, all matrices in CSC; the rows of B and g come in
+/// [`ConstraintBlock`]s (one non-negative block unless [`QpProblem::with_blocks`] says otherwise).
 #[derive(Debug, Clone)]
 pub struct QpProblem {
     /// A: symmetric stiffness on the free DOFs, n×n, both triangles stored.
@@ -69,6 +82,9 @@ pub struct QpProblem {
     /// A basis of the null space of A known from the model (rigid-body modes of bodies that only
     /// contact holds), each vector of length n; empty when A is positive definite.
     pub kernel: Vec<Vec<f64>>,
+    /// The rows of B and g in consecutive blocks, each with its multiplier set; their row counts
+    /// add up to m.
+    pub blocks: Vec<ConstraintBlock>,
 }
 
 impl QpProblem {
@@ -90,12 +106,14 @@ impl QpProblem {
         constraints: CscMatrix,
         gap: Vec<f64>,
     ) -> Result<Self, QpError> {
+        let rows = constraints.rows();
         let problem = Self {
             stiffness,
             load,
             constraints,
             gap,
             kernel: Vec::new(),
+            blocks: vec![ConstraintBlock::NonNegative { rows }],
         };
         problem.validate()?;
         Ok(problem)
@@ -137,6 +155,13 @@ impl QpProblem {
                 v.len()
             )));
         }
+        let block_rows: usize = self.blocks.iter().map(ConstraintBlock::rows).sum();
+        if block_rows != self.constraints.rows() {
+            return Err(QpError::Dimensions(format!(
+                "the constraint blocks hold {block_rows} rows but B has {}",
+                self.constraints.rows()
+            )));
+        }
         if !self.stiffness.is_csc() {
             return Err(QpError::NotCsc("A"));
         }
@@ -159,7 +184,55 @@ impl QpProblem {
         if self.kernel.iter().any(|v| !finite(v)) {
             return Err(QpError::NotFinite("kernel"));
         }
+        for block in &self.blocks {
+            if let ConstraintBlock::Box { bounds } = block {
+                if !finite(bounds) {
+                    return Err(QpError::NotFinite("box bounds"));
+                }
+                if let Some(s) = bounds.iter().find(|s| **s < 0.0) {
+                    return Err(QpError::Dimensions(format!(
+                        "a box row's bound is {s}, not ≥ 0"
+                    )));
+                }
+            }
+        }
         Ok(())
+    }
+
+    /// Sets the constraint blocks (see [`QpProblem::blocks`]), checked like the rest.
+    ///
+    /// ```
+    /// use signorini_qp::{ConstraintBlock, QpProblem};
+    /// use sprs::TriMat;
+    /// let mut a = TriMat::new((1, 1));
+    /// a.add_triplet(0, 0, 1.0);
+    /// let mut b = TriMat::new((2, 1));
+    /// b.add_triplet(0, 0, 1.0);
+    /// b.add_triplet(1, 0, -1.0);
+    /// let qp = QpProblem::try_new(a.to_csc(), vec![1.0], b.to_csc(), vec![1.0, 0.0]).unwrap();
+    /// let friction = vec![
+    ///     ConstraintBlock::NonNegative { rows: 1 },
+    ///     ConstraintBlock::Box { bounds: vec![0.5] },
+    /// ];
+    /// assert!(qp.clone().with_blocks(friction).is_ok());
+    /// let short = vec![ConstraintBlock::NonNegative { rows: 1 }];
+    /// assert!(qp.with_blocks(short).is_err());
+    /// ```
+    pub fn with_blocks(mut self, blocks: Vec<ConstraintBlock>) -> Result<Self, QpError> {
+        self.blocks = blocks;
+        self.validate()?;
+        Ok(self)
+    }
+
+    /// The kinds of block the problem holds, each once, in the order they first appear.
+    pub fn block_kinds(&self) -> Vec<BlockKind> {
+        let mut kinds = Vec::new();
+        for kind in self.blocks.iter().map(ConstraintBlock::kind) {
+            if !kinds.contains(&kind) {
+                kinds.push(kind);
+            }
+        }
+        kinds
     }
     /// Attaches a known null-space basis of A (see [`QpProblem::kernel`]).
     pub fn with_kernel(mut self, kernel: Vec<Vec<f64>>) -> Result<Self, QpError> {

@@ -2,6 +2,7 @@
 
 use serde::Serialize;
 
+use super::blocks::{row_sets, RowSet};
 use super::ops::{mat_t_vec, mat_vec};
 use super::problem::QpProblem;
 pub use super::scales::ResidualScales;
@@ -31,6 +32,10 @@ use super::scales::TINY;
 /// * `stationarity` = maxⱼ |(Ax − f + Bᵀλ)ⱼ| / F̃ⱼ;
 /// * `complementarity` = maxᵢ |λᵢ (g − Bx)ᵢ| / (F_c(i) Xᵢ);
 /// * `min_multiplier` = minᵢ min(0, λᵢ / F_c(i)) (zero when every λᵢ ≥ 0).
+///
+/// Those are the non-negative rows'.  A box row i of bound sᵢ ([`crate::ConstraintBlock::Box`],
+/// rᵢ = (Bx − g)ᵢ unrestricted) has no penetration; it adds |sᵢ |rᵢ| − λᵢ rᵢ| / (F_c(i) Xᵢ) to
+/// `complementarity` and min(0, (sᵢ − |λᵢ|) / F_c(i)) to `min_multiplier`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Default, schemars::JsonSchema)]
 pub struct KktResiduals {
     /// Largest constraint violation max(0, Bx − g), in length units.
@@ -114,6 +119,7 @@ pub fn kkt_residuals_with(
         || scales.rows.len() != problem.rows()
         || scales.dof_bodies.len() != problem.dofs()
         || scales.row_body_starts.len() != problem.rows() + 1
+        || row_sets(&problem.blocks).count() != problem.rows()
         || x.iter().chain(multipliers).any(|v| !v.is_finite())
     {
         return KktResiduals::UNMEASURABLE;
@@ -137,27 +143,41 @@ pub fn kkt_residuals_with(
     let mut complementarity = 0.0_f64;
     let mut relative_penetration = 0.0_f64;
     let mut min_multiplier = 0.0_f64;
-    for (i, ((((bxi, gi), li), xi), force)) in bx
+    for (i, (((((bxi, gi), li), xi), force), set)) in bx
         .iter()
         .zip(&problem.gap)
         .zip(multipliers)
         .zip(&scales.rows)
         .zip(&scales.row_forces)
+        .zip(row_sets(&problem.blocks))
         .enumerate()
     {
         let slack = gi - bxi;
         let xi = xi.max(TINY);
-        let moved = scales
-            .bodies_of_row(i)
-            .iter()
-            .map(|&b| motion[b])
-            .fold(0.0, f64::max);
-        let own_length = (-gi).max(xi.min(moved)).max(TINY);
-        max_penetration = max_penetration.max(-slack);
-        relative_penetration = relative_penetration.max(-slack / own_length);
         // F·Xᵢ can underflow to 0 when both are tiny: keep the quotient finite.
-        complementarity = complementarity.max((li * slack).abs() / (force * xi).max(TINY));
-        min_multiplier = min_multiplier.min(li / force);
+        let work = (force * xi).max(TINY);
+        match set {
+            RowSet::NonNegative => {
+                let moved = scales
+                    .bodies_of_row(i)
+                    .iter()
+                    .map(|&b| motion[b])
+                    .fold(0.0, f64::max);
+                let own_length = (-gi).max(xi.min(moved)).max(TINY);
+                max_penetration = max_penetration.max(-slack);
+                relative_penetration = relative_penetration.max(-slack / own_length);
+                complementarity = complementarity.max((li * slack).abs() / work);
+                min_multiplier = min_multiplier.min(li / force);
+            }
+            RowSet::Box(bound) => {
+                // r = −slack may take any value; sᵢ|r| − λᵢ r ≥ 0 when |λᵢ| ≤ sᵢ, zero exactly at
+                // stick below the bound or slip at it (crate::blocks); |λᵢ| beyond sᵢ is the
+                // multiplier set's violation, like a negative λ on a one-sided row.
+                let r = -slack;
+                complementarity = complementarity.max((bound * r.abs() - li * r).abs() / work);
+                min_multiplier = min_multiplier.min((bound - li.abs()) / force);
+            }
+        }
     }
     let finite_or_inf = |v: f64| if v.is_finite() { v } else { f64::INFINITY };
     KktResiduals {

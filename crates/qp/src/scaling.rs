@@ -1,11 +1,13 @@
 //! Nondimensionalisation of a QP before any backend sees it.
 
 use super::backend::QpSolution;
+use super::blocks::ConstraintBlock;
 use super::ops::norm_inf;
 use super::problem::QpProblem;
 
 /// Scalar scaling that makes a QP dimensionless: x = `displacement` · x̂, A = `stiffness` · Â,
-/// f = `stiffness`·`displacement` · f̂, g = `displacement` · ĝ, λ = `stiffness`·`displacement` · λ̂.
+/// f = `stiffness`·`displacement` · f̂, g = `displacement` · ĝ, λ = `stiffness`·`displacement` · λ̂
+/// (and a box row's bound s like λ).
 ///
 /// Backends only ever see the scaled problem, so results do not depend on the user's units.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,6 +66,11 @@ impl QpScaling {
             .for_each(|v| *v /= self.stiffness);
         problem.load.iter_mut().for_each(|v| *v /= force);
         problem.gap.iter_mut().for_each(|v| *v /= self.displacement);
+        for block in &mut problem.blocks {
+            if let ConstraintBlock::Box { bounds } = block {
+                bounds.iter_mut().for_each(|s| *s /= force);
+            }
+        }
     }
 
     /// The dimensionless problem Â, f̂, B, ĝ.
@@ -75,6 +82,16 @@ impl QpScaling {
             constraints: problem.constraints.clone(),
             gap: problem.gap.iter().map(|v| v / self.displacement).collect(),
             kernel: problem.kernel.clone(),
+            blocks: problem
+                .blocks
+                .iter()
+                .map(|b| match b {
+                    ConstraintBlock::Box { bounds } => ConstraintBlock::Box {
+                        bounds: bounds.iter().map(|s| s / force).collect(),
+                    },
+                    other => other.clone(),
+                })
+                .collect(),
         }
     }
 

@@ -392,3 +392,190 @@ fn a_body_left_by_its_contacts_is_judged_by_its_own_forces() {
         "{pushed:?}"
     );
 }
+
+/// Tresca's 1-D spring: min ½ x² − f x + s |x| (A = 1, B = [1], g = 0, one box row of bound
+/// s = 1).  Its answer by hand: stick (x = 0, λ = f) for |f| ≤ s, else slip x = f − s sign f,
+/// λ = s sign f.
+fn tresca_spring(f: f64) -> QpProblem {
+    let mut a = TriMat::new((1, 1));
+    a.add_triplet(0, 0, 1.0);
+    let mut b = TriMat::new((1, 1));
+    b.add_triplet(0, 0, 1.0);
+    QpProblem::try_new(a.to_csc(), vec![f], b.to_csc(), vec![0.0])
+        .unwrap()
+        .with_blocks(vec![ConstraintBlock::Box { bounds: vec![1.0] }])
+        .unwrap()
+}
+
+#[test]
+fn box_rows_meet_the_tolerance_at_the_hand_solved_answers() {
+    // Slip (f = 3: x = 2, λ = 1) and stick (f = 0.5: x = 0, λ = 0.5), and their mirrors.
+    for (f, x, l) in [
+        (3.0, 2.0, 1.0),
+        (-3.0, -2.0, -1.0),
+        (0.5, 0.0, 0.5),
+        (-0.5, 0.0, -0.5),
+    ] {
+        let r = kkt_residuals(&tresca_spring(f), &[x], &[l]);
+        assert_eq!(r.worst(), 0.0, "f = {f}: {r:?}");
+        assert_eq!(r.max_penetration, 0.0, "a box row has no penetration");
+    }
+}
+
+#[test]
+fn each_violation_of_a_box_row_is_seen_by_its_measure() {
+    // Slip with the friction force pushing along the slip (f = 3: x = 4, λ = −1 balances,
+    // 4 − 3 − 1 = 0): s|r| − λr = 4 + 4 = 8, against F · X = 3 · 3 (ResidualScales: ‖f‖ = 3,
+    // k̄ = 1, no gap): 0.89.
+    let r = kkt_residuals(&tresca_spring(3.0), &[4.0], &[-1.0]);
+    assert_eq!(r.stationarity, 0.0);
+    assert!(r.complementarity > 0.5, "{r:?}");
+    // A force beyond the bound at stick (f = 1.5: x = 0, λ = 1.5 balances): |λ| − s = 0.5.
+    let r = kkt_residuals(&tresca_spring(1.5), &[0.0], &[1.5]);
+    assert_eq!((r.stationarity, r.complementarity), (0.0, 0.0));
+    assert!(r.min_multiplier < -0.1, "{r:?}");
+    // Slipping below the bound (f = 0.5: x = 0.25, λ = 0.25 balances): s|r| − λr = 0.1875.
+    let r = kkt_residuals(&tresca_spring(0.5), &[0.25], &[0.25]);
+    assert_eq!((r.stationarity, r.min_multiplier), (0.0, 0.0));
+    assert!(r.complementarity > 0.01, "{r:?}");
+    // And each is refused by the tolerance.
+    for (f, x, l) in [(3.0, 4.0, -1.0), (1.5, 0.0, 1.5), (0.5, 0.25, 0.25)] {
+        assert!(!kkt_residuals(&tresca_spring(f), &[x], &[l]).meet(1e-3));
+    }
+}
+
+#[test]
+fn blocks_that_miss_rows_or_bounds_below_zero_are_refused() {
+    let p = tresca_spring(1.0);
+    let two = vec![ConstraintBlock::NonNegative { rows: 2 }];
+    assert!(matches!(
+        p.clone().with_blocks(two),
+        Err(QpError::Dimensions(_))
+    ));
+    let negative = vec![ConstraintBlock::Box { bounds: vec![-1.0] }];
+    assert!(matches!(
+        p.clone().with_blocks(negative),
+        Err(QpError::Dimensions(_))
+    ));
+    let nan = vec![ConstraintBlock::Box {
+        bounds: vec![f64::NAN],
+    }];
+    assert!(matches!(p.with_blocks(nan), Err(QpError::NotFinite(_))));
+}
+
+#[test]
+fn scaling_carries_a_box_bound_like_a_multiplier() {
+    // A = 4, f = 8, bound 2: force unit k̄ · (‖f‖/k̄) = 8; the scaled bound is 2 / 8.
+    let mut a = TriMat::new((1, 1));
+    a.add_triplet(0, 0, 4.0);
+    let mut b = TriMat::new((1, 1));
+    b.add_triplet(0, 0, 1.0);
+    let p = QpProblem::try_new(a.to_csc(), vec![8.0], b.to_csc(), vec![0.0])
+        .unwrap()
+        .with_blocks(vec![ConstraintBlock::Box { bounds: vec![2.0] }])
+        .unwrap();
+    let scaling = QpScaling::of(&p);
+    let scaled = scaling.scale(&p);
+    assert_eq!(scaled.blocks, [ConstraintBlock::Box { bounds: vec![0.25] }]);
+    let mut in_place = p.clone();
+    scaling.scale_in_place(&mut in_place);
+    assert_eq!(in_place.blocks, scaled.blocks);
+}
+
+/// A backend that answers the hand-solved Tresca spring (and anything else with zeros of the
+/// lengths it is told), supporting box rows when `boxes`.
+struct Answers {
+    boxes: bool,
+    lengths: (usize, usize),
+}
+
+impl QpBackend for Answers {
+    fn name(&self) -> &'static str {
+        "answers"
+    }
+    fn supports(&self, kind: BlockKind) -> bool {
+        kind == BlockKind::NonNegative || self.boxes
+    }
+    fn solve_valid(&mut self, _: &QpProblem, _: &SolveOptions) -> Result<QpSolution, QpError> {
+        Ok(QpSolution {
+            x: vec![2.0; self.lengths.0],
+            multipliers: vec![1.0; self.lengths.1],
+            status: QpStatus::Solved,
+            iterations: 1,
+            solve_time: Duration::ZERO,
+            message: None,
+        })
+    }
+}
+
+#[test]
+fn the_shared_checks_refuse_unsupported_blocks_and_answers_of_the_wrong_length() {
+    let spring = examples::tresca_spring(3.0).problem;
+    let options = SolveOptions::default();
+    let mut plain = Answers {
+        boxes: false,
+        lengths: (1, 1),
+    };
+    match plain.solve(&spring, &options) {
+        Err(e @ QpError::UnsupportedBlock { .. }) => {
+            let text = e.to_string();
+            assert!(
+                text.contains("box") && text.contains("solves: non-negative"),
+                "{text}"
+            );
+        }
+        other => panic!("expected a refusal, got {other:?}"),
+    }
+    let mut boxes = Answers {
+        boxes: true,
+        lengths: (1, 1),
+    };
+    let s = boxes.solve(&spring, &options).unwrap();
+    assert_eq!((s.x, s.multipliers), (vec![2.0], vec![1.0]));
+    let mut short = Answers {
+        boxes: true,
+        lengths: (1, 0),
+    };
+    assert!(matches!(
+        short.solve(&spring, &options),
+        Err(QpError::Backend { .. })
+    ));
+}
+
+#[test]
+fn the_conformance_suite_holds_a_backend_to_the_box_rows_it_claims() {
+    // `Answers` with box rows answers (2, 1) to everything: right for the slipping spring, wrong
+    // for the sticking one and the rest; without box rows its refusals of the two box cases
+    // pass and only the other cases fail.
+    let spec = conformance::Conformance::default();
+    let with = conformance::failures(
+        &mut || {
+            Box::new(Answers {
+                boxes: true,
+                lengths: (1, 1),
+            })
+        },
+        &spec,
+    );
+    assert!(
+        with.iter().any(|f| f.contains("box row, stick")),
+        "{with:?}"
+    );
+    assert!(
+        !with.iter().any(|f| f.contains("box row, slip")),
+        "{with:?}"
+    );
+    let without = conformance::failures(
+        &mut || {
+            Box::new(Answers {
+                boxes: false,
+                lengths: (1, 1),
+            })
+        },
+        &spec,
+    );
+    assert!(
+        !without.iter().any(|f| f.contains("box row")),
+        "{without:?}"
+    );
+}

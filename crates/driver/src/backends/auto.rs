@@ -334,13 +334,12 @@ impl QpBackend for AutoBackend {
         NAME
     }
 
-    fn solve(
+    fn solve_valid(
         &mut self,
         problem: &QpProblem,
         options: &SolveOptions,
     ) -> Result<QpSolution, QpError> {
         let start = Instant::now();
-        problem.validate()?;
         let given = self.given.take();
         let (mut members, reason) = match given {
             Some(given) => given,
