@@ -98,6 +98,7 @@ pub fn solve(
     // Cheap steps while the set moves (dense: the dense step alone, no sparse solve;
     // matrix-free: plain sparse solves in the refinement); once it settles, the same set is
     // solved again, refined with the mixed-precision solves, and decided anew.
+    let mut stall = Stall::default();
     let mut dense_phase = hessian.is_some();
     let mut accurate = false;
     let mut redo = false;
@@ -216,11 +217,21 @@ pub fn solve(
         // new set costs a dense factorisation of up to m rows.  From a few steps on, one sparse
         // solve checks the iterate first (cheaper than that factorisation).
         if iter >= CHECK_MOVING_FROM {
-            let (checked, _) = checked_iterate(data, monitor, iter, &lambda);
+            let (checked, worst) = checked_iterate(data, monitor, iter, &lambda);
             if checked.status == QpStatus::Solved {
                 return Ok(Outcome {
                     message: format!(
                         "{}; the iterate met the tolerance while the active set still moved (on round-off); {iter} active-set steps ({mode}), {refinements} refinement solves",
+                        checked.message
+                    ),
+                    ..checked
+                });
+            }
+            let changes = (0..m).filter(|&i| next_active[i] != active[i]).count();
+            if let Some(why) = stall.observe(iter, changes, worst) {
+                return Ok(Outcome {
+                    message: format!(
+                        "{}; {why}; {iter} active-set steps ({mode}), {refinements} refinement solves",
                         checked.message
                     ),
                     ..checked
@@ -239,6 +250,43 @@ pub fn solve(
             ));
         }
         active = next_active;
+    }
+}
+
+/// Steps without progress after which a set that still moves is given up: [`Stall`].
+const STALL_STEPS: usize = 10;
+
+/// Progress of a moving active set, from [`CHECK_MOVING_FROM`] on: a step makes progress when
+/// fewer rows change than ever before, or the checked iterate's worst KKT residual falls below
+/// half its best.  A set that makes neither for [`STALL_STEPS`] steps is moving on round-off
+/// (or cycling through sets too many to remember), not towards an answer: the iterate is given
+/// as it is, `inaccurate`, instead of dense factorisations to the iteration limit (a 1e-5-thin
+/// strip with m = 903: 100 000 steps, ~11 min).  The fixtures settle within 14 steps, each
+/// making progress.
+#[derive(Debug, Default)]
+struct Stall {
+    /// Fewest rows that changed in a step, the smallest worst residual, and the last step that
+    /// improved either.
+    best: Option<(usize, f64, usize)>,
+}
+
+impl Stall {
+    /// Records step `iter` (`changes` rows changed, worst residual `worst`); says why to stop
+    /// when it is time.
+    fn observe(&mut self, iter: usize, changes: usize, worst: f64) -> Option<String> {
+        let Some((fewest, lowest, at)) = self.best else {
+            self.best = Some((changes, worst, iter));
+            return None;
+        };
+        if changes < fewest || worst < 0.5 * lowest {
+            self.best = Some((changes.min(fewest), worst.min(lowest), iter));
+            return None;
+        }
+        (iter - at >= STALL_STEPS).then(|| {
+            format!(
+                "stalled: the active set still moves ({changes} rows this step, never fewer than {fewest}) and the residual has not halved its best ({lowest:.1e}) since step {at}"
+            )
+        })
     }
 }
 
@@ -430,4 +478,38 @@ fn refined_step(
         residual: current.norm,
         refinements,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_set_that_stops_improving_is_given_up_after_the_stall_steps() {
+        // Steps 3, 4: progress (fewer changes, then a halved residual); from step 5 on neither
+        // (more changes, a residual above half the best): given up at step 4 + STALL_STEPS.
+        let mut stall = Stall::default();
+        assert_eq!(stall.observe(3, 50, 1.0), None);
+        assert_eq!(stall.observe(4, 40, 0.4), None);
+        for iter in 5..4 + STALL_STEPS {
+            assert_eq!(stall.observe(iter, 45, 0.3), None, "step {iter}");
+        }
+        let why = stall.observe(4 + STALL_STEPS, 45, 0.3).unwrap();
+        assert!(why.contains("since step 4"), "{why}");
+    }
+
+    #[test]
+    fn a_set_that_keeps_improving_is_never_given_up() {
+        // Alternating progress: fewer changes, then a halved residual, for far longer than the
+        // stall window.
+        let mut stall = Stall::default();
+        let mut residual = 1.0;
+        for iter in 3..200 {
+            if iter % 2 == 0 {
+                residual *= 0.4;
+            }
+            let changes = 1_000 - iter;
+            assert_eq!(stall.observe(iter, changes, residual), None, "step {iter}");
+        }
+    }
 }
