@@ -1,6 +1,9 @@
 //! Small sparse and dense kernels shared by the QP code and the backends.
 
-use super::problem::CscMatrix;
+use sprs::CsMat;
+
+/// Sparse matrix type of the QP: compressed sparse columns, `f64` values.
+pub type CscMatrix = CsMat<f64>;
 
 /// Column pointers, row indices and values of a CSC matrix, keeping only the entries with
 /// `keep(row, col)` (e.g. `|i, j| i <= j` for the upper triangle solvers want); rows stay sorted

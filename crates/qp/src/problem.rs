@@ -1,12 +1,9 @@
 //! The QP's data: matrices, vectors and their checks.
 
-use sprs::CsMat;
-
 use super::blocks::{BlockKind, ConstraintBlock};
 use super::ops::{dot, mat_vec};
 
-/// Sparse matrix type of the QP: compressed sparse columns, `f64` values.
-pub type CscMatrix = CsMat<f64>;
+pub use super::ops::CscMatrix;
 
 /// Why a QP could not even be attempted (as opposed to a solve that did not converge, which is a
 /// [`QpStatus`](super::QpStatus)).

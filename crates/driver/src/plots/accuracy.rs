@@ -1,6 +1,6 @@
 //! `accuracy.svg` of `signorini study`: discretisation error against total time.
 //!
-//! One panel per error measure that has a value ([`crate::study::MEASURES`]: Hertz half-width,
+//! One panel per error measure that has a value ([`crate::study::points::MEASURES`]: Hertz half-width,
 //! Hertz peak pressure by the elliptical fit and as the largest nodal pressure, patch-test
 //! pressure deviation), stacked vertically in one SVG.  In each panel: |relative error| against
 //! total time (mesh + assemble + solve), log–log, one curve per combination (formulation, mesh
@@ -11,7 +11,7 @@
 
 use super::render::{self, Curve, Figure};
 use crate::output::OutputError;
-use crate::study::{combination_order, StudyPoint, MEASURES};
+use crate::study::points::{combination_order, StudyPoint, MEASURES};
 
 /// Height of one panel, as [`render`] draws it (the canvas is 900 × 620).
 const PANEL: (u32, u32) = (900, 620);

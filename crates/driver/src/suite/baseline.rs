@@ -15,9 +15,9 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use schemars::JsonSchema;
-use serde::{Deserialize, Serialize};
+use serde::Deserialize;
 
+pub use super::changes::{BaselineChange, BaselineReport, ChangeKind};
 use super::report::SuiteReport;
 
 /// Differences of solve time below this many seconds are never called slower or faster.
@@ -71,74 +71,6 @@ struct OldRun {
     status: String,
     solve_s: Option<f64>,
     ratio_to_floor: Option<f64>,
-}
-
-/// What changed for one backend on one case.
-#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
-#[serde(tag = "kind", rename_all = "kebab-case")]
-pub enum ChangeKind {
-    /// Time ÷ floor grew by more than the factor.
-    Slower {
-        /// Time ÷ floor before.
-        before: f64,
-        /// Time ÷ floor now.
-        after: f64,
-    },
-    /// Time ÷ floor fell by more than the factor.
-    Faster {
-        /// Time ÷ floor before.
-        before: f64,
-        /// Time ÷ floor now.
-        after: f64,
-    },
-    /// The status changed.
-    Status {
-        /// The status before.
-        before: String,
-        /// The status now.
-        after: String,
-    },
-}
-
-/// One change against the baseline.
-#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
-pub struct BaselineChange {
-    /// The case.
-    pub case: String,
-    /// The backend.
-    pub backend: String,
-    /// What changed.
-    #[serde(flatten)]
-    pub change: ChangeKind,
-    /// The case's scene file changed since the baseline.
-    pub scene_changed: bool,
-}
-
-/// The comparison with a baseline (`suite.json`'s `baseline`).
-#[derive(Debug, Clone, Serialize, JsonSchema)]
-pub struct BaselineReport {
-    /// The baseline file.
-    pub path: String,
-    /// The factor of time ÷ floor.
-    pub factor: f64,
-    /// The baseline's tolerance (speed comparisons across tolerances mean little).
-    pub tolerance: f64,
-    /// Every change, by case then backend.
-    pub changes: Vec<BaselineChange>,
-    /// Cases of this run the baseline does not have.
-    pub new_cases: Vec<String>,
-    /// Cases of the baseline this run does not have.
-    pub missing_cases: Vec<String>,
-}
-
-impl BaselineReport {
-    /// The number of slower runs.
-    pub fn slower(&self) -> usize {
-        self.changes
-            .iter()
-            .filter(|c| matches!(c.change, ChangeKind::Slower { .. }))
-            .count()
-    }
 }
 
 /// An earlier run's `suite.json`, read (before the suite runs, so that a bad file is refused

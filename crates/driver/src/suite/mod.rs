@@ -28,6 +28,7 @@ use crate::run;
 
 pub mod baseline;
 pub mod bless;
+pub mod changes;
 pub mod check;
 pub mod expectation;
 pub mod junit;

@@ -208,7 +208,7 @@ pub struct SuiteReport {
     pub summary: Vec<BackendSummary>,
     /// The comparison with an earlier run (`--baseline`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub baseline: Option<super::baseline::BaselineReport>,
+    pub baseline: Option<super::changes::BaselineReport>,
 }
 
 impl SuiteReport {
