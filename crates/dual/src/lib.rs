@@ -91,7 +91,7 @@
 //! | 1e5 | 2000 | 3-DOF | 14× | 26× |
 //!
 //! CG needs one sparse solve per product and converges slowly on ill-conditioned duals (the
-//! 4 × 0.02 strip of `tests/long_interface.rs`: 14 s matrix-free against 0.3 s dense), so below
+//! 4 × 0.02 strip of `crates/scene-tests/tests/dual_long_interface.rs`: 14 s matrix-free against 0.3 s dense), so below
 //! the memory limit the m solves that form H are cheaper than the CG products of all the Newton
 //! steps.  Products are not batched (CG is sequential); a block or deflated CG is the next step.
 //!

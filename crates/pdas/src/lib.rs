@@ -118,7 +118,7 @@
 //! an update is a factorisation of the whole K: there the condensed dual (dual-ssn, dual-pgs)
 //! is 2–3× faster.  Outside the numeric factorisation most time goes to the ordering and the
 //! symbolic analysis of K, which the floor pays for A.  Where the rest of the gap to the floor
-//! comes from (`measure`, one process, medians of five, 51 575-DOF strip): K's factor holds
+//! comes from (`crates/scene-tests/tests/pdas_measure.rs`, one process, medians of five, 51 575-DOF strip): K's factor holds
 //! 8.8e5 entries against A's 5.6e5 (the contact rows couple the two bodies, which A alone does
 //! not), and faer's simplicial LDLᵀ takes ~1.7× its LLᵀ on the same pattern (20 ms against
 //! 12 ms on A); faer's supernodal variant factors K slightly faster but solves 8× slower, so
@@ -203,13 +203,20 @@ mod error;
 mod factor;
 mod kernel;
 mod kkt;
-mod measure;
 mod memory;
 mod refine;
 mod settings;
 mod update;
 
 pub use backend::PdasBackend;
+
+/// The KKT matrix and its factor, for the hand-run timing breakdown of
+/// `crates/scene-tests/tests/pdas_measure.rs`; not part of the API.
+#[doc(hidden)]
+pub mod internals {
+    pub use crate::factor::KktFactor;
+    pub use crate::kkt::KktMatrix;
+}
 pub use error::PdasError;
 pub use memory::{memory_need, MEMORY_MODEL};
 pub use settings::{PdasSettings, StartSet};

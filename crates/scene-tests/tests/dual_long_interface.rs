@@ -11,55 +11,8 @@ mod common;
 use faer::prelude::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
-use signorini_core::mesh::MeshLimits;
-use signorini_core::model;
-use signorini_core::scene::Scene;
 use signorini_dual::{DualBackend, DualSettings};
 use signorini_qp::{kkt_residuals, QpProblem, QpStatus};
-
-/// The strip scene; `support` is the strip's left-end Dirichlet condition.
-fn strip(clamped: bool) -> QpProblem {
-    let components = if clamped { "" } else { "components = [\"x\"]" };
-    let toml = format!(
-        r#"
-title = "short long-interface strip"
-[[body]]
-name = "strip"
-polygon = [[0, 1], [4, 1], [4, 1.02], [0, 1.02]]
-hmax = 0.01
-young = 1.0
-poisson = 0.3
-
-[[body]]
-name = "foundation"
-polygon = [[0, 0.96], [4, 0.96], [4, 1], [0, 1]]
-hmax = 0.01
-young = 1.0
-poisson = 0.3
-
-[[dirichlet]]
-body = "foundation"
-region = [0, 4, 0.96, 0.96]
-
-[[dirichlet]]
-body = "strip"
-region = [0, 0, 1, 1.02]
-{components}
-
-[[neumann]]
-body = "strip"
-region = [0, 4, 1.02, 1.02]
-traction = [0, -1e-3]
-
-[[contact]]
-bodies = ["strip", "foundation"]
-region = [0, 4, 0.99, 1.01]
-"#
-    );
-    let scene = Scene::from_toml(&toml).unwrap();
-    let meshes = model::mesh_scene(&scene, &MeshLimits::default()).unwrap();
-    model::assemble(&scene, meshes).unwrap().qp
-}
 
 /// The independent answer: the equality KKT system [A B_Sᵀ; B_S 0] [x; λ_S] = [f; g_S] on the
 /// rows S, by faer's sparse LU with partial pivoting (no dual, no kernel handling: B holds the
@@ -116,7 +69,7 @@ fn objective(p: &QpProblem, x: &[f64]) -> f64 {
 }
 
 fn check(clamped: bool) {
-    let p = strip(clamped);
+    let p = common::strip_qp(4.0, clamped, (0.0, 4.0));
     assert!(
         p.rows() > 300 && p.dofs() > 20 * p.rows(),
         "{} {}",
@@ -176,7 +129,7 @@ fn thin_strip_clamped_at_one_end_is_solved_to_1e_10() {
 #[test]
 #[ignore = "slow (~15 s in release): CG on this ill-conditioned dual needs thousands of products; run by hand"]
 fn thin_strip_matrix_free_agrees() {
-    let p = strip(false);
+    let p = common::strip_qp(4.0, false, (0.0, 4.0));
     let (x_ref, _) = primal_kkt(&p);
     let mut backend = DualBackend::active_set(DualSettings {
         matrix_free_rows: 0,

@@ -1,7 +1,7 @@
 //! Where the time goes on the long-interface strip (run by hand, prints timings):
 //!
 //! ```text
-//! cargo test -p signorini-pdas --release --lib measure -- --ignored --nocapture
+//! cargo test -p signorini-scene-tests --release --test pdas_measure -- --ignored --nocapture
 //! ```
 //!
 //! The strip of the issue (20 × 0.02 on a 20 × 0.04 foundation, hmax 0.01, floating in y or
@@ -11,65 +11,18 @@
 //! numeric LDLᵀ of K, faer's LLᵀ of A and our LDLᵀ of A alone (same pattern: the cost of LDLᵀ
 //! over LLᵀ), nnz(L) of A and of K (the fill the contact coupling adds), one solve, and the
 //! whole pdas solve.
-#![cfg(test)]
 #![allow(clippy::unwrap_used)]
+
+mod common;
 
 use std::time::{Duration, Instant};
 
-use signorini_core::mesh::MeshLimits;
-use signorini_core::model::{assemble, mesh_scene};
-use signorini_core::scene::Scene;
-use signorini_core::solve::{floor_time, ScaledQp};
+use signorini_core::solve::floor_time;
 use signorini_qp::linalg::fill_reducing_order;
 use signorini_qp::{QpBackend, QpProblem, QpStatus, SolveOptions};
 
-use crate::factor::KktFactor;
-use crate::kkt::KktMatrix;
-use crate::PdasBackend;
-
-fn strip(length: f64, clamped: bool) -> QpProblem {
-    strip_loaded(length, clamped, (0.0, length))
-}
-
-/// The strip with its traction on [load.0, load.1] only.
-fn strip_loaded(length: f64, clamped: bool, load: (f64, f64)) -> QpProblem {
-    let (load_from, load_to) = load;
-    let components = if clamped { "" } else { "components = [\"x\"]" };
-    let toml = format!(
-        r#"
-title = "strip"
-[[body]]
-name = "strip"
-polygon = [[0, 1], [{length}, 1], [{length}, 1.02], [0, 1.02]]
-hmax = 0.01
-young = 1.0
-poisson = 0.3
-[[body]]
-name = "foundation"
-polygon = [[0, 0.96], [{length}, 0.96], [{length}, 1], [0, 1]]
-hmax = 0.01
-young = 1.0
-poisson = 0.3
-[[dirichlet]]
-body = "foundation"
-region = [0, {length}, 0.96, 0.96]
-[[dirichlet]]
-body = "strip"
-region = [0, 0, 1, 1.02]
-{components}
-[[neumann]]
-body = "strip"
-region = [{load_from}, {load_to}, 1.02, 1.02]
-traction = [0, -1e-3]
-[[contact]]
-bodies = ["strip", "foundation"]
-region = [0, {length}, 0.99, 1.01]
-"#
-    );
-    let scene = Scene::from_toml(&toml).unwrap();
-    let meshes = mesh_scene(&scene, &MeshLimits::default()).unwrap();
-    ScaledQp::new(assemble(&scene, meshes).unwrap().qp).problem
-}
+use signorini_pdas::internals::{KktFactor, KktMatrix};
+use signorini_pdas::PdasBackend;
 
 fn median(mut f: impl FnMut() -> Duration) -> f64 {
     f();
@@ -88,7 +41,7 @@ fn timed(f: impl FnOnce()) -> Duration {
 #[ignore = "measurement, run by hand"]
 fn where_the_time_goes_on_the_strip() {
     for clamped in [false, true] {
-        let p = strip(20.0, clamped);
+        let p = common::strip_scaled(20.0, clamped, (0.0, 20.0));
         let floor = median(|| floor_time(&p).unwrap());
         let amd_a = median(|| timed(|| drop(fill_reducing_order(&p.stiffness).unwrap())));
         let kkt = KktMatrix::new(&p).unwrap();

@@ -18,54 +18,12 @@
 
 mod common;
 
-use common::solve;
-use signorini_core::mesh::MeshLimits;
-use signorini_core::model::{assemble, mesh_scene};
-use signorini_core::scene::Scene;
-use signorini_core::solve::ScaledQp;
-use signorini_qp::{kkt_residuals, QpProblem, QpStatus};
-
-fn strip_loaded_in_its_middle(clamped: bool) -> QpProblem {
-    let components = if clamped { "" } else { "components = [\"x\"]" };
-    let toml = format!(
-        r#"
-title = "strip loaded on [8, 12]"
-[[body]]
-name = "strip"
-polygon = [[0, 1], [20, 1], [20, 1.02], [0, 1.02]]
-hmax = 0.01
-young = 1.0
-poisson = 0.3
-[[body]]
-name = "foundation"
-polygon = [[0, 0.96], [20, 0.96], [20, 1], [0, 1]]
-hmax = 0.01
-young = 1.0
-poisson = 0.3
-[[dirichlet]]
-body = "foundation"
-region = [0, 20, 0.96, 0.96]
-[[dirichlet]]
-body = "strip"
-region = [0, 0, 1, 1.02]
-{components}
-[[neumann]]
-body = "strip"
-region = [8, 12, 1.02, 1.02]
-traction = [0, -1e-3]
-[[contact]]
-bodies = ["strip", "foundation"]
-region = [0, 20, 0.99, 1.01]
-"#
-    );
-    let scene = Scene::from_toml(&toml).unwrap();
-    let meshes = mesh_scene(&scene, &MeshLimits::default()).unwrap();
-    ScaledQp::new(assemble(&scene, meshes).unwrap().qp).problem
-}
+use signorini_pdas::PdasBackend;
+use signorini_qp::{kkt_residuals, QpProblem, QpSolution, QpStatus};
 
 #[test]
 fn strip_loaded_on_part_of_its_length_is_solved() {
-    let p = strip_loaded_in_its_middle(false);
+    let p = common::strip_scaled(20.0, false, (8.0, 12.0));
     assert_eq!(p.rows(), 2001);
     let (sol, status) = solve(&p, 1e-9);
     assert_eq!(status, QpStatus::Solved, "{:?}", sol.message);
@@ -87,9 +45,16 @@ fn strip_loaded_on_part_of_its_length_is_solved() {
 /// here too), checked by the core's KKT residuals only (no independent reference run).
 #[test]
 fn clamped_strip_loaded_on_part_of_its_length_is_solved() {
-    let p = strip_loaded_in_its_middle(true);
+    let p = common::strip_scaled(20.0, true, (8.0, 12.0));
     let (sol, status) = solve(&p, 1e-9);
     assert_eq!(status, QpStatus::Solved, "{:?}", sol.message);
     let r = kkt_residuals(&p, &sol.x, &sol.multipliers);
     assert!(r.meet(1e-9), "{r:?}");
+}
+
+/// pdas with its default settings at `tol`; its multipliers are never negative.
+fn solve(problem: &QpProblem, tol: f64) -> (QpSolution, QpStatus) {
+    let (sol, status) = common::solve(&mut PdasBackend::default(), problem, tol);
+    assert!(sol.multipliers.iter().all(|l| *l >= 0.0));
+    (sol, status)
 }
