@@ -212,18 +212,26 @@ mod tests {
 
     /// `result.json`'s `status` is written with [`QpStatus::as_str`] and described in the schema
     /// by `QpStatus`'s serde names: the two must be the same words.
+    /// docs/scene.md's "Statuses" table lists exactly the statuses the program writes.
+    #[test]
+    fn the_documented_statuses_are_the_programs() {
+        use signorini_core::qp::QpStatus;
+        let doc = include_str!("../../../docs/scene.md");
+        let table = doc.split("## Statuses").nth(1).unwrap();
+        let documented: Vec<&str> = table
+            .lines()
+            .skip_while(|l| !l.starts_with("| `"))
+            .take_while(|l| l.starts_with('|'))
+            .filter_map(|l| l.strip_prefix("| `")?.split('`').next())
+            .collect();
+        let written: Vec<&str> = QpStatus::ALL.iter().map(|s| s.as_str()).collect();
+        assert_eq!(documented, written);
+    }
+
     #[test]
     fn status_words_are_the_schema_enum() {
         use signorini_core::qp::QpStatus;
-        let all = [
-            QpStatus::Solved,
-            QpStatus::Inaccurate,
-            QpStatus::MaxIterations,
-            QpStatus::TimeLimit,
-            QpStatus::PrimalInfeasible,
-            QpStatus::DualInfeasible,
-            QpStatus::NumericalError,
-        ];
+        let all = QpStatus::ALL;
         let schema = serde_json::to_value(result_schema()).unwrap();
         let text = schema["$defs"]["QpStatus"].to_string();
         for s in all {

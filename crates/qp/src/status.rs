@@ -30,6 +30,18 @@ pub enum QpStatus {
 }
 
 impl QpStatus {
+    /// Every status, in the order of the variants (and of docs/scene.md's table).
+    pub const ALL: [QpStatus; 8] = [
+        QpStatus::Solved,
+        QpStatus::Inaccurate,
+        QpStatus::MaxIterations,
+        QpStatus::TimeLimit,
+        QpStatus::PrimalInfeasible,
+        QpStatus::DualInfeasible,
+        QpStatus::NumericalError,
+        QpStatus::DeformedOverlap,
+    ];
+
     /// The word used in reports (`"solved"`, `"max-iterations"`, …).
     pub fn as_str(self) -> &'static str {
         match self {

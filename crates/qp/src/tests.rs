@@ -579,3 +579,22 @@ fn the_conformance_suite_holds_a_backend_to_the_box_rows_it_claims() {
         "{without:?}"
     );
 }
+
+#[test]
+fn every_status_is_listed_once_in_all() {
+    // The match has no wildcard: a new variant does not compile until it is given a place here,
+    // and the assertion then asks for it in `QpStatus::ALL`.
+    let position = |s: QpStatus| match s {
+        QpStatus::Solved => 0,
+        QpStatus::Inaccurate => 1,
+        QpStatus::MaxIterations => 2,
+        QpStatus::TimeLimit => 3,
+        QpStatus::PrimalInfeasible => 4,
+        QpStatus::DualInfeasible => 5,
+        QpStatus::NumericalError => 6,
+        QpStatus::DeformedOverlap => 7,
+    };
+    for (i, s) in QpStatus::ALL.into_iter().enumerate() {
+        assert_eq!(position(s), i, "{s}");
+    }
+}
