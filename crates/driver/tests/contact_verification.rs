@@ -2,6 +2,8 @@
 //! error; the contact patch test (uniform pressure through a non-matching interface); loads that
 //! pull bodies apart give no force; a scene without contact builds no QP.
 
+mod common;
+
 use signorini::run;
 use signorini_clarabel::ClarabelBackend;
 use signorini_core::mesh::MeshLimits;
@@ -109,42 +111,7 @@ fn conforming_and_nonconforming_interfaces_agree_within_discretisation_error() {
 fn contact_patch_test() {
     let delta = 1e-3;
     let p = 1.0 * delta / 2.0;
-    let text = format!(
-        r#"
-        [[body]]
-        name = "top"
-        polygon = [[0, 1], [1, 1], [1, 2], [0, 2]]
-        hmax = 0.07
-        young = 1.0
-        poisson = 0.0
-        [[body]]
-        name = "base"
-        polygon = [[0, 0], [1, 0], [1, 1], [0, 1]]
-        hmax = 0.16
-        young = 1.0
-        poisson = 0.0
-        [[dirichlet]]
-        body = "base"
-        region = [0, 1, 0, 0]
-        components = ["y"]
-        [[dirichlet]]
-        body = "base"
-        region = [0, 0, 0, 1]
-        components = ["x"]
-        [[dirichlet]]
-        body = "top"
-        region = [0, 0, 1, 2]
-        components = ["x"]
-        [[dirichlet]]
-        body = "top"
-        region = [0, 1, 2, 2]
-        value = [0, -{delta}]
-        components = ["y"]
-        [[contact]]
-        bodies = ["top", "base"]
-        region = [0, 1, 0.99, 1.01]
-        "#
-    );
+    let text = common::patch_scene(0.07, 0.16, "p1", "node-to-segment", (1.0, 1.0), delta);
     let o = solve(&text);
     let c = &o.report.contacts[0];
     assert_eq!(c.slave, "top", "the finer side is the slave");

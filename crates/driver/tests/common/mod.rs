@@ -59,3 +59,61 @@ bodies = ["upper", "lower"]
 "#
     )
 }
+
+/// The contact patch test: a unit block ("top", [0,1]×[1,2], Young's modulus `young.0`) on a
+/// unit block ("base", [0,1]×[0,1], `young.1`),
+/// [0,1]×[0,1]), ν = 0, the base's bottom held in y, both left edges held in x, the top edge
+/// moved down by δ = `delta`.  With ν = 0 the exact solution is uniaxial: σ_yy = −p in both blocks, each
+/// shortening by p × height / E, so δ = p (1/E_top + 1/E_base) (heights 1) and
+/// p = δ / (1/E_top + 1/E_base); the transmitted force is p × width 1.  No lateral motion, so
+/// the rollers are compatible.  Linear displacements lie in the P1 and Q1 spaces: a method
+/// passing the patch test reproduces them exactly.
+pub fn patch_scene(
+    h_top: f64,
+    h_base: f64,
+    element: &str,
+    formulation: &str,
+    young: (f64, f64),
+    delta: f64,
+) -> String {
+    let (e_top, e_base) = young;
+    format!(
+        r#"
+        [[body]]
+        name = "top"
+        polygon = [[0, 1], [1, 1], [1, 2], [0, 2]]
+        hmax = {h_top}
+        element = "{element}"
+        young = {e_top}
+        poisson = 0.0
+        [[body]]
+        name = "base"
+        polygon = [[0, 0], [1, 0], [1, 1], [0, 1]]
+        hmax = {h_base}
+        element = "{element}"
+        young = {e_base}
+        poisson = 0.0
+        [[dirichlet]]
+        body = "base"
+        region = [0, 1, 0, 0]
+        components = ["y"]
+        [[dirichlet]]
+        body = "base"
+        region = [0, 0, 0, 1]
+        components = ["x"]
+        [[dirichlet]]
+        body = "top"
+        region = [0, 0, 1, 2]
+        components = ["x"]
+        [[dirichlet]]
+        body = "top"
+        region = [0, 1, 2, 2]
+        value = [0, -{delta}]
+        components = ["y"]
+        [[contact]]
+        bodies = ["top", "base"]
+        region = [0, 1, 0.99, 1.01]
+        formulation = "{formulation}"
+        "#
+    )
+}
