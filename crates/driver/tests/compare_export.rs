@@ -77,12 +77,7 @@ fn compare_runs_every_backend_on_one_problem() {
         ],
         dir.path(),
     );
-    let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(
-        o.status.success(),
-        "{stdout}{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    let stdout = common::succeeded(&o);
     // The default backends: osqp only when compiled in.
     let defaults: &[&str] = if cfg!(feature = "osqp") {
         &["clarabel", "osqp", "dual-pgs", "dual-uzawa"]

@@ -68,12 +68,7 @@ fn an_exported_scene_compares_as_the_scene_does() {
         let mut args = vec!["compare", "--qp", "x", "--out", "q"];
         args.extend(common);
         let o = signorini(&args, dir.path());
-        let stdout = String::from_utf8_lossy(&o.stdout);
-        assert!(
-            o.status.success(),
-            "{stdout}{}",
-            String::from_utf8_lossy(&o.stderr)
-        );
+        let stdout = common::succeeded(&o);
         assert!(
             stdout.starts_with("QP from x (exported from \"Experiment"),
             "{stdout}"
@@ -153,12 +148,7 @@ fn every_backend_finds_the_known_optimum_of_the_scipy_fixture() {
         ],
         dir.path(),
     );
-    let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(
-        o.status.success(),
-        "{stdout}{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    let stdout = common::succeeded(&o);
     assert!(
         stdout.contains("10 unknowns, 1 constraint rows"),
         "{stdout}"

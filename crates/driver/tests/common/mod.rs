@@ -4,6 +4,18 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// The standard output of a run that must have succeeded (exit 0); otherwise fails showing both
+/// streams.
+pub fn succeeded(o: &Output) -> String {
+    let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(
+        o.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    stdout
+}
+
 /// Runs the `signorini` binary built for these tests with `args` in `cwd`.
 pub fn signorini(args: &[&str], cwd: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_signorini"))
