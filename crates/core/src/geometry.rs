@@ -3,6 +3,10 @@
 /// A point or vector in the plane.
 pub type Point = [f64; 2];
 
+/// Relative tolerance (× scene size) used to match regions and points to the geometry (the
+/// scene's regions, a Gmsh mesh's groups).
+pub const REGION_TOLERANCE: f64 = 1e-8;
+
 /// Signed area of a polygon (positive when counter-clockwise).
 pub fn signed_area(polygon: &[Point]) -> f64 {
     let n = polygon.len();

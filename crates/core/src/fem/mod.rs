@@ -98,13 +98,7 @@ pub enum FemError {
     },
 }
 
-/// Boundary nodes of a mesh (sorted, unique).
-pub fn boundary_nodes(mesh: &Mesh) -> Vec<usize> {
-    let mut nodes: Vec<usize> = mesh.boundary.iter().flatten().copied().collect();
-    nodes.sort_unstable();
-    nodes.dedup();
-    nodes
-}
+pub use crate::mesh::boundary_nodes;
 
 /// Prescribed DOF values from the scene's Dirichlet conditions: `Some(value)` for a fixed DOF.
 pub fn prescribed(

@@ -461,7 +461,7 @@ fn import(bytes: &[u8], label: &str) -> Result<ImportedMesh, GmshProblem> {
     }
     let bbox = crate::geometry::bounding_box(nodes.iter());
     let size = (bbox[1] - bbox[0]).hypot(bbox[3] - bbox[2]);
-    let tol = crate::scene::REGION_TOLERANCE * size;
+    let tol = crate::geometry::REGION_TOLERANCE * size;
     if z_max - z_min > tol {
         return Err(GmshProblem::NotPlanar { z_min, z_max });
     }

@@ -145,6 +145,14 @@ impl Mesh {
     }
 }
 
+/// Boundary nodes of a mesh (sorted, unique).
+pub fn boundary_nodes(mesh: &Mesh) -> Vec<usize> {
+    let mut nodes: Vec<usize> = mesh.boundary.iter().flatten().copied().collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
+}
+
 /// A region of a body meshed finer than the body's `hmax` (`[[body.refine]]`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Refinement {

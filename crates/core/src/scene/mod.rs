@@ -36,8 +36,7 @@ pub use validate::{name_forbidden, MAX_COEFFICIENT, MIN_COEFFICIENT};
 
 use crate::geometry;
 
-/// Relative tolerance (× scene size) used to match regions and points to the geometry.
-pub const REGION_TOLERANCE: f64 = 1e-8;
+pub use crate::geometry::REGION_TOLERANCE;
 
 /// A validated scene.
 #[derive(Debug, Clone, PartialEq)]

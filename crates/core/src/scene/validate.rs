@@ -535,7 +535,7 @@ fn region_or_group(
                 Some(m) => (&m.mesh, &m.path),
                 None => unreachable_group(s)?,
             };
-            let on_boundary: Vec<usize> = crate::fem::boundary_nodes(mesh)
+            let on_boundary: Vec<usize> = crate::mesh::boundary_nodes(mesh)
                 .into_iter()
                 .filter(|n| g.has_node(*n))
                 .collect();
@@ -1000,7 +1000,7 @@ fn free_rigid_modes(body: usize, bodies: &[Body], dirichlet: &[Dirichlet], tol: 
         // A group holds exactly its (boundary) nodes.
         if let (Some(name), Some(m)) = (&d.group, &bodies[body].imported) {
             if let Some(g) = m.group(name) {
-                let boundary = crate::fem::boundary_nodes(&m.mesh);
+                let boundary = crate::mesh::boundary_nodes(&m.mesh);
                 for &node in g.nodes.iter().filter(|n| boundary.binary_search(n).is_ok()) {
                     add(m.mesh.nodes[node], d);
                 }
