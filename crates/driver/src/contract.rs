@@ -9,7 +9,6 @@ use std::path::Path;
 use schemars::generate::SchemaSettings;
 use schemars::transform::RecursiveTransform;
 use schemars::Schema;
-use sha2::{Digest, Sha256};
 use signorini_core::report::{BackendSettings, Provenance, RunReport};
 use signorini_core::scene::{SceneError, SceneFile};
 
@@ -101,13 +100,7 @@ fn nullable_numbers(schema: &mut Schema) {
     }
 }
 
-/// SHA-256 of `bytes`, as 64 lowercase hex digits (what `sha256sum` prints).
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
-}
+pub use crate::digest::sha256_hex;
 
 /// SHA-256 of the scene file's bytes ([`sha256_hex`]), or of the built-in scene's text when
 /// `path` is `None`.

@@ -10,6 +10,7 @@ pub use backends::auto;
 pub mod check;
 pub mod compare;
 pub mod contract;
+pub mod digest;
 pub mod exit;
 pub mod export;
 pub mod outdir;

@@ -20,9 +20,7 @@ use serde::{Deserialize, Deserializer};
 
 use crate::output::OutputError;
 
-pub mod accuracy;
-pub mod profile;
-mod render;
+pub(crate) mod render;
 
 use render::{Curve, Figure};
 

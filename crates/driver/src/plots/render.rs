@@ -19,7 +19,7 @@ const SHAPES: usize = 5;
 
 /// One series of a figure.
 #[derive(Debug, Clone)]
-pub(super) struct Curve {
+pub(crate) struct Curve {
     /// Legend text.
     pub label: String,
     /// Line and marker colour.
@@ -71,7 +71,7 @@ impl Curve {
 
 /// A log–log figure.
 #[derive(Debug, Clone)]
-pub(super) struct Figure {
+pub(crate) struct Figure {
     /// Heading above the chart.
     pub heading: String,
     /// x axis description (with unit).
@@ -104,7 +104,7 @@ fn sanitized(fig: &Figure) -> Figure {
 
 /// Renders the figure; `None` when no backend curve has a point.  Any text is allowed (see
 /// [`sanitized`]).
-pub(super) fn render(fig: &Figure) -> Result<Option<String>, OutputError> {
+pub(crate) fn render(fig: &Figure) -> Result<Option<String>, OutputError> {
     let fig = &sanitized(fig);
     if fig.curves.iter().all(|c| c.reference || c.is_empty()) {
         return Ok(None);

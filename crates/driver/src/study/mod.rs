@@ -26,7 +26,7 @@
 //!
 //! `study.csv` ([`COLUMNS`]) and `accuracy.svg` (error against total time, one panel per error
 //! measure, one curve per combination, its fitted convergence rate against h in the legend; see
-//! [`crate::plots::accuracy`]) are one output set ([`crate::outdir`]), written under the
+//! [`plot`]) are one output set ([`crate::outdir`]), written under the
 //! directory's lock.  An existing `study.csv` is refused ([`StudyError::Exists`]) unless
 //! `overwrite` is set; the old file then stays until the study's first point is written.  After
 //! each point the CSV is rewritten (the plot removed, since it no longer matches), so an
@@ -44,6 +44,7 @@ use signorini_core::mesh::{ElementKind, MeshLimits};
 use signorini_core::qp::{QpStatus, SolveOptions};
 use signorini_core::scene::{Formulation, Scene, REGION_TOLERANCE};
 
+pub mod plot;
 pub mod points;
 
 pub use points::{combination_order, Measure, StudyPoint, COLUMNS, MEASURES};
@@ -548,7 +549,7 @@ pub fn study(
         }
     }
     let short = scene.title.split(':').next().unwrap_or(&scene.title).trim();
-    let svg = crate::plots::accuracy::render_accuracy(&points, short)?;
+    let svg = plot::render_accuracy(&points, short)?;
     let mut set = OutputSet::new(&lock, Some(STUDY_FILE), &MEMBERS)?;
     let csv = set.write(STUDY_FILE, |w| write_csv(w, &points))?;
     let plot = match &svg {

@@ -1,5 +1,5 @@
 //! The points of a study (`study.csv`'s rows) and the error measures read from them: the data
-//! [`super`] writes and [`crate::plots::accuracy`] draws, apart from both so that the plot does
+//! [`super`] writes and [`super::plot`] draws, apart from both so that the plot does
 //! not import the study that calls it.
 
 use serde::{Deserialize, Serialize};

@@ -32,6 +32,7 @@ pub mod changes;
 pub mod check;
 pub mod expectation;
 pub mod junit;
+pub mod profile;
 pub mod report;
 #[cfg(test)]
 pub(crate) mod sample;
@@ -228,7 +229,7 @@ pub fn suite_sha256(cases: &[CaseReport]) -> String {
         .iter()
         .map(|c| format!("{} {}\n", c.name, c.sha256))
         .collect();
-    crate::contract::sha256_hex(list.as_bytes())
+    crate::digest::sha256_hex(list.as_bytes())
 }
 
 /// Runs one scene (see the module's docs); `progress` is told `mesh`, then each backend.  A
@@ -269,7 +270,7 @@ fn fill_case(
 ) -> Result<(), String> {
     progress("mesh");
     let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    case.sha256 = crate::contract::sha256_hex(&bytes);
+    case.sha256 = crate::digest::sha256_hex(&bytes);
     let scene = Scene::from_path(path).map_err(|e| e.to_string())?;
     case.title = scene.title.clone();
     let expectation_path = expectation::path_for(path);

@@ -6,10 +6,10 @@
 use std::path::{Path, PathBuf};
 
 use super::junit::junit_xml;
+use super::profile::render_profile_svg;
 use super::report::SuiteReport;
 use crate::outdir::{DirLock, OutputSet};
 use crate::output::OutputError;
-use crate::plots::profile::render_profile_svg;
 
 /// The files of a suite run, the primary (`suite.json`) first.
 pub const SUITE_FILES: [&str; 4] = ["suite.json", "suite.csv", "suite.xml", "suite.svg"];

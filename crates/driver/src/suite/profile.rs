@@ -28,12 +28,12 @@ use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint};
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
+use super::report::{CaseReport, CaseRun, SuiteReport};
 use crate::output::chart_style::{
     draw_legend, fit_heading, plot_err, LEGEND_ROW, MARGIN, X_LABELS, Y_LABELS,
 };
 use crate::output::svg::PALETTE;
 use crate::output::{xml_sanitize, OutputError};
-use crate::suite::report::{CaseReport, CaseRun, SuiteReport};
 
 /// Canvas size in pixels (as the sweep's figures).
 const SIZE: (u32, u32) = (900, 620);

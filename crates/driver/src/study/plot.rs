@@ -7,11 +7,11 @@
 //! kind, element), each keeping its colour and marker in every panel; its legend entry carries
 //! the fitted convergence rate against h ([`crate::plots::fit_slope`] of (hmax, |error|) over the
 //! solved points), e.g. `mortar, graded, p1 (rate 1.95 vs h)`.  Points not solved are hollow;
-//! an error of exactly 0 is drawn at [`super::ERROR_FLOOR`] (the legend says so).
+//! an error of exactly 0 is drawn at [`crate::plots::ERROR_FLOOR`] (the legend says so).
 
-use super::render::{self, Curve, Figure};
+use super::points::{combination_order, StudyPoint, MEASURES};
 use crate::output::OutputError;
-use crate::study::points::{combination_order, StudyPoint, MEASURES};
+use crate::plots::render::{self, Curve, Figure};
 
 /// Height of one panel, as [`render`] draws it (the canvas is 900 × 620).
 const PANEL: (u32, u32) = (900, 620);
@@ -40,7 +40,11 @@ fn panel(
             for p in mine {
                 let Some(e) = read(p) else { continue };
                 let e = e.abs();
-                let y = if e == 0.0 { super::ERROR_FLOOR } else { e };
+                let y = if e == 0.0 {
+                    crate::plots::ERROR_FLOOR
+                } else {
+                    e
+                };
                 let q = (p.total_s, y);
                 if !(q.0.is_finite() && q.1.is_finite() && q.0 > 0.0) {
                     continue;
@@ -53,7 +57,7 @@ fn panel(
                     curve.hollow.push(q);
                 }
             }
-            curve.label = match super::fit_slope(&fit) {
+            curve.label = match crate::plots::fit_slope(&fit) {
                 Some(r) => format!("{name} (rate {r:.2} vs h)"),
                 None => name.clone(),
             };
@@ -62,7 +66,7 @@ fn panel(
         .collect();
     let mut notes = Vec::new();
     if clamped {
-        notes.push(format!("error 0 drawn at {:e}", super::ERROR_FLOOR));
+        notes.push(format!("error 0 drawn at {:e}", crate::plots::ERROR_FLOOR));
     }
     let what = format!("{measure}: error vs time");
     Some(Figure {
