@@ -95,14 +95,10 @@ pub enum RowSet {
 
 /// Each row's multiplier set, in row order, for `blocks`.
 pub fn row_sets(blocks: &[ConstraintBlock]) -> impl Iterator<Item = RowSet> + '_ {
-    blocks.iter().flat_map(|b| {
-        let (count, bounds): (usize, &[f64]) = match b {
-            ConstraintBlock::NonNegative { rows } => (*rows, &[]),
-            ConstraintBlock::Box { bounds } => (bounds.len(), bounds),
-        };
-        (0..count).map(move |i| match bounds.get(i) {
-            Some(&s) => RowSet::Box(s),
-            None => RowSet::NonNegative,
+    blocks.iter().flat_map(|block| {
+        (0..block.rows()).map(move |i| match block {
+            ConstraintBlock::NonNegative { .. } => RowSet::NonNegative,
+            ConstraintBlock::Box { bounds } => RowSet::Box(bounds[i]),
         })
     })
 }

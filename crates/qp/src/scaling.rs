@@ -66,33 +66,22 @@ impl QpScaling {
             .for_each(|v| *v /= self.stiffness);
         problem.load.iter_mut().for_each(|v| *v /= force);
         problem.gap.iter_mut().for_each(|v| *v /= self.displacement);
-        for block in &mut problem.blocks {
-            if let ConstraintBlock::Box { bounds } = block {
-                bounds.iter_mut().for_each(|s| *s /= force);
-            }
-        }
+        scale_bounds(&mut problem.blocks, force);
     }
 
     /// The dimensionless problem Â, f̂, B, ĝ.
     pub fn scale(&self, problem: &QpProblem) -> QpProblem {
         let force = self.stiffness * self.displacement;
-        QpProblem {
+        let mut scaled = QpProblem {
             stiffness: problem.stiffness.map(|v| v / self.stiffness),
             load: problem.load.iter().map(|v| v / force).collect(),
             constraints: problem.constraints.clone(),
             gap: problem.gap.iter().map(|v| v / self.displacement).collect(),
             kernel: problem.kernel.clone(),
-            blocks: problem
-                .blocks
-                .iter()
-                .map(|b| match b {
-                    ConstraintBlock::Box { bounds } => ConstraintBlock::Box {
-                        bounds: bounds.iter().map(|s| s / force).collect(),
-                    },
-                    other => other.clone(),
-                })
-                .collect(),
-        }
+            blocks: problem.blocks.clone(),
+        };
+        scale_bounds(&mut scaled.blocks, force);
+        scaled
     }
 
     /// Brings a solution of the scaled problem back to the original units.
@@ -101,5 +90,14 @@ impl QpScaling {
         solution.x.iter_mut().for_each(|v| *v *= self.displacement);
         solution.multipliers.iter_mut().for_each(|v| *v *= force);
         solution
+    }
+}
+
+/// Divides every box row's bound by the force unit (a bound is a force, like λ).
+fn scale_bounds(blocks: &mut [ConstraintBlock], force: f64) {
+    for block in blocks {
+        if let ConstraintBlock::Box { bounds } = block {
+            bounds.iter_mut().for_each(|s| *s /= force);
+        }
     }
 }
