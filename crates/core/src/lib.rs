@@ -22,6 +22,7 @@ pub use signorini_qp::{examples, linalg, memory};
 
 pub mod accuracy;
 pub mod contact;
+pub mod effects;
 pub mod fem;
 pub mod geometry;
 #[cfg(test)]

@@ -21,26 +21,15 @@
 use serde::Serialize;
 use sprs::TriMat;
 
-use crate::contact::{self, ContactError, ContactRow, PairRows};
+use crate::contact::{ContactError, ContactRow, PairRows};
+use crate::effects::{ContactEffect, Discretisation, EffectError, Effects, ModelParts};
 use crate::fem::{self, Dofs, FemError, Material};
 use crate::geometry::Point;
 use crate::mesh::{self, BodyGeometry, Mesh, MeshError, MeshLimits};
 use crate::qp::{CscMatrix, QpError, QpProblem};
 use crate::scene::Scene;
 
-/// Something that a scene asks the program to simulate.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, schemars::JsonSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum Effect {
-    /// Prescribed displacements.
-    Dirichlet,
-    /// Surface tractions.
-    Neumann,
-    /// Body force from `[model] gravity`.
-    Gravity,
-    /// Contact constraints (a QP instead of one linear solve).
-    Contact,
-}
+pub use crate::effects::Effect;
 
 /// Why a scene could not be turned into a model.
 #[derive(Debug, thiserror::Error)]
@@ -105,6 +94,16 @@ pub enum ModelError {
     /// The reduced QP failed its checks.
     #[error(transparent)]
     Qp(#[from] QpError),
+}
+
+impl From<EffectError> for ModelError {
+    /// An effect's refusal, as the model's error of the same kind (the chain stays one level).
+    fn from(e: EffectError) -> Self {
+        match e {
+            EffectError::Fem(e) => ModelError::Fem(e),
+            EffectError::Contact(e) => ModelError::Contact(e),
+        }
+    }
 }
 
 /// Why a contact pair produced no constraint row.
@@ -477,7 +476,8 @@ pub struct Assembly {
     pub qp: QpProblem,
 }
 
-/// Assembles the model on given meshes.
+/// Assembles the model on given meshes: the stiffness, then every effect the scene names
+/// ([`Effects`]), then the reduced QP.
 pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError> {
     let dofs = Dofs::new(&meshes.iter().map(|m| m.nodes.len()).collect::<Vec<_>>());
     let materials: Vec<Material> = scene
@@ -490,18 +490,93 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError
         })
         .collect();
     let stiffness = fem::assemble_stiffness(&meshes, &materials, scene.thickness, &dofs);
-    let load = fem::applied_loads(scene, &meshes, &dofs)?;
-    let fixed = fem::prescribed(scene, &meshes, &dofs)?;
+    let effects = Effects::of(scene);
+    let on = Discretisation {
+        meshes: &meshes,
+        dofs: &dofs,
+    };
+    let mut parts = ModelParts::empty(dofs.len());
+    let contributions = effects.contributions();
+    for c in contributions.iter().filter(|c| !c.after_supports()) {
+        c.contribute(on, &mut parts)?;
+    }
+    let fixed = parts.prescribed();
     let free: Vec<usize> = (0..dofs.len()).filter(|d| fixed[*d].is_none()).collect();
+    let (floating, kernel) = free_modes(scene, &effects, &meshes, &dofs, &fixed, &free)?;
+    for c in contributions.iter().filter(|c| c.after_supports()) {
+        c.contribute(on, &mut parts)?;
+    }
+    let mut warnings = Vec::new();
+    let mut contacts = std::mem::take(&mut parts.pairs);
+    if let Some(contact) = &effects.contact {
+        for pair in &mut contacts {
+            warnings.extend(screen_pair(contact, &dofs, &fixed, pair)?);
+        }
+    }
+    check_held(scene, &floating, &contacts, &dofs, &fixed)?;
+    let (constraints, gap) = contact_matrix(&contacts, &dofs);
+    let mut named: Vec<Effect> = contributions.iter().map(|c| c.effect()).collect();
+    named.retain(|e| *e != Effect::Contact || !gap.is_empty());
+    named.sort_by_key(|e| *e as u8);
 
+    let free_index = free_index(&free, dofs.len());
+    let (a, lift_f) = restrict(&stiffness, &fixed, &free_index, true);
+    let (b_free, lift_g) = restrict(&constraints, &fixed, &free_index, false);
+    let load = parts.load;
+    let f: Vec<f64> = free
+        .iter()
+        .zip(&lift_f)
+        .map(|(&d, l)| load[d] - l)
+        .collect();
+    let g: Vec<f64> = gap.iter().zip(&lift_g).map(|(g, l)| g - l).collect();
+    check_finite(a.data(), &f, &g)?;
+    let reduced = QpProblem::try_new(a, f, b_free, g)?.with_kernel(kernel.clone())?;
+    let fixed_dofs: Vec<usize> = (0..dofs.len()).filter(|d| fixed[*d].is_some()).collect();
+    let supports = columns(&stiffness, &fixed_dofs);
+    drop(stiffness);
+
+    let model = Model {
+        meshes,
+        materials,
+        dofs,
+        supports,
+        fixed_dofs,
+        load,
+        fixed,
+        free,
+        contacts,
+        constraints,
+        gap,
+        floating,
+        kernel,
+        effects: named,
+        warnings,
+    };
+    Ok(Assembly { model, qp: reduced })
+}
+
+/// Per floating body (body, count of free modes), and those modes on the free DOFs.
+type FreeModes = (Vec<(usize, usize)>, Vec<Vec<f64>>);
+
+/// The rigid-body modes the supports leave free, per body (body, count), and those modes on the
+/// free DOFs (a null-space basis of the reduced stiffness); refuses a body with free modes that
+/// no contact pair could hold.
+fn free_modes(
+    scene: &Scene,
+    effects: &Effects<'_>,
+    meshes: &[Mesh],
+    dofs: &Dofs,
+    fixed: &[Option<f64>],
+    free: &[usize],
+) -> Result<FreeModes, ModelError> {
     let mut floating = Vec::new();
     let mut kernel = Vec::new();
     for (b, mesh) in meshes.iter().enumerate() {
-        let modes = fem::free_rigid_modes(mesh, b, &dofs, &fixed);
+        let modes = fem::free_rigid_modes(mesh, b, dofs, fixed);
         if modes.is_empty() {
             continue;
         }
-        if !scene.contacts.iter().any(|c| c.bodies.contains(&b)) {
+        if !effects.in_contact(b) {
             return Err(ModelError::Unsupported {
                 body: scene.bodies[b].name.clone(),
                 modes: modes.len(),
@@ -514,17 +589,23 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError
                 .map(|m| free.iter().map(|&d| m[d]).collect::<Vec<f64>>()),
         );
     }
+    Ok((floating, kernel))
+}
 
-    let mut contacts = contact::contact_rows(scene, &meshes)?;
-    let mut warnings = Vec::new();
-    for pair in &mut contacts {
-        warnings.extend(screen_pair(scene, &dofs, &fixed, pair)?);
-    }
-    for &(b, modes) in &floating {
+/// Refuses a floating body (free rigid modes) on which no remaining contact row acts through a
+/// free DOF: nothing holds it.
+fn check_held(
+    scene: &Scene,
+    floating: &[(usize, usize)],
+    contacts: &[PairRows],
+    dofs: &Dofs,
+    fixed: &[Option<f64>],
+) -> Result<(), ModelError> {
+    for &(b, modes) in floating {
         let range = dofs.body_range(b);
         let held = contacts.iter().any(|pair| {
             pair.rows.iter().any(|r| {
-                row_entries(&dofs, pair, r)
+                row_entries(dofs, pair, r)
                     .iter()
                     .any(|&(d, v)| v != 0.0 && range.contains(&d) && fixed[d].is_none())
             })
@@ -552,7 +633,11 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError
             });
         }
     }
+    Ok(())
+}
 
+/// The contact matrix B on all DOFs (rows in pair order) and the initial gaps g.
+fn contact_matrix(contacts: &[PairRows], dofs: &Dofs) -> (CscMatrix, Vec<f64>) {
     let m: usize = contacts.iter().map(|p| p.rows.len()).sum();
     let mut b = TriMat::with_capacity((m, dofs.len()), 6 * m);
     let mut gap = Vec::with_capacity(m);
@@ -561,60 +646,12 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError
         .flat_map(|pair| pair.rows.iter().map(move |r| (pair, r)))
         .enumerate()
     {
-        for (d, v) in row_entries(&dofs, pair, r) {
+        for (d, v) in row_entries(dofs, pair, r) {
             b.add_triplet(row, d, v);
         }
         gap.push(r.gap);
     }
-    let constraints: CscMatrix = b.to_csc();
-
-    let mut effects = Vec::new();
-    if !scene.dirichlet.is_empty() {
-        effects.push(Effect::Dirichlet);
-    }
-    if !scene.neumann.is_empty() {
-        effects.push(Effect::Neumann);
-    }
-    if scene.gravity.is_some() {
-        effects.push(Effect::Gravity);
-    }
-    if m > 0 {
-        effects.push(Effect::Contact);
-    }
-
-    let free_index = free_index(&free, dofs.len());
-    let (a, lift_f) = restrict(&stiffness, &fixed, &free_index, true);
-    let (b_free, lift_g) = restrict(&constraints, &fixed, &free_index, false);
-    let f: Vec<f64> = free
-        .iter()
-        .zip(&lift_f)
-        .map(|(&d, l)| load[d] - l)
-        .collect();
-    let g: Vec<f64> = gap.iter().zip(&lift_g).map(|(g, l)| g - l).collect();
-    check_finite(a.data(), &f, &g)?;
-    let reduced = QpProblem::try_new(a, f, b_free, g)?.with_kernel(kernel.clone())?;
-    let fixed_dofs: Vec<usize> = (0..dofs.len()).filter(|d| fixed[*d].is_some()).collect();
-    let supports = columns(&stiffness, &fixed_dofs);
-    drop(stiffness);
-
-    let model = Model {
-        meshes,
-        materials,
-        dofs,
-        supports,
-        fixed_dofs,
-        load,
-        fixed,
-        free,
-        contacts,
-        constraints,
-        gap,
-        floating,
-        kernel,
-        effects,
-        warnings,
-    };
-    Ok(Assembly { model, qp: reduced })
+    (b.to_csc(), gap)
 }
 
 /// The entries (DOF, coefficient) of a contact row of B, in the order B stores them: for each
@@ -635,13 +672,14 @@ fn row_entries(dofs: &Dofs, pair: &PairRows, r: &ContactRow) -> Vec<(usize, f64)
 /// Removes a pair's inert rows (every DOF with a non-zero coefficient prescribed) and returns
 /// the pair's warnings; refuses an inert row whose reduced gap g − B_D u_D is below −tolerance.
 fn screen_pair(
-    scene: &Scene,
+    contact: &ContactEffect<'_>,
     dofs: &Dofs,
     fixed: &[Option<f64>],
     pair: &mut PairRows,
 ) -> Result<Vec<ModelWarning>, ModelError> {
-    let tol = scene.tolerance();
-    let name = |b: usize| scene.bodies[b].name.clone();
+    let tol = contact.tol;
+    let interface = &contact.interfaces[pair.pair];
+    let name = |b: usize| interface.side(b).name.to_string();
     let number = pair.pair + 1;
     let mut warnings = Vec::new();
     let mut inert = 0;
@@ -723,7 +761,7 @@ fn screen_pair(
         } else {
             NoRowReason::NoFacingSegment
         };
-        let [k, l] = scene.contacts[pair.pair].bodies;
+        let [k, l] = interface.sides.map(|s| s.body);
         warnings.push(ModelWarning::NoContactRow {
             pair: number,
             bodies: [name(k), name(l)],

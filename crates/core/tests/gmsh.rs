@@ -7,7 +7,8 @@
 use std::path::{Path, PathBuf};
 
 use signorini_core::contact::contact_rows;
-use signorini_core::fem::{applied_loads, prescribed, Dofs};
+use signorini_core::effects::Effects;
+use signorini_core::fem::Dofs;
 use signorini_core::geometry::signed_area;
 use signorini_core::mesh::gmsh::{parse_msh, GmshProblem};
 use signorini_core::mesh::Cells;
@@ -351,7 +352,10 @@ fn a_contact_group_restricts_the_candidates() {
     };
     let rows = |s: &Scene| {
         let meshes = mesh_scene(s, &MeshLimits::default()).unwrap();
-        contact_rows(s, &meshes).unwrap()[0].rows.len()
+        let contact = Effects::of(s).contact.unwrap();
+        contact_rows(&contact.interfaces, &meshes, contact.tol).unwrap()[0]
+            .rows
+            .len()
     };
     assert_eq!(rows(&scene(None)), 2);
     assert_eq!(rows(&scene(Some("bottom"))), 2);
@@ -454,7 +458,10 @@ fn groups_select_supports_and_loads() {
     let meshes = mesh_scene(&scene, &MeshLimits::default()).unwrap();
     let dofs = Dofs::new(&[meshes[0].nodes.len()]);
     // Fixed: both components of nodes 0 and 1 (tags 1, 2 on the bottom line), nothing else.
-    let fixed = prescribed(&scene, &meshes, &dofs).unwrap();
+    let effects = Effects::of(&scene);
+    let mut fixed = vec![None; dofs.len()];
+    let supports = effects.supports.as_ref().unwrap();
+    supports.prescribe(&meshes, &dofs, &mut fixed).unwrap();
     let fixed_dofs: Vec<usize> = (0..fixed.len()).filter(|&i| fixed[i].is_some()).collect();
     let expected: Vec<usize> = [0, 1]
         .iter()
@@ -464,7 +471,9 @@ fn groups_select_supports_and_loads() {
         .collect();
     assert_eq!(fixed_dofs, expected);
     // Load: ty = −2 over the top side (length 1), half on each of its end nodes (tags 3, 4).
-    let f = applied_loads(&scene, &meshes, &dofs).unwrap();
+    let mut f = vec![0.0; dofs.len()];
+    let tractions = effects.tractions.as_ref().unwrap();
+    tractions.add_nodal(&meshes, &dofs, &mut f).unwrap();
     for n in 0..5 {
         let want = if n == 2 || n == 3 { -1.0 } else { 0.0 };
         assert!(

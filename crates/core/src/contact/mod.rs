@@ -28,7 +28,7 @@
 //! pushes it out.  One that a region box leaves out is refused
 //! ([`ContactError::OverlapOutsideRegion`]): it would stay inside.  The pair's
 //! [`Overlap`] records how many nodes start inside and the deepest one.  An overlap deeper than
-//! the larger `hmax` of the pair ([`overlap_limit`]) is not read as contact but refused
+//! the larger `hmax` of the pair ([`Interface::overlap_limit`]) is not read as contact but refused
 //! ([`ContactError::DeepOverlap`]): a linearised node-to-segment row cannot undo it, and such a
 //! scene almost always has a misplaced polygon.
 //!
@@ -75,6 +75,7 @@
 //! of the new time at L = 100, 61 % at L = 400.
 
 mod deformed;
+mod interface;
 mod mortar;
 mod overlap;
 mod search;
@@ -82,11 +83,12 @@ mod search;
 mod tests;
 
 pub use deformed::{deformed_overlap, DeformedOverlap};
-pub use overlap::{overlap_limit, Overlap};
+pub use interface::{Interface, Side};
+pub use overlap::Overlap;
 
 use crate::geometry::{self, Point};
 use crate::mesh::Mesh;
-use crate::scene::{Formulation, Scene};
+use crate::scene::Formulation;
 use overlap::{deepest, depths_inside, strictly_inside};
 use search::{Cone, SegmentIndex};
 
@@ -172,7 +174,7 @@ pub enum ContactError {
         point: Point,
         /// Its distance to `other`'s boundary.
         depth: f64,
-        /// The largest accepted depth ([`overlap_limit`]).
+        /// The largest accepted depth ([`Interface::overlap_limit`]).
         limit: f64,
     },
     /// Slave nodes start inside the master outside the pair's region box, so no row can push
@@ -330,154 +332,301 @@ enum Search {
     BruteForce,
 }
 
-/// Builds every pair's rows.
-pub fn contact_rows(scene: &Scene, meshes: &[Mesh]) -> Result<Vec<PairRows>, ContactError> {
-    contact_rows_with(scene, meshes, Search::Indexed)
+/// Builds every pair's rows (`tol`: the scene's geometric tolerance).
+pub fn contact_rows(
+    interfaces: &[Interface<'_>],
+    meshes: &[Mesh],
+    tol: f64,
+) -> Result<Vec<PairRows>, ContactError> {
+    contact_rows_with(interfaces, meshes, tol, Search::Indexed)
 }
 
 /// [`contact_rows`] with a chosen search.
 fn contact_rows_with(
-    scene: &Scene,
+    interfaces: &[Interface<'_>],
     meshes: &[Mesh],
+    tol: f64,
     search: Search,
 ) -> Result<Vec<PairRows>, ContactError> {
-    let tol = scene.tolerance();
-    let mut all = Vec::with_capacity(scene.contacts.len());
-    for (p, pair) in scene.contacts.iter().enumerate() {
-        let [k, l] = pair.bodies;
-        let reach = scene.bodies[k].hmax.max(scene.bodies[l].hmax);
-        let limit = overlap_limit(scene, pair);
-        let inside_k = depths_inside(
-            &meshes[k],
-            &meshes[l],
-            &scene.bodies[l].polygon,
-            tol,
-            search,
+    interfaces
+        .iter()
+        .enumerate()
+        .map(|(p, it)| {
+            let pair = PairSearch {
+                number: p + 1,
+                it,
+                meshes,
+                tol,
+                search,
+            };
+            pair.rows(p)
+        })
+        .collect()
+}
+
+/// One pair's search: its interface, the meshes, the tolerance and the search method.
+struct PairSearch<'s, 'a> {
+    /// 1-based pair number (for messages).
+    number: usize,
+    it: &'s Interface<'a>,
+    meshes: &'s [Mesh],
+    tol: f64,
+    search: Search,
+}
+
+/// Per side of a pair (in the scene's order): each boundary node's depth inside the other body,
+/// and which nodes are candidates.
+struct Sides {
+    inside: [Vec<Option<f64>>; 2],
+    candidates: [Vec<bool>; 2],
+}
+
+impl PairSearch<'_, '_> {
+    /// The name of body `b`.
+    fn name(&self, b: usize) -> String {
+        self.it.side(b).name.to_string()
+    }
+
+    /// The pair's rows, or why it is refused: initial overlaps first (too deep, master inside
+    /// slave, slave nodes stranded outside the region), then the rows themselves.
+    fn rows(&self, p: usize) -> Result<PairRows, ContactError> {
+        let [sk, sl] = &self.it.sides;
+        let (k, l) = (sk.body, sl.body);
+        let inside = [
+            depths_inside(
+                &self.meshes[k],
+                &self.meshes[l],
+                sl.outline,
+                self.tol,
+                self.search,
+            ),
+            depths_inside(
+                &self.meshes[l],
+                &self.meshes[k],
+                sk.outline,
+                self.tol,
+                self.search,
+            ),
+        ];
+        let deepest_all = self.refuse_deep_overlap(&inside)?;
+        let sides = Sides {
+            candidates: self.candidates(&inside)?,
+            inside,
+        };
+        let (slave, master) = self.choose_slave(&sides);
+        let (s, m) = if slave == k { (0, 1) } else { (1, 0) };
+        self.refuse_master_inside_slave(slave, master, &sides.inside[s], &sides.inside[m])?;
+        let segments = master_segments(
+            &self.meshes[master],
+            &sides.candidates[m],
+            self.it.region.as_ref(),
+            self.tol,
         );
-        let inside_l = depths_inside(
-            &meshes[l],
-            &meshes[k],
-            &scene.bodies[k].polygon,
-            tol,
-            search,
+        let built = self.build(
+            slave,
+            master,
+            &sides.candidates[s],
+            &segments,
+            &sides.inside[s],
         );
-        let deepest_k = deepest(&inside_k, tol).map(|(i, d)| (k, l, i, d));
-        let deepest_l = deepest(&inside_l, tol).map(|(i, d)| (l, k, i, d));
+        let with_row = self.refuse_stranded(slave, master, &built.rows, &sides.inside[s])?;
+        let overlap = deepest_all.map(|(b, _, i, depth)| {
+            let tol = self.tol;
+            let inside = |d: &&Option<f64>| strictly_inside(**d, tol);
+            let slave_nodes = sides.inside[s]
+                .iter()
+                .zip(&with_row)
+                .filter(|(d, w)| strictly_inside(**d, tol) && **w)
+                .count();
+            Overlap {
+                slave_nodes,
+                master_nodes: sides.inside[m].iter().filter(inside).count(),
+                deepest: self.meshes[b].nodes[i],
+                depth,
+                deepest_body: b,
+            }
+        });
+        let count = |c: &[bool]| c.iter().filter(|x| **x).count();
+        Ok(PairRows {
+            pair: p,
+            slave,
+            master,
+            formulation: self.it.formulation,
+            conforming: conforming(&built.rows),
+            rows: built.rows,
+            candidates: count(&sides.candidates[s]),
+            unmatched: built.unmatched,
+            tributary_fallbacks: built.tributary_fallbacks,
+            unit_tributaries: built.unit_tributaries,
+            overlap,
+        })
+    }
+
+    /// The deepest initial overlap of either body in the other (body, other, node, depth);
+    /// refused beyond [`Interface::overlap_limit`].
+    fn refuse_deep_overlap(
+        &self,
+        inside: &[Vec<Option<f64>>; 2],
+    ) -> Result<Option<(usize, usize, usize, f64)>, ContactError> {
+        let (k, l) = (self.it.sides[0].body, self.it.sides[1].body);
+        let deepest_k = deepest(&inside[0], self.tol).map(|(i, d)| (k, l, i, d));
+        let deepest_l = deepest(&inside[1], self.tol).map(|(i, d)| (l, k, i, d));
         let deepest_all = match (deepest_k, deepest_l) {
             (Some(a), Some(b)) => Some(if b.3 > a.3 { b } else { a }),
             (a, b) => a.or(b),
         };
+        let limit = self.it.overlap_limit();
         if let Some((b, o, i, depth)) = deepest_all {
             if depth > limit {
                 return Err(ContactError::DeepOverlap {
-                    pair: p + 1,
-                    body: scene.bodies[b].name.clone(),
-                    other: scene.bodies[o].name.clone(),
-                    point: meshes[b].nodes[i],
+                    pair: self.number,
+                    body: self.name(b),
+                    other: self.name(o),
+                    point: self.meshes[b].nodes[i],
                     depth,
                     limit,
                 });
             }
         }
-        let region = pair.region.as_ref();
-        let mut cand_k = candidates(
-            &meshes[k], &meshes[l], region, reach, tol, &inside_k, search,
-        );
-        let mut cand_l = candidates(
-            &meshes[l], &meshes[k], region, reach, tol, &inside_l, search,
-        );
+        Ok(deepest_all)
+    }
+
+    /// Each side's candidate nodes: near the other body (within the larger `hmax`), in the
+    /// region box and the pair's group; a region box that holds none of a body's is refused.
+    fn candidates(&self, inside: &[Vec<Option<f64>>; 2]) -> Result<[Vec<bool>; 2], ContactError> {
+        let it = self.it;
+        let reach = it.overlap_limit();
+        let region = it.region.as_ref();
+        let mut candidates = [0, 1].map(|i| {
+            let (own, other) = (it.sides[i].body, it.sides[1 - i].body);
+            let (mesh, other) = (&self.meshes[own], &self.meshes[other]);
+            candidates(
+                mesh,
+                other,
+                region,
+                reach,
+                self.tol,
+                &inside[i],
+                self.search,
+            )
+        });
         // `group`: each body whose Gmsh mesh defines the group keeps only the group's nodes.
-        if let Some(name) = &pair.group {
-            for (cand, b) in [(&mut cand_k, k), (&mut cand_l, l)] {
-                if let Some(g) = scene.bodies[b].group(name) {
-                    for (n, c) in cand.iter_mut().enumerate() {
-                        *c = *c && g.has_node(n);
-                    }
+        for (cand, side) in candidates.iter_mut().zip(&it.sides) {
+            if let Some(g) = side.group {
+                for (n, c) in cand.iter_mut().enumerate() {
+                    *c = *c && g.has_node(n);
                 }
             }
         }
-        let count = |c: &[bool]| c.iter().filter(|x| **x).count();
-        let (nk, nl) = (count(&cand_k), count(&cand_l));
         if let Some(r) = region {
-            for (n, b) in [(nk, k), (nl, l)] {
-                if n == 0 {
+            for (cand, side) in candidates.iter().zip(&it.sides) {
+                if !cand.iter().any(|c| *c) {
                     return Err(ContactError::EmptyRegion {
-                        pair: p + 1,
+                        pair: self.number,
                         region: *r,
-                        body: scene.bodies[b].name.clone(),
+                        body: side.name.to_string(),
                     });
                 }
             }
         }
-        // An initial overlap is undone by slave rows only: when the nodes of just one body start
-        // inside the other, that body is the slave (unless the scene names one).
+        Ok(candidates)
+    }
+
+    /// (slave, master): the scene's choice; else the body whose nodes alone start inside the
+    /// other (an initial overlap is undone by slave rows only); else the one with more
+    /// candidates (the first on a tie).
+    fn choose_slave(&self, sides: &Sides) -> (usize, usize) {
+        let (k, l) = (self.it.sides[0].body, self.it.sides[1].body);
+        let tol = self.tol;
+        let count = |c: &[bool]| c.iter().filter(|x| **x).count();
         let inside_count =
             |d: &[Option<f64>]| d.iter().filter(|x| strictly_inside(**x, tol)).count();
-        let (ik, il) = (inside_count(&inside_k), inside_count(&inside_l));
-        let slave = pair.slave.unwrap_or(match (ik > 0, il > 0) {
+        let (nk, nl) = (count(&sides.candidates[0]), count(&sides.candidates[1]));
+        let (ik, il) = (
+            inside_count(&sides.inside[0]),
+            inside_count(&sides.inside[1]),
+        );
+        let slave = self.it.slave.unwrap_or(match (ik > 0, il > 0) {
             (true, false) => k,
             (false, true) => l,
             _ if nl > nk => l,
             _ => k,
         });
-        let master = if slave == k { l } else { k };
-        let (cand_s, cand_m, inside_s, inside_m) = if slave == k {
-            (&cand_k, &cand_l, &inside_k, &inside_l)
-        } else {
-            (&cand_l, &cand_k, &inside_l, &inside_k)
-        };
+        (slave, if slave == k { l } else { k })
+    }
+
+    /// Refuses a pair where only master nodes start inside the slave: node-to-segment rows
+    /// constrain slave nodes only, so nothing would push them out.
+    fn refuse_master_inside_slave(
+        &self,
+        slave: usize,
+        master: usize,
+        inside_s: &[Option<f64>],
+        inside_m: &[Option<f64>],
+    ) -> Result<(), ContactError> {
+        let inside_count =
+            |d: &[Option<f64>]| d.iter().filter(|x| strictly_inside(**x, self.tol)).count();
         if inside_count(inside_s) == 0 {
-            if let Some((i, depth)) = deepest(inside_m, tol) {
+            if let Some((i, depth)) = deepest(inside_m, self.tol) {
                 return Err(ContactError::MasterInsideSlave {
-                    pair: p + 1,
-                    slave: scene.bodies[slave].name.clone(),
-                    master: scene.bodies[master].name.clone(),
+                    pair: self.number,
+                    slave: self.name(slave),
+                    master: self.name(master),
                     nodes: inside_count(inside_m),
-                    point: meshes[master].nodes[i],
+                    point: self.meshes[master].nodes[i],
                     depth,
                 });
             }
         }
-        let segments = master_segments(&meshes[master], cand_m, region, tol);
-        let built = match pair.formulation {
+        Ok(())
+    }
+
+    /// The rows of the pair's formulation.
+    fn build(
+        &self,
+        slave: usize,
+        master: usize,
+        cand_s: &[bool],
+        segments: &[[usize; 2]],
+        inside_s: &[Option<f64>],
+    ) -> Built {
+        let (ms, mm) = (&self.meshes[slave], &self.meshes[master]);
+        let limit = self.it.overlap_limit();
+        match self.it.formulation {
             Formulation::NodeToSegment => pair_rows(
-                &meshes[slave],
-                &meshes[master],
+                ms,
+                mm,
                 cand_s,
-                &segments,
+                segments,
                 inside_s,
-                tol,
+                self.tol,
                 limit,
-                search,
+                self.search,
             ),
-            Formulation::Mortar => mortar::pair_rows(
-                &meshes[slave],
-                &meshes[master],
-                cand_s,
-                &segments,
-                inside_s,
-                tol,
-                limit,
-            ),
-        };
-        let rows = built.rows;
-        // Conforming: every slave node on the interface (zero gap) sits on a master node.
-        let touching: Vec<&ContactRow> = rows.iter().filter(|r| r.gap == 0.0).collect();
-        let conforming = !touching.is_empty()
-            && touching
-                .iter()
-                .all(|r| r.masters.iter().any(|&(_, w)| (w - 1.0).abs() <= 1e-12));
-        let mut with_row = vec![false; meshes[slave].nodes.len()];
-        for r in &rows {
+            Formulation::Mortar => {
+                mortar::pair_rows(ms, mm, cand_s, segments, inside_s, self.tol, limit)
+            }
+        }
+    }
+
+    /// Which slave nodes have a row; refuses slave nodes inside the master without one
+    /// (outside the region box): they would stay interpenetrating.
+    fn refuse_stranded(
+        &self,
+        slave: usize,
+        master: usize,
+        rows: &[ContactRow],
+        inside_s: &[Option<f64>],
+    ) -> Result<Vec<bool>, ContactError> {
+        let mut with_row = vec![false; self.meshes[slave].nodes.len()];
+        for r in rows {
             with_row[r.slave_node] = true;
         }
-        // Every slave node inside the master must be pushed out by a row: one that has none
-        // (outside the region box) would stay interpenetrating, so the scene is refused.
         let stranded = inside_s
             .iter()
             .zip(&with_row)
             .enumerate()
-            .filter(|(_, (d, w))| strictly_inside(**d, tol) && !**w)
+            .filter(|(_, (d, w))| strictly_inside(**d, self.tol) && !**w)
             .map(|(i, (d, _))| (i, d.unwrap_or(0.0)));
         let (mut count_stranded, mut worst) = (0, None);
         for (i, d) in stranded {
@@ -488,44 +637,25 @@ fn contact_rows_with(
         }
         if let Some((i, depth)) = worst {
             return Err(ContactError::OverlapOutsideRegion {
-                pair: p + 1,
-                slave: scene.bodies[slave].name.clone(),
-                master: scene.bodies[master].name.clone(),
+                pair: self.number,
+                slave: self.name(slave),
+                master: self.name(master),
                 nodes: count_stranded,
-                point: meshes[slave].nodes[i],
+                point: self.meshes[slave].nodes[i],
                 depth,
             });
         }
-        let overlap = deepest_all.map(|(b, _, i, depth)| {
-            let inside = |d: &&Option<f64>| strictly_inside(**d, tol);
-            let slave_nodes = inside_s
-                .iter()
-                .zip(&with_row)
-                .filter(|(d, w)| strictly_inside(**d, tol) && **w)
-                .count();
-            Overlap {
-                slave_nodes,
-                master_nodes: inside_m.iter().filter(inside).count(),
-                deepest: meshes[b].nodes[i],
-                depth,
-                deepest_body: b,
-            }
-        });
-        all.push(PairRows {
-            pair: p,
-            slave,
-            master,
-            formulation: pair.formulation,
-            rows,
-            conforming,
-            candidates: count(cand_s),
-            unmatched: built.unmatched,
-            tributary_fallbacks: built.tributary_fallbacks,
-            unit_tributaries: built.unit_tributaries,
-            overlap,
-        });
+        Ok(with_row)
     }
-    Ok(all)
+}
+
+/// Conforming: every slave node on the interface (zero gap) sits on a master node.
+fn conforming(rows: &[ContactRow]) -> bool {
+    let touching: Vec<&ContactRow> = rows.iter().filter(|r| r.gap == 0.0).collect();
+    !touching.is_empty()
+        && touching
+            .iter()
+            .all(|r| r.masters.iter().any(|&(_, w)| (w - 1.0).abs() <= 1e-12))
 }
 
 /// The rows of one pair with the counts of what could not be done exactly.

@@ -5,7 +5,6 @@ use super::search::SegmentIndex;
 use super::{boundary_node_mask, Search};
 use crate::geometry::{self, Point};
 use crate::mesh::Mesh;
-use crate::scene::{ContactPair, Scene};
 
 /// Where two bodies of a pair overlap before any load (see the [parent module](super)).
 #[derive(Debug, Clone, PartialEq)]
@@ -21,13 +20,6 @@ pub struct Overlap {
     pub depth: f64,
     /// Index of the body the deepest node belongs to.
     pub deepest_body: usize,
-}
-
-/// The deepest initial overlap accepted as contact in a pair: the larger `hmax` of its bodies.
-/// Deeper overlaps are refused ([`super::ContactError::DeepOverlap`]).
-pub fn overlap_limit(scene: &Scene, pair: &ContactPair) -> f64 {
-    let [k, l] = pair.bodies;
-    scene.bodies[k].hmax.max(scene.bodies[l].hmax)
 }
 
 /// For every node of `mesh`: `Some(depth)` when it is a boundary node lying in the closed body

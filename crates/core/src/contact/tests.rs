@@ -7,10 +7,20 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // tests may unwrap
 
-use std::cell::Cell;
-
 use super::*;
 use crate::mesh::{Cells, Mesh, MeshLimits};
+use crate::scene::Scene;
+use std::cell::Cell;
+
+/// The rows of a scene's pairs through the contact effect, with a chosen search.
+fn scene_rows(
+    scene: &Scene,
+    meshes: &[Mesh],
+    search: Search,
+) -> Result<Vec<PairRows>, ContactError> {
+    let contact = crate::effects::ContactEffect::of(scene);
+    contact_rows_with(&contact.interfaces, meshes, contact.tol, search)
+}
 
 thread_local! {
     /// Segments evaluated by [`Probe::evaluate`] on this thread (the search's unit of work).
@@ -374,8 +384,8 @@ fn fixture_scenes_match_the_scan() {
             let Ok(meshes) = crate::model::mesh_scene(&scene, &MeshLimits::default()) else {
                 continue;
             };
-            let fast = contact_rows_with(&scene, &meshes, Search::Indexed);
-            let slow = contact_rows_with(&scene, &meshes, Search::BruteForce);
+            let fast = scene_rows(&scene, &meshes, Search::Indexed);
+            let slow = scene_rows(&scene, &meshes, Search::BruteForce);
             let name = path.display().to_string();
             match (fast, slow) {
                 (Ok(fast), Ok(slow)) => {
@@ -951,7 +961,7 @@ region = [-1, 3, -0.01, 0.01]
     )
     .unwrap();
     let meshes = crate::model::mesh_scene(&scene, &MeshLimits::default()).unwrap();
-    let pairs = contact_rows(&scene, &meshes).unwrap();
+    let pairs = scene_rows(&scene, &meshes, Search::Indexed).unwrap();
     let p = &pairs[0];
     assert_eq!(p.slave, 0);
     assert_eq!(p.candidates, p.rows.len() + p.unmatched);
@@ -1070,7 +1080,7 @@ fn tributary_lengths_sum_to_the_interface_length_on_meshed_fixtures() {
     ] {
         let scene = Scene::from_path(&root.join(name)).unwrap();
         let meshes = crate::model::mesh_scene(&scene, &MeshLimits::default()).unwrap();
-        let pairs = contact_rows(&scene, &meshes).unwrap();
+        let pairs = scene_rows(&scene, &meshes, Search::Indexed).unwrap();
         let p = &pairs[0];
         assert_eq!((p.unmatched, p.tributary_fallbacks), (0, 0), "{name}");
         let sum: f64 = p.rows.iter().map(|r| r.tributary).sum();

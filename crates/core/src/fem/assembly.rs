@@ -8,8 +8,7 @@ use nalgebra::DMatrix;
 
 use super::element::{self, Material};
 use super::Dofs;
-use crate::geometry::Point;
-use crate::mesh::{Cells, Mesh};
+use crate::mesh::Mesh;
 use crate::qp::CscMatrix;
 
 /// Sorted neighbour lists (each node is its own neighbour), in global node numbers.
@@ -89,19 +88,9 @@ fn scatter(values: &mut [f64], pattern: &Pattern, nodes: &[usize], ke: &DMatrix<
 
 /// Element stiffness of cell `c` of a mesh, as a dynamic matrix (6×6 or 8×8).
 pub fn cell_stiffness(mesh: &Mesh, c: usize, material: &Material, thickness: f64) -> DMatrix<f64> {
-    let d = material.elasticity();
-    match &mesh.cells {
-        Cells::Triangles(t) => {
-            let p: [Point; 3] = t[c].map(|n| mesh.nodes[n]);
-            let k = element::p1_stiffness(p, &d, thickness);
-            DMatrix::from_column_slice(6, 6, k.as_slice())
-        }
-        Cells::Quads(q) => {
-            let p: [Point; 4] = q[c].map(|n| mesh.nodes[n]);
-            let k = element::q1_stiffness(p, &d, thickness);
-            DMatrix::from_column_slice(8, 8, k.as_slice())
-        }
-    }
+    let mut points = Vec::with_capacity(4);
+    mesh.cell_points_into(c, &mut points);
+    element::of(mesh.cells.kind()).stiffness(&points, &material.elasticity(), thickness)
 }
 
 /// The full (all bodies, all DOFs, both triangles) stiffness matrix K = diag(K₁, K₂, …).
@@ -114,10 +103,14 @@ pub fn assemble_stiffness(
     let pattern = Pattern::new(meshes, dofs);
     let mut values = vec![0.0; pattern.row_idx.len()];
     let mut global = Vec::with_capacity(4);
+    let mut points = Vec::with_capacity(4);
     for (b, mesh) in meshes.iter().enumerate() {
         let off = dofs.node_offset(b);
+        let element = element::of(mesh.cells.kind());
+        let d = materials[b].elasticity();
         for c in 0..mesh.cells.len() {
-            let ke = cell_stiffness(mesh, c, &materials[b], thickness);
+            mesh.cell_points_into(c, &mut points);
+            let ke = element.stiffness(&points, &d, thickness);
             global.clear();
             global.extend(mesh.cells.cell(c).iter().map(|n| off + n));
             scatter(&mut values, &pattern, &global, &ke);
@@ -130,6 +123,7 @@ pub fn assemble_stiffness(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::Cells;
     use crate::scene::Plane;
 
     #[test]

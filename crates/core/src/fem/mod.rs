@@ -6,9 +6,8 @@
 pub mod assembly;
 pub mod element;
 
-use crate::geometry::{self, Point};
-use crate::mesh::{Cells, Mesh};
-use crate::scene::Scene;
+use crate::geometry;
+use crate::mesh::Mesh;
 
 pub use assembly::assemble_stiffness;
 pub use element::{von_mises, Material};
@@ -100,150 +99,20 @@ pub enum FemError {
 
 pub use crate::mesh::boundary_nodes;
 
-/// Prescribed DOF values from the scene's Dirichlet conditions: `Some(value)` for a fixed DOF.
-pub fn prescribed(
-    scene: &Scene,
-    meshes: &[Mesh],
-    dofs: &Dofs,
-) -> Result<Vec<Option<f64>>, FemError> {
-    let tol = scene.tolerance();
-    let mut fixed: Vec<Option<(f64, usize)>> = vec![None; dofs.len()];
-    for (k, d) in scene.dirichlet.iter().enumerate() {
-        let mesh = &meshes[d.body];
-        let mut matched = false;
-        for n in boundary_nodes(mesh) {
-            let p = mesh.nodes[n];
-            if !d.selects_node(&scene.bodies[d.body], n, p, tol) {
-                continue;
-            }
-            matched = true;
-            for c in 0..2 {
-                if !d.components[c] {
-                    continue;
-                }
-                let dof = dofs.dof(d.body, n, c);
-                let value = d.value[c];
-                match fixed[dof] {
-                    Some((old, first))
-                        if (old - value).abs() > 1e-12 * old.abs().max(value.abs()) =>
-                    {
-                        return Err(FemError::ConflictingDirichlet {
-                            first: first + 1,
-                            second: k + 1,
-                            body: scene.bodies[d.body].name.clone(),
-                            component: ["x", "y"][c],
-                            x: p[0],
-                            y: p[1],
-                            a: old,
-                            b: value,
-                        });
-                    }
-                    Some(_) => {}
-                    None => fixed[dof] = Some((value, k)),
-                }
-            }
-        }
-        if !matched {
-            return Err(FemError::EmptyRegion {
-                section: format!("dirichlet #{}", k + 1),
-                region: d.region,
-                body: scene.bodies[d.body].name.clone(),
-                what: "node",
-            });
-        }
-    }
-    Ok(fixed.into_iter().map(|f| f.map(|(v, _)| v)).collect())
-}
-
-/// Applied nodal forces (tractions and body forces) on all DOFs.
-pub fn applied_loads(scene: &Scene, meshes: &[Mesh], dofs: &Dofs) -> Result<Vec<f64>, FemError> {
-    let tol = scene.tolerance();
-    let t = scene.thickness;
-    let mut f = vec![0.0; dofs.len()];
-    for (k, nm) in scene.neumann.iter().enumerate() {
-        let mesh = &meshes[nm.body];
-        let mut matched = false;
-        for &[a, b] in &mesh.boundary {
-            let (pa, pb) = (mesh.nodes[a], mesh.nodes[b]);
-            if !nm.selects_edge(&scene.bodies[nm.body], [a, b], [pa, pb], tol) {
-                continue;
-            }
-            matched = true;
-            // The traction is linear along the edge: consistent loads L(2tₐ + t_b)/6, L(tₐ + 2t_b)/6.
-            let len = geometry::distance(pa, pb);
-            let (ta, tb) = (nm.traction.at(pa), nm.traction.at(pb));
-            for c in 0..2 {
-                f[dofs.dof(nm.body, a, c)] += t * len * (2.0 * ta[c] + tb[c]) / 6.0;
-                f[dofs.dof(nm.body, b, c)] += t * len * (ta[c] + 2.0 * tb[c]) / 6.0;
-            }
-        }
-        if !matched {
-            return Err(FemError::EmptyRegion {
-                section: format!("neumann #{}", k + 1),
-                region: nm.region,
-                body: scene.bodies[nm.body].name.clone(),
-                what: "edge",
-            });
-        }
-    }
-    if let Some(g) = scene.gravity {
-        for (b, (mesh, body)) in meshes.iter().zip(&scene.bodies).enumerate() {
-            let rho = body.density.unwrap_or(0.0);
-            let force = [rho * g[0], rho * g[1]];
-            for c in 0..mesh.cells.len() {
-                let nodes = mesh.cells.cell(c);
-                let fe: Vec<f64> = match &mesh.cells {
-                    Cells::Triangles(tr) => {
-                        element::p1_body_force(tr[c].map(|n| mesh.nodes[n]), force, t)
-                            .iter()
-                            .copied()
-                            .collect()
-                    }
-                    Cells::Quads(q) => {
-                        element::q1_body_force(q[c].map(|n| mesh.nodes[n]), force, t)
-                            .iter()
-                            .copied()
-                            .collect()
-                    }
-                };
-                for (a, &n) in nodes.iter().enumerate() {
-                    f[dofs.dof(b, n, 0)] += fe[2 * a];
-                    f[dofs.dof(b, n, 1)] += fe[2 * a + 1];
-                }
-            }
-        }
-    }
-    Ok(f)
-}
-
 /// Stresses (σₓₓ, σᵧᵧ, σₓᵧ, σ_zz) per cell (P1: exact constant; Q1: at the centroid).
 pub fn cell_stresses(mesh: &Mesh, material: &Material, displacement: &[[f64; 2]]) -> Vec<[f64; 4]> {
     let d = material.elasticity();
-    let finish = |s: nalgebra::SVector<f64, 3>| [s[0], s[1], s[2], material.sigma_zz(s[0], s[1])];
-    match &mesh.cells {
-        Cells::Triangles(t) => t
-            .iter()
-            .map(|cell| {
-                let p: [Point; 3] = cell.map(|n| mesh.nodes[n]);
-                let (b, _) = element::p1_strain(p);
-                let u = nalgebra::SVector::<f64, 6>::from_iterator(
-                    cell.iter().flat_map(|&n| displacement[n]),
-                );
-                finish(d * (b * u))
-            })
-            .collect(),
-        Cells::Quads(q) => q
-            .iter()
-            .map(|cell| {
-                let p: [Point; 4] = cell.map(|n| mesh.nodes[n]);
-                let (b, _) = element::q1_strain(p, 0.0, 0.0);
-                let u = nalgebra::SVector::<f64, 8>::from_iterator(
-                    cell.iter().flat_map(|&n| displacement[n]),
-                );
-                finish(d * (b * u))
-            })
-            .collect(),
-    }
+    let element = element::of(mesh.cells.kind());
+    let (mut points, mut u) = (Vec::new(), Vec::new());
+    (0..mesh.cells.len())
+        .map(|c| {
+            mesh.cell_points_into(c, &mut points);
+            u.clear();
+            u.extend(mesh.cells.cell(c).iter().map(|&n| displacement[n]));
+            let s = d * element.centre_strain(&points, &u);
+            [s[0], s[1], s[2], material.sigma_zz(s[0], s[1])]
+        })
+        .collect()
 }
 
 /// Rigid-body modes of body `b` that its fixed DOFs do not remove, as full-length DOF vectors

@@ -111,6 +111,14 @@ impl Cells {
         self.len() == 0
     }
 
+    /// The element these cells are.
+    pub fn kind(&self) -> ElementKind {
+        match self {
+            Cells::Triangles(_) => ElementKind::P1,
+            Cells::Quads(_) => ElementKind::Q1,
+        }
+    }
+
     /// Node indices of cell `i` (3 or 4 of them).
     pub fn cell(&self, i: usize) -> &[usize] {
         match self {
@@ -142,6 +150,15 @@ impl Mesh {
             cells: Cells::Triangles(Vec::new()),
             boundary: (0..n).map(|i| [i, (i + 1) % n]).collect(),
         }
+    }
+}
+
+impl Mesh {
+    /// Writes the coordinates of cell `c`'s nodes into `points` (cleared first): one buffer
+    /// reused across cells, no allocation per cell.
+    pub fn cell_points_into(&self, c: usize, points: &mut Vec<Point>) {
+        points.clear();
+        points.extend(self.cells.cell(c).iter().map(|&n| self.nodes[n]));
     }
 }
 

@@ -31,7 +31,8 @@
 //! insensitive to a perturbation of its own u, since Σ_F K δu = 0 there; its balance then tests
 //! the multipliers against the applied loads.)
 
-use crate::geometry;
+use crate::effects::Effects;
+use crate::geometry::Point;
 use crate::model::Model;
 use crate::scene::Scene;
 use crate::solve::contact_forces;
@@ -74,35 +75,17 @@ pub struct ForceBalance {
     pub relative: f64,
 }
 
-/// Applied loads per body, integrated analytically from the scene (see the module docs).
+/// Applied loads per body, integrated analytically from the scene's effects (see the module
+/// docs): tractions over the selected edges, gravity over the bodies' outlines.
 pub fn applied_loads(scene: &Scene, model: &Model) -> Vec<[f64; 2]> {
-    let tol = scene.tolerance();
-    let t = scene.thickness;
+    let effects = Effects::of(scene);
     let mut applied = vec![[0.0; 2]; model.meshes.len()];
-    for nm in &scene.neumann {
-        let Some(mesh) = model.meshes.get(nm.body) else {
-            continue;
-        };
-        for &[a, b] in &mesh.boundary {
-            let (pa, pb) = (mesh.nodes[a], mesh.nodes[b]);
-            if !nm.selects_edge(&scene.bodies[nm.body], [a, b], [pa, pb], tol) {
-                continue;
-            }
-            // ∫ t ds over a straight edge of a linear field = length × mean of the end values.
-            let len = geometry::distance(pa, pb);
-            let (ta, tb) = (nm.traction.at(pa), nm.traction.at(pb));
-            for c in 0..2 {
-                applied[nm.body][c] += t * len * 0.5 * (ta[c] + tb[c]);
-            }
-        }
+    if let Some(tractions) = &effects.tractions {
+        tractions.add_resultants(&model.meshes, &mut applied);
     }
-    if let Some(g) = scene.gravity {
-        for (b, body) in scene.bodies.iter().enumerate().take(applied.len()) {
-            let mass = body.density.unwrap_or(0.0) * geometry::signed_area(&body.polygon).abs() * t;
-            for c in 0..2 {
-                applied[b][c] += mass * g[c];
-            }
-        }
+    if let Some(body_force) = &effects.body_force {
+        let outlines: Vec<&[Point]> = scene.bodies.iter().map(|b| b.polygon.as_slice()).collect();
+        body_force.add_resultants(&outlines, &mut applied);
     }
     applied
 }

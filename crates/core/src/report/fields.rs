@@ -3,7 +3,7 @@
 
 use crate::fem::{self, element};
 use crate::geometry::Point;
-use crate::mesh::{Cells, Mesh};
+use crate::mesh::Mesh;
 use crate::model::Model;
 use crate::solve::Solution;
 
@@ -36,81 +36,13 @@ pub fn interpolate(mesh: &Mesh, u: &[[f64; 2]], point: Point, tol: f64) -> Optio
         }
         r
     };
-    match &mesh.cells {
-        Cells::Triangles(t) => t.iter().find_map(|c| {
-            let [a, b, d] = c.map(|n| mesh.nodes[n]);
-            let area = crate::geometry::orient(a, b, d);
-            let w = [
-                crate::geometry::orient(point, b, d) / area,
-                crate::geometry::orient(a, point, d) / area,
-                crate::geometry::orient(a, b, point) / area,
-            ];
-            let eps = tol / crate::geometry::distance(a, b).max(f64::MIN_POSITIVE);
-            w.iter().all(|x| *x >= -eps).then(|| combine(c, &w))
-        }),
-        Cells::Quads(q) => q.iter().find_map(|c| {
-            let p = c.map(|n| mesh.nodes[n]);
-            let (xi, eta) = quad_local(p, point)?;
-            let eps = 1e-9;
-            if xi.abs() > 1.0 + eps || eta.abs() > 1.0 + eps {
-                return None;
-            }
-            let w = [
-                0.25 * (1.0 - xi) * (1.0 - eta),
-                0.25 * (1.0 + xi) * (1.0 - eta),
-                0.25 * (1.0 + xi) * (1.0 + eta),
-                0.25 * (1.0 - xi) * (1.0 + eta),
-            ];
-            Some(combine(c, &w))
-        }),
-    }
-}
-
-/// Local coordinates (ξ, η) of a point in a bilinear quad, by Newton's method.
-fn quad_local(p: [Point; 4], x: Point) -> Option<(f64, f64)> {
-    let (mut xi, mut eta) = (0.0_f64, 0.0_f64);
-    for _ in 0..30 {
-        let n = [
-            0.25 * (1.0 - xi) * (1.0 - eta),
-            0.25 * (1.0 + xi) * (1.0 - eta),
-            0.25 * (1.0 + xi) * (1.0 + eta),
-            0.25 * (1.0 - xi) * (1.0 + eta),
-        ];
-        let dxi = [
-            -0.25 * (1.0 - eta),
-            0.25 * (1.0 - eta),
-            0.25 * (1.0 + eta),
-            -0.25 * (1.0 + eta),
-        ];
-        let deta = [
-            -0.25 * (1.0 - xi),
-            -0.25 * (1.0 + xi),
-            0.25 * (1.0 + xi),
-            0.25 * (1.0 - xi),
-        ];
-        let (mut fx, mut fy, mut j11, mut j12, mut j21, mut j22) =
-            (-x[0], -x[1], 0.0, 0.0, 0.0, 0.0);
-        for a in 0..4 {
-            fx += n[a] * p[a][0];
-            fy += n[a] * p[a][1];
-            j11 += dxi[a] * p[a][0];
-            j12 += deta[a] * p[a][0];
-            j21 += dxi[a] * p[a][1];
-            j22 += deta[a] * p[a][1];
-        }
-        let det = j11 * j22 - j12 * j21;
-        if det == 0.0 || !det.is_finite() {
-            return None;
-        }
-        let dx = (j22 * fx - j12 * fy) / det;
-        let dy = (-j21 * fx + j11 * fy) / det;
-        xi -= dx;
-        eta -= dy;
-        if dx.abs() + dy.abs() < 1e-14 {
-            break;
-        }
-    }
-    (xi.is_finite() && eta.is_finite()).then_some((xi, eta))
+    let element = element::of(mesh.cells.kind());
+    let mut points = Vec::with_capacity(element.nodes());
+    (0..mesh.cells.len()).find_map(|c| {
+        mesh.cell_points_into(c, &mut points);
+        let w = element.weights_at(&points, point, tol)?;
+        Some(combine(mesh.cells.cell(c), &w))
+    })
 }
 
 /// Fields per body (displacement, stresses, contact pressure) for the output files.

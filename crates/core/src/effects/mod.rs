@@ -1,0 +1,157 @@
+//! The physical effects a scene names, each a typed input built once from the scene and each
+//! contributing to the model only when the scene names it: supports ([`supports`]), surface
+//! tractions ([`tractions`]), the body force ([`body_force`]) and contact ([`contact`]).
+//!
+//! [`Effects::of`] is the one place that reads the scene's sections into these values; the
+//! numerics behind them (FEM loads, the contact search) take the typed values, never the scene.
+//! Assembly ([`crate::model::assemble`]) runs every named effect's [`Contribution`] in the
+//! order [`Effects::contributions`] gives — loads, then supports, then (after the model has
+//! checked that supports or contact pairs hold every body) the constraints — into one
+//! [`ModelParts`].  Adding an effect is one file here, one field of [`Effects`] and one variant
+//! of [`Effect`] (docs/architecture.md, "Adding an effect").
+
+pub mod body_force;
+pub mod contact;
+pub mod select;
+pub mod supports;
+pub mod tractions;
+
+use serde::Serialize;
+
+use crate::contact::{ContactError, PairRows};
+use crate::fem::{Dofs, FemError};
+use crate::mesh::Mesh;
+use crate::scene::Scene;
+
+pub use body_force::BodyForce;
+pub use contact::ContactEffect;
+pub use select::Selection;
+pub use supports::Supports;
+pub use tractions::Tractions;
+
+/// Something that a scene asks the program to simulate (listed in `result.json`'s `effects`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, schemars::JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Effect {
+    /// Prescribed displacements.
+    Dirichlet,
+    /// Surface tractions.
+    Neumann,
+    /// Body force from `[model] gravity`.
+    Gravity,
+    /// Contact constraints (a QP instead of one linear solve).
+    Contact,
+}
+
+/// Why an effect could not contribute.
+#[derive(Debug, thiserror::Error)]
+pub enum EffectError {
+    /// Supports or loads are inconsistent with the mesh.
+    #[error(transparent)]
+    Fem(#[from] FemError),
+    /// Contact rows could not be built.
+    #[error(transparent)]
+    Contact(#[from] ContactError),
+}
+
+/// What the effects contribute to: the meshes and their numbering.
+#[derive(Debug, Clone, Copy)]
+pub struct Discretisation<'m> {
+    /// Per-body meshes, in scene order.
+    pub meshes: &'m [Mesh],
+    /// Global numbering of their nodes and DOFs.
+    pub dofs: &'m Dofs,
+}
+
+/// The model's parts the effects fill in.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelParts {
+    /// Applied nodal forces on all DOFs.
+    pub load: Vec<f64>,
+    /// Prescribed value of each DOF with the 0-based support that prescribed it first
+    /// (`None`: free).
+    pub fixed: Vec<Option<(f64, usize)>>,
+    /// Contact rows per pair, in pair order.
+    pub pairs: Vec<PairRows>,
+}
+
+impl ModelParts {
+    /// Nothing contributed yet: no load, no support, no row, on `dofs` unknowns.
+    pub fn empty(dofs: usize) -> Self {
+        Self {
+            load: vec![0.0; dofs],
+            fixed: vec![None; dofs],
+            pairs: Vec::new(),
+        }
+    }
+
+    /// The prescribed value of each DOF (`None`: free).
+    pub fn prescribed(&self) -> Vec<Option<f64>> {
+        self.fixed.iter().map(|f| f.map(|(v, _)| v)).collect()
+    }
+}
+
+/// An effect's contribution to the model.
+pub trait Contribution {
+    /// Which effect this is.
+    fn effect(&self) -> Effect;
+
+    /// True for constraints that need every support in place first (contact rows are screened
+    /// against the prescribed DOFs, and run only once supports or pairs hold every body).
+    fn after_supports(&self) -> bool {
+        false
+    }
+
+    /// Adds this effect's part to `parts`.
+    fn contribute(&self, on: Discretisation<'_>, parts: &mut ModelParts)
+        -> Result<(), EffectError>;
+}
+
+/// The effects a scene names, as typed inputs (`None` or empty: not named, not simulated).
+#[derive(Debug, Clone)]
+pub struct Effects<'a> {
+    /// `[[neumann]]`.
+    pub tractions: Option<Tractions<'a>>,
+    /// `[model] gravity` with the bodies' densities.
+    pub body_force: Option<BodyForce>,
+    /// `[[dirichlet]]`.
+    pub supports: Option<Supports<'a>>,
+    /// `[[contact]]`.
+    pub contact: Option<ContactEffect<'a>>,
+}
+
+impl<'a> Effects<'a> {
+    /// The effects `scene` names, read into their typed inputs.
+    pub fn of(scene: &'a Scene) -> Self {
+        Self {
+            tractions: (!scene.neumann.is_empty()).then(|| Tractions::of(scene)),
+            body_force: scene.gravity.map(|g| BodyForce::of(scene, g)),
+            supports: (!scene.dirichlet.is_empty()).then(|| Supports::of(scene)),
+            contact: (!scene.contacts.is_empty()).then(|| ContactEffect::of(scene)),
+        }
+    }
+
+    /// The named effects' contributions, in assembly order: loads (tractions, body force), then
+    /// supports, then contact — also the order in which their refusals are reported.
+    pub fn contributions(&self) -> Vec<&dyn Contribution> {
+        let mut list: Vec<&dyn Contribution> = Vec::new();
+        if let Some(t) = &self.tractions {
+            list.push(t);
+        }
+        if let Some(b) = &self.body_force {
+            list.push(b);
+        }
+        if let Some(s) = &self.supports {
+            list.push(s);
+        }
+        if let Some(c) = &self.contact {
+            list.push(c);
+        }
+        list
+    }
+
+    /// True when some contact pair has body `b` as one of its sides.
+    pub fn in_contact(&self, b: usize) -> bool {
+        self.contact.as_ref().is_some_and(|c| c.touches(b))
+    }
+}
