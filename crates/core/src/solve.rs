@@ -103,48 +103,7 @@ pub fn solve_scaled(
     let units = qp.scaling;
     let energy = units.stiffness * units.displacement * units.displacement;
     if problem.rows() == 0 {
-        if !problem.kernel.is_empty() {
-            return Err(SolveError::Floating {
-                modes: problem.kernel.len(),
-            });
-        }
-        let start = Instant::now();
-        let mut x = problem.load.clone();
-        if problem.dofs() > 0 {
-            match SparseCholesky::factor(&problem.stiffness) {
-                Ok(factor) => factor.solve_in_place(&mut x),
-                // The scene was valid and held (assembly checked the rigid modes): a factorisation
-                // that breaks down is this solve's numerical failure (a stiffness contrast beyond
-                // the floating-point range, say), a status with its reason, not a refusal.
-                Err(e) => {
-                    return Ok(Solution::no_answer(
-                        DIRECT,
-                        model,
-                        0,
-                        start.elapsed(),
-                        format!("the sparse Cholesky factorisation failed: {e}"),
-                    ));
-                }
-            }
-        }
-        let elapsed = start.elapsed();
-        let residuals = kkt_residuals(problem, &x, &[]).with_length_scale(units.displacement);
-        let status = checked_status(QpStatus::Solved, &residuals, options.tol);
-        let objective = problem.objective(&x) * energy;
-        x.iter_mut().for_each(|v| *v *= units.displacement);
-        return Ok(Solution {
-            backend: DIRECT.to_string(),
-            objective,
-            displacement: model.expand(&x),
-            multipliers: Vec::new(),
-            status,
-            backend_status: QpStatus::Solved,
-            iterations: 0,
-            residuals,
-            solve_time: elapsed,
-            message: None,
-        }
-        .checked_finite());
+        return solve_direct(model, qp, options);
     }
     let force_unit = units.stiffness * units.displacement;
     if !(units.displacement.is_finite() && force_unit.is_finite() && force_unit > 0.0) {
@@ -203,6 +162,60 @@ pub fn solve_scaled(
         objective,
         solve_time: elapsed,
         message: solution.message,
+    }
+    .checked_finite())
+}
+
+/// The solve without contact rows: one sparse Cholesky factorisation of the scaled stiffness
+/// (refused when rigid modes are free, since nothing holds the bodies).
+fn solve_direct(
+    model: &Model,
+    qp: &ScaledQp,
+    options: &SolveOptions,
+) -> Result<Solution, SolveError> {
+    let problem = &qp.problem;
+    let units = qp.scaling;
+    let energy = units.stiffness * units.displacement * units.displacement;
+    if !problem.kernel.is_empty() {
+        return Err(SolveError::Floating {
+            modes: problem.kernel.len(),
+        });
+    }
+    let start = Instant::now();
+    let mut x = problem.load.clone();
+    if problem.dofs() > 0 {
+        match SparseCholesky::factor(&problem.stiffness) {
+            Ok(factor) => factor.solve_in_place(&mut x),
+            // The scene was valid and held (assembly checked the rigid modes): a factorisation
+            // that breaks down is this solve's numerical failure (a stiffness contrast beyond
+            // the floating-point range, say), a status with its reason, not a refusal.
+            Err(e) => {
+                return Ok(Solution::no_answer(
+                    DIRECT,
+                    model,
+                    0,
+                    start.elapsed(),
+                    format!("the sparse Cholesky factorisation failed: {e}"),
+                ));
+            }
+        }
+    }
+    let elapsed = start.elapsed();
+    let residuals = kkt_residuals(problem, &x, &[]).with_length_scale(units.displacement);
+    let status = checked_status(QpStatus::Solved, &residuals, options.tol);
+    let objective = problem.objective(&x) * energy;
+    x.iter_mut().for_each(|v| *v *= units.displacement);
+    Ok(Solution {
+        backend: DIRECT.to_string(),
+        objective,
+        displacement: model.expand(&x),
+        multipliers: Vec::new(),
+        status,
+        backend_status: QpStatus::Solved,
+        iterations: 0,
+        residuals,
+        solve_time: elapsed,
+        message: None,
     }
     .checked_finite())
 }
