@@ -8,7 +8,7 @@
 //! For each contact pair, candidate boundary nodes are those in the pair's region box (or, with no
 //! box, within one element size of the other body).  The side with more candidates is the slave
 //! (unless the scene names it).  The master's candidate segments are its boundary edges with both
-//! ends candidates and, with a box, those that cross it ([`master_segments`]).  Each slave node X is projected onto the closest master segment
+//! ends candidates and, with a box, those that cross it (`master_segments`).  Each slave node X is projected onto the closest master segment
 //! A–B, X ≈ Y = (1 − t) A + t B, and gives one row
 //!
 //! ```text
