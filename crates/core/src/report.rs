@@ -36,6 +36,51 @@ pub fn run_report(
 ) -> RunReport {
     let u = &solution.displacement;
     let balance = force_balance(scene, model, u, &solution.multipliers);
+    let bodies = body_reports(scene, model, fields, &balance);
+    let (contacts, active_total) = contact_reports(scene, model, solution);
+    let probes = probe_reports(scene, model, fields);
+    RunReport {
+        scene: scene.title.clone(),
+        backend: solution.backend.clone(),
+        status: solution.status.as_str().to_string(),
+        tolerance,
+        effects: model.effects.clone(),
+        dofs: model.free.len(),
+        constraints: model.rows(),
+        active_constraints: active_total,
+        iterations: solution.iterations,
+        objective: solution.objective,
+        residuals: solution.residuals,
+        timing_s: timings,
+        bodies,
+        contacts,
+        probes,
+        force_balance: balance.relative,
+        message: solution.message.clone(),
+        backend_status: solution.backend_status.as_str().to_string(),
+        warnings: model
+            .warnings
+            .iter()
+            .map(|w| WarningReport {
+                message: w.to_string(),
+                warning: w.clone(),
+            })
+            .collect(),
+        attempts: Vec::new(),
+        chosen: None,
+        reason: None,
+        provenance: None,
+    }
+}
+
+/// One [`BodyReport`] per body: its size, largest displacement and von Mises stress, and its
+/// force balance.
+fn body_reports(
+    scene: &Scene,
+    model: &Model,
+    fields: &[BodyFields],
+    balance: &ForceBalance,
+) -> Vec<BodyReport> {
     let mut bodies = Vec::with_capacity(model.meshes.len());
     for (b, mesh) in model.meshes.iter().enumerate() {
         let figures = balance.bodies.get(b).copied().unwrap_or_default();
@@ -55,8 +100,18 @@ pub fn run_report(
             max_von_mises: f.von_mises.iter().copied().fold(0.0, f64::max),
         });
     }
+    bodies
+}
+
+/// One [`ContactReport`] per contact pair (its rows in order, with their gaps, multipliers and
+/// arc positions), and the number of active rows over all pairs.
+fn contact_reports(
+    scene: &Scene,
+    model: &Model,
+    solution: &Solution,
+) -> (Vec<ContactReport>, usize) {
     let largest = active_scale(model, solution);
-    let bu = mat_vec(&model.constraints, u);
+    let bu = mat_vec(&model.constraints, &solution.displacement);
     let mut contacts = Vec::with_capacity(model.contacts.len());
     let mut row = 0;
     let mut active_total = 0;
@@ -100,8 +155,14 @@ pub fn run_report(
             nodes,
         });
     }
+    (contacts, active_total)
+}
+
+/// One [`ProbeReport`] per probe: the displacement interpolated at its point (NaN when the point
+/// lies in no element).
+fn probe_reports(scene: &Scene, model: &Model, fields: &[BodyFields]) -> Vec<ProbeReport> {
     let tol = scene.tolerance();
-    let probes = scene
+    scene
         .probes
         .iter()
         .map(|p| ProbeReport {
@@ -116,37 +177,5 @@ pub fn run_report(
             )
             .unwrap_or([f64::NAN, f64::NAN]),
         })
-        .collect();
-    RunReport {
-        scene: scene.title.clone(),
-        backend: solution.backend.clone(),
-        status: solution.status.as_str().to_string(),
-        tolerance,
-        effects: model.effects.clone(),
-        dofs: model.free.len(),
-        constraints: model.rows(),
-        active_constraints: active_total,
-        iterations: solution.iterations,
-        objective: solution.objective,
-        residuals: solution.residuals,
-        timing_s: timings,
-        bodies,
-        contacts,
-        probes,
-        force_balance: balance.relative,
-        message: solution.message.clone(),
-        backend_status: solution.backend_status.as_str().to_string(),
-        warnings: model
-            .warnings
-            .iter()
-            .map(|w| WarningReport {
-                message: w.to_string(),
-                warning: w.clone(),
-            })
-            .collect(),
-        attempts: Vec::new(),
-        chosen: None,
-        reason: None,
-        provenance: None,
-    }
+        .collect()
 }

@@ -183,6 +183,25 @@ fn triangulate(
     vertex_budget: usize,
 ) -> Result<Mesh, MeshError> {
     let n = boundary.len();
+    let mut cdt = initial_cdt(boundary, h, field, normaliser)?;
+    let split = Splitter {
+        field,
+        uniform2: threshold2(h),
+        max_vertices: n.saturating_add(vertex_budget),
+    };
+    let inside = refine(&mut cdt, n, h, limits, &split)?;
+    Ok(extract(&cdt, &inside, n, normaliser, boundary))
+}
+
+/// The constrained Delaunay triangulation of the boundary (in the unit box) and the interior
+/// seeds; refuses a boundary whose edges cross or touch, or whose points merge when snapped.
+fn initial_cdt(
+    boundary: &[Point],
+    h: f64,
+    field: Option<&SizeField>,
+    normaliser: &Normaliser,
+) -> Result<Cdt, MeshError> {
+    let n = boundary.len();
     let mut vertices: Vec<Point2<f64>> = boundary.iter().map(|&p| normaliser.to_unit(p)).collect();
     let unit: Vec<Point> = vertices.iter().map(|p| [p.x, p.y]).collect();
     let seeds = match field {
@@ -193,7 +212,7 @@ fn triangulate(
     vertices.extend(seeds.into_iter().map(|[x, y]| Point2::new(x, y)));
     let edges: Vec<[usize; 2]> = (0..n).map(|i| [i, (i + 1) % n]).collect();
     let mut conflicts = 0usize;
-    let mut cdt = Cdt::try_bulk_load_cdt(vertices, edges, |_| conflicts += 1).map_err(|e| {
+    let cdt = Cdt::try_bulk_load_cdt(vertices, edges, |_| conflicts += 1).map_err(|e| {
         MeshError::Triangulation {
             reason: format!("constrained Delaunay triangulation failed: {e:?}"),
         }
@@ -207,118 +226,157 @@ fn triangulate(
             ),
         });
     }
+    Ok(cdt)
+}
 
-    // Decisions are taken on the snapped h with a margin that covers the difference between the
-    // snapped boundary points spade sees and the original ones the mesh returns.
-    let threshold2 = |h: f64| {
-        let margin = 1e-9 + 4.0 * GRID / h;
-        (h * (1.0 - margin)).powi(2)
-    };
-    let uniform2 = threshold2(h);
-    let too_long = |length2: f64, centre: Point2<f64>| match field {
-        None => length2 > uniform2,
-        Some(field) => length2 > threshold2(field.at([centre.x, centre.y])),
-    };
-    let max_vertices = n.saturating_add(vertex_budget);
-    let parameters = |cdt: &Cdt| {
-        RefinementParameters::<f64>::new()
-            .with_angle_limit(AngleLimit::from_deg(limits.min_angle_deg))
-            .with_max_allowed_area(AREA_FACTOR * h * h)
-            .keep_constraint_edges()
-            .exclude_outer_faces(true)
-            .with_max_additional_vertices(max_vertices.saturating_sub(cdt.num_vertices()))
-    };
+/// The squared length above which an edge of target size `h` is split.  Decisions are taken on
+/// the snapped h with a margin that covers the difference between the snapped boundary points
+/// spade sees and the original ones the mesh returns.
+fn threshold2(h: f64) -> f64 {
+    let margin = 1e-9 + 4.0 * GRID / h;
+    (h * (1.0 - margin)).powi(2)
+}
 
+/// Which edges are too long, and how many vertices the mesh may have.
+struct Splitter<'a> {
+    /// The graded size function, if any.
+    field: Option<&'a SizeField>,
+    /// [`threshold2`] of the uniform size.
+    uniform2: f64,
+    /// Boundary points plus the vertex budget.
+    max_vertices: usize,
+}
+
+impl Splitter<'_> {
+    /// True when an edge of squared length `length2` centred at `centre` must be split.
+    fn too_long(&self, length2: f64, centre: Point2<f64>) -> bool {
+        match self.field {
+            None => length2 > self.uniform2,
+            Some(field) => length2 > threshold2(field.at([centre.x, centre.y])),
+        }
+    }
+
+    /// The refusal of a mesh that needs more than [`Splitter::max_vertices`].
+    fn budget_exceeded(&self, cdt: &Cdt) -> MeshError {
+        MeshError::RefinementIncomplete {
+            vertices: cdt.num_vertices(),
+            budget: self.max_vertices,
+        }
+    }
+}
+
+/// Ruppert refinement, then rounds of "split the edges longer than hmax" (a full Ruppert pass
+/// again only when a split left an angle below the limit); returns the inside faces.
+fn refine(
+    cdt: &mut Cdt,
+    n: usize,
+    h: f64,
+    limits: &MeshLimits,
+    split: &Splitter,
+) -> Result<Vec<bool>, MeshError> {
     let limit = limits.min_angle_deg;
     let mut refine = true;
     let mut rounds = 0;
-    let inside = loop {
+    loop {
         if refine {
-            let result = cdt.refine(parameters(&cdt));
-            if !result.refinement_complete {
-                return Err(MeshError::RefinementIncomplete {
-                    vertices: cdt.num_vertices(),
-                    budget: max_vertices,
-                });
-            }
+            ruppert(cdt, h, limits, split)?;
         }
-        let inside = inside_faces(&cdt, n)?;
-        let long = long_edge_midpoints(&cdt, &inside, &too_long);
+        let inside = inside_faces(cdt, n)?;
+        let long = long_edge_midpoints(cdt, &inside, &|l, c| split.too_long(l, c));
         if long.is_empty() {
-            break inside;
+            return Ok(inside);
         }
         rounds += 1;
-        if rounds > MAX_ROUNDS || cdt.num_vertices().saturating_add(long.len()) > max_vertices {
-            return Err(MeshError::RefinementIncomplete {
-                vertices: cdt.num_vertices(),
-                budget: max_vertices,
-            });
+        if rounds > MAX_ROUNDS || cdt.num_vertices().saturating_add(long.len()) > split.max_vertices
+        {
+            return Err(split.budget_exceeded(cdt));
         }
-        let mut worst = 180.0_f64;
-        let mut inserted = Vec::with_capacity(long.len());
-        for (p, hint) in long {
-            let v = cdt
-                .insert_with_hint(p, hint)
-                .map_err(|e| MeshError::Triangulation {
-                    reason: format!("inserting an edge midpoint failed: {e:?}"),
-                })?;
-            inserted.push(v);
-        }
-        for &v in &inserted {
-            for edge in cdt.vertex(v).out_edges() {
-                if let Some(face) = edge.face().as_inner() {
-                    worst = worst.min(face_min_angle(face.positions()));
-                }
-            }
-        }
-        if field.is_some() || rounds > LOCAL_AFTER {
-            // Graded (or a long uniform cascade, see LOCAL_AFTER): splits cascade along the size function's level changes a few edges at a
-            // time, so follow them locally (the edges at the new vertices, all inside) instead
-            // of one full scan per step.
-            let mut frontier = inserted;
-            loop {
-                let mut local: Vec<(Point2<f64>, FixedVertexHandle)> = frontier
-                    .iter()
-                    .flat_map(|&v| cdt.vertex(v).out_edges().map(move |e| (v, e)))
-                    .filter(|(_, e)| {
-                        let u = e.as_undirected();
-                        !u.is_constraint_edge() && too_long(u.length_2(), u.center())
-                    })
-                    .map(|(v, e)| (e.as_undirected().center(), v))
-                    .collect();
-                local.sort_by(|a, b| a.0.x.total_cmp(&b.0.x).then(a.0.y.total_cmp(&b.0.y)));
-                local.dedup_by(|a, b| a.0 == b.0);
-                if local.is_empty() {
-                    break;
-                }
-                if cdt.num_vertices().saturating_add(local.len()) > max_vertices {
-                    return Err(MeshError::RefinementIncomplete {
-                        vertices: cdt.num_vertices(),
-                        budget: max_vertices,
-                    });
-                }
-                frontier = Vec::with_capacity(local.len());
-                for (p, hint) in local {
-                    let v =
-                        cdt.insert_with_hint(p, hint)
-                            .map_err(|e| MeshError::Triangulation {
-                                reason: format!("inserting an edge midpoint failed: {e:?}"),
-                            })?;
-                    frontier.push(v);
-                }
-                for &v in &frontier {
-                    for edge in cdt.vertex(v).out_edges() {
-                        if let Some(face) = edge.face().as_inner() {
-                            worst = worst.min(face_min_angle(face.positions()));
-                        }
-                    }
-                }
-            }
+        let inserted = insert_midpoints(cdt, long)?;
+        let mut worst = worst_angle_at(cdt, &inserted, 180.0);
+        if split.field.is_some() || rounds > LOCAL_AFTER {
+            // Graded (or a long uniform cascade, see LOCAL_AFTER): splits cascade along the
+            // size function's level changes a few edges at a time, so follow them locally
+            // instead of one full scan per step.
+            worst = follow_cascade(cdt, inserted, split, worst)?;
         }
         // Refine again (a full pass) only when splitting left an angle below the limit.
         refine = worst < limit - 1e-9;
-    };
-    Ok(extract(&cdt, &inside, n, normaliser, boundary))
+    }
+}
+
+/// One pass of spade's Ruppert refinement with the angle limit and an area bound.
+fn ruppert(cdt: &mut Cdt, h: f64, limits: &MeshLimits, split: &Splitter) -> Result<(), MeshError> {
+    let parameters = RefinementParameters::<f64>::new()
+        .with_angle_limit(AngleLimit::from_deg(limits.min_angle_deg))
+        .with_max_allowed_area(AREA_FACTOR * h * h)
+        .keep_constraint_edges()
+        .exclude_outer_faces(true)
+        .with_max_additional_vertices(split.max_vertices.saturating_sub(cdt.num_vertices()));
+    let result = cdt.refine(parameters);
+    if !result.refinement_complete {
+        return Err(split.budget_exceeded(cdt));
+    }
+    Ok(())
+}
+
+/// Inserts edge midpoints (each with a nearby vertex as hint); returns the new vertices.
+fn insert_midpoints(
+    cdt: &mut Cdt,
+    points: Vec<(Point2<f64>, FixedVertexHandle)>,
+) -> Result<Vec<FixedVertexHandle>, MeshError> {
+    let mut inserted = Vec::with_capacity(points.len());
+    for (p, hint) in points {
+        let v = cdt
+            .insert_with_hint(p, hint)
+            .map_err(|e| MeshError::Triangulation {
+                reason: format!("inserting an edge midpoint failed: {e:?}"),
+            })?;
+        inserted.push(v);
+    }
+    Ok(inserted)
+}
+
+/// The smallest of `worst` and the angles of the inner faces at `vertices`, in degrees.
+fn worst_angle_at(cdt: &Cdt, vertices: &[FixedVertexHandle], mut worst: f64) -> f64 {
+    for &v in vertices {
+        for edge in cdt.vertex(v).out_edges() {
+            if let Some(face) = edge.face().as_inner() {
+                worst = worst.min(face_min_angle(face.positions()));
+            }
+        }
+    }
+    worst
+}
+
+/// Splits the long edges at the `frontier` (the vertices just inserted), then at the vertices
+/// that inserts, until none is left; returns the smallest of `worst` and the new faces' angles.
+fn follow_cascade(
+    cdt: &mut Cdt,
+    mut frontier: Vec<FixedVertexHandle>,
+    split: &Splitter,
+    mut worst: f64,
+) -> Result<f64, MeshError> {
+    loop {
+        let mut local: Vec<(Point2<f64>, FixedVertexHandle)> = frontier
+            .iter()
+            .flat_map(|&v| cdt.vertex(v).out_edges().map(move |e| (v, e)))
+            .filter(|(_, e)| {
+                let u = e.as_undirected();
+                !u.is_constraint_edge() && split.too_long(u.length_2(), u.center())
+            })
+            .map(|(v, e)| (e.as_undirected().center(), v))
+            .collect();
+        local.sort_by(|a, b| a.0.x.total_cmp(&b.0.x).then(a.0.y.total_cmp(&b.0.y)));
+        local.dedup_by(|a, b| a.0 == b.0);
+        if local.is_empty() {
+            return Ok(worst);
+        }
+        if cdt.num_vertices().saturating_add(local.len()) > split.max_vertices {
+            return Err(split.budget_exceeded(cdt));
+        }
+        frontier = insert_midpoints(cdt, local)?;
+        worst = worst_angle_at(cdt, &frontier, worst);
+    }
 }
 
 /// Marks the faces inside the polygon (indexed by face index): flood fill from the left sides

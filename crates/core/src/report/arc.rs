@@ -46,145 +46,205 @@ pub struct ArcPosition {
 /// Indices outside the mesh get `piece = usize::MAX` and `s = NaN` (they cannot occur in a
 /// model built by [`crate::contact::contact_rows`]).
 pub fn interface_arc(mesh: &Mesh, nodes: &[usize]) -> Vec<ArcPosition> {
-    let n = mesh.nodes.len();
-    // Distinct row nodes, in a dense numbering.
-    let mut local = vec![usize::MAX; n];
-    let mut members: Vec<usize> = Vec::new();
-    for &v in nodes {
-        if v < n && local[v] == usize::MAX {
-            local[v] = members.len();
-            members.push(v);
-        }
-    }
-    let m = members.len();
-    let point = |i: usize| mesh.nodes[members[i]];
-    // Interface edges, oriented as the boundary (body on the left), without repeats.
-    let mut adjacency: Vec<Vec<usize>> = vec![Vec::new(); m];
-    let mut forward: Vec<Vec<usize>> = vec![Vec::new(); m];
-    for &[a, b] in &mesh.boundary {
-        if a >= n || b >= n || a == b {
-            continue;
-        }
-        let (la, lb) = (local[a], local[b]);
-        if la == usize::MAX || lb == usize::MAX || adjacency[la].contains(&lb) {
-            continue;
-        }
-        adjacency[la].push(lb);
-        adjacency[lb].push(la);
-        forward[la].push(lb);
-    }
-    // The axis and the order along it.
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for i in 0..m {
-        let p = point(i);
-        lo = [lo[0].min(p[0]), lo[1].min(p[1])];
-        hi = [hi[0].max(p[0]), hi[1].max(p[1])];
-    }
-    let axis = usize::from(hi[1] - lo[1] > hi[0] - lo[0]);
-    let before = |i: usize, j: usize| -> Ordering {
-        let (p, q) = (point(i), point(j));
-        p[axis]
-            .total_cmp(&q[axis])
-            .then(p[1 - axis].total_cmp(&q[1 - axis]))
-            .then(members[i].cmp(&members[j]))
-    };
-    // Pieces: connected components, each with its start.
-    let mut component = vec![usize::MAX; m];
-    let mut pieces: Vec<(usize, Vec<usize>)> = Vec::new();
-    for seed in 0..m {
-        if component[seed] != usize::MAX {
-            continue;
-        }
-        let id = pieces.len();
-        let mut stack = vec![seed];
-        let mut all = Vec::new();
-        component[seed] = id;
-        while let Some(v) = stack.pop() {
-            all.push(v);
-            for &w in &adjacency[v] {
-                if component[w] == usize::MAX {
-                    component[w] = id;
-                    stack.push(w);
-                }
-            }
-        }
-        let ends: Vec<usize> = all
-            .iter()
-            .copied()
-            .filter(|&v| adjacency[v].len() <= 1)
-            .collect();
-        let pool = if ends.is_empty() { &all } else { &ends };
-        let start = pool
-            .iter()
-            .copied()
-            .min_by(|&i, &j| before(i, j))
-            .unwrap_or(seed);
-        pieces.push((start, all));
-    }
-    pieces.sort_by(|a, b| before(a.0, b.0));
-    // Walk every piece.
-    let mut position = vec![
-        ArcPosition {
-            piece: usize::MAX,
-            s: f64::NAN,
-        };
-        m
-    ];
-    let mut visited = vec![false; m];
-    let mut s = 0.0;
-    let mut last: Option<usize> = None;
-    for (k, (start, all)) in pieces.iter().enumerate() {
-        let mut current = *start;
-        let mut remaining = all.len();
-        loop {
-            if let Some(prev) = last {
-                s += geometry::distance(point(prev), point(current));
-            }
-            visited[current] = true;
-            position[current] = ArcPosition { piece: k, s };
-            last = Some(current);
-            remaining -= 1;
-            if remaining == 0 {
-                break;
-            }
-            // Next: an unvisited neighbour, the boundary's own successor first (it decides the
-            // direction of a closed loop; a chain end has one neighbour only); when stuck, the
-            // nearest unvisited node of the piece.
-            let next = forward[current]
-                .iter()
-                .chain(&adjacency[current])
-                .copied()
-                .find(|&w| !visited[w])
-                .or_else(|| {
-                    let here: Point = point(current);
-                    all.iter()
-                        .copied()
-                        .filter(|&w| !visited[w])
-                        .min_by(|&i, &j| {
-                            geometry::distance(here, point(i))
-                                .total_cmp(&geometry::distance(here, point(j)))
-                                .then(before(i, j))
-                        })
-                });
-            match next {
-                Some(w) => current = w,
-                None => break,
-            }
-        }
-    }
+    let interface = Interface::new(mesh, nodes);
+    let pieces = interface.pieces();
+    let position = interface.walk(&pieces);
     nodes
         .iter()
         .map(|&v| {
-            if v < n {
-                position[local[v]]
+            if v < interface.local.len() {
+                position[interface.local[v]]
             } else {
-                ArcPosition {
-                    piece: usize::MAX,
-                    s: f64::NAN,
-                }
+                UNPLACED
             }
         })
         .collect()
+}
+
+/// The position of a node outside the mesh (or of a row node the walk never reached).
+const UNPLACED: ArcPosition = ArcPosition {
+    piece: usize::MAX,
+    s: f64::NAN,
+};
+
+/// The row nodes of a pair in a dense numbering, with the interface edges between them.
+struct Interface<'a> {
+    /// The slave mesh.
+    mesh: &'a Mesh,
+    /// Dense index of each mesh node (`usize::MAX` for nodes without a row).
+    local: Vec<usize>,
+    /// Mesh node of each dense index, in the order of first appearance among the rows.
+    members: Vec<usize>,
+    /// Interface neighbours of each member (both directions).
+    adjacency: Vec<Vec<usize>>,
+    /// Boundary successors of each member (body on the left).
+    forward: Vec<Vec<usize>>,
+    /// 0 when the row nodes' bounding box is at least as wide as tall (order along x), else 1.
+    axis: usize,
+}
+
+impl<'a> Interface<'a> {
+    /// The distinct row nodes among `nodes` and the boundary edges of `mesh` joining two of
+    /// them, oriented as the boundary, without repeats; and the axis.
+    fn new(mesh: &'a Mesh, nodes: &[usize]) -> Self {
+        let n = mesh.nodes.len();
+        let mut local = vec![usize::MAX; n];
+        let mut members: Vec<usize> = Vec::new();
+        for &v in nodes {
+            if v < n && local[v] == usize::MAX {
+                local[v] = members.len();
+                members.push(v);
+            }
+        }
+        let m = members.len();
+        let mut adjacency: Vec<Vec<usize>> = vec![Vec::new(); m];
+        let mut forward: Vec<Vec<usize>> = vec![Vec::new(); m];
+        for &[a, b] in &mesh.boundary {
+            if a >= n || b >= n || a == b {
+                continue;
+            }
+            let (la, lb) = (local[a], local[b]);
+            if la == usize::MAX || lb == usize::MAX || adjacency[la].contains(&lb) {
+                continue;
+            }
+            adjacency[la].push(lb);
+            adjacency[lb].push(la);
+            forward[la].push(lb);
+        }
+        let mut interface = Self {
+            mesh,
+            local,
+            members,
+            adjacency,
+            forward,
+            axis: 0,
+        };
+        interface.axis = interface.axis();
+        interface
+    }
+
+    /// The point of member `i`.
+    fn point(&self, i: usize) -> Point {
+        self.mesh.nodes[self.members[i]]
+    }
+
+    /// 0 (x) when the members' bounding box is at least as wide as it is tall, 1 (y) otherwise.
+    fn axis(&self) -> usize {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for i in 0..self.members.len() {
+            let p = self.point(i);
+            lo = [lo[0].min(p[0]), lo[1].min(p[1])];
+            hi = [hi[0].max(p[0]), hi[1].max(p[1])];
+        }
+        usize::from(hi[1] - lo[1] > hi[0] - lo[0])
+    }
+
+    /// The order along the axis: coordinate along it, then the other one, then node index.
+    fn before(&self, i: usize, j: usize) -> Ordering {
+        let (p, q) = (self.point(i), self.point(j));
+        let axis = self.axis;
+        p[axis]
+            .total_cmp(&q[axis])
+            .then(p[1 - axis].total_cmp(&q[1 - axis]))
+            .then(self.members[i].cmp(&self.members[j]))
+    }
+
+    /// The pieces (connected components), each as its start and its members, in the order of
+    /// their starts along the axis.
+    fn pieces(&self) -> Vec<(usize, Vec<usize>)> {
+        let m = self.members.len();
+        let mut component = vec![usize::MAX; m];
+        let mut pieces: Vec<(usize, Vec<usize>)> = Vec::new();
+        for seed in 0..m {
+            if component[seed] != usize::MAX {
+                continue;
+            }
+            let id = pieces.len();
+            let mut stack = vec![seed];
+            let mut all = Vec::new();
+            component[seed] = id;
+            while let Some(v) = stack.pop() {
+                all.push(v);
+                for &w in &self.adjacency[v] {
+                    if component[w] == usize::MAX {
+                        component[w] = id;
+                        stack.push(w);
+                    }
+                }
+            }
+            let start = self.start(seed, &all);
+            pieces.push((start, all));
+        }
+        pieces.sort_by(|a, b| self.before(a.0, b.0));
+        pieces
+    }
+
+    /// Where a piece starts: its first end along the axis (a chain), or its first node (a loop).
+    fn start(&self, seed: usize, all: &[usize]) -> usize {
+        let ends: Vec<usize> = all
+            .iter()
+            .copied()
+            .filter(|&v| self.adjacency[v].len() <= 1)
+            .collect();
+        let pool = if ends.is_empty() { all } else { &ends };
+        pool.iter()
+            .copied()
+            .min_by(|&i, &j| self.before(i, j))
+            .unwrap_or(seed)
+    }
+
+    /// The position of every member: each piece walked from its start, `s` growing by the
+    /// straight distance between consecutive nodes of the walk, across pieces too.
+    fn walk(&self, pieces: &[(usize, Vec<usize>)]) -> Vec<ArcPosition> {
+        let m = self.members.len();
+        let mut position = vec![UNPLACED; m];
+        let mut visited = vec![false; m];
+        let mut s = 0.0;
+        let mut last: Option<usize> = None;
+        for (k, (start, all)) in pieces.iter().enumerate() {
+            let mut current = *start;
+            let mut remaining = all.len();
+            loop {
+                if let Some(prev) = last {
+                    s += geometry::distance(self.point(prev), self.point(current));
+                }
+                visited[current] = true;
+                position[current] = ArcPosition { piece: k, s };
+                last = Some(current);
+                remaining -= 1;
+                if remaining == 0 {
+                    break;
+                }
+                match self.next(current, all, &visited) {
+                    Some(w) => current = w,
+                    None => break,
+                }
+            }
+        }
+        position
+    }
+
+    /// The node after `current`: an unvisited neighbour, the boundary's own successor first (it
+    /// decides the direction of a closed loop; a chain end has one neighbour only); when stuck,
+    /// the nearest unvisited node of the piece.
+    fn next(&self, current: usize, all: &[usize], visited: &[bool]) -> Option<usize> {
+        self.forward[current]
+            .iter()
+            .chain(&self.adjacency[current])
+            .copied()
+            .find(|&w| !visited[w])
+            .or_else(|| {
+                let here: Point = self.point(current);
+                all.iter()
+                    .copied()
+                    .filter(|&w| !visited[w])
+                    .min_by(|&i, &j| {
+                        geometry::distance(here, self.point(i))
+                            .total_cmp(&geometry::distance(here, self.point(j)))
+                            .then(self.before(i, j))
+                    })
+            })
+    }
 }
 
 #[cfg(test)]

@@ -1,5 +1,7 @@
-//! Scenes: the TOML contract of `docs/scene.md`, parsed with unknown keys refused, then validated into
-//! typed values whose errors name the section, the body and the key at fault.
+//! Scenes: the TOML contract of `docs/scene.md`, parsed with unknown keys refused, validated into
+//! typed values whose errors name the section, the body and the key at fault (`validate/`, which
+//! reads no file), then imported (`import/`: the Gmsh files read, their physical groups
+//! resolved).
 //!
 //! ```
 //! use signorini_core::scene::Scene;
@@ -19,8 +21,10 @@
 //! assert!(err.to_string().contains("polygon"));
 //! ```
 
+mod draft;
 mod error;
 mod file;
+mod import;
 mod types;
 mod validate;
 
@@ -80,7 +84,7 @@ impl Scene {
     pub fn from_toml(text: &str) -> Result<Self, SceneError> {
         let file: SceneFile =
             toml::from_str(text).map_err(|e| SceneError::Syntax(e.to_string()))?;
-        validate::validate(file, None)
+        import::import(validate::validate(file)?, None)
     }
 
     /// Parses and validates a scene from TOML text whose `mesh` paths are relative to `base`
@@ -88,7 +92,7 @@ impl Scene {
     pub fn from_toml_in(text: &str, base: &Path) -> Result<Self, SceneError> {
         let file: SceneFile =
             toml::from_str(text).map_err(|e| SceneError::Syntax(e.to_string()))?;
-        validate::validate(file, Some(base))
+        import::import(validate::validate(file)?, Some(base))
     }
 
     /// Diagonal of the bounding box of all bodies: the scene's length scale.
