@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use crate::geometry::{self, Point};
+use crate::geometry::Point;
 use crate::mesh::gmsh::{ImportedMesh, MeshGroup};
 use crate::mesh::{ElementKind, Refinement};
 
@@ -36,36 +36,6 @@ impl Body {
     /// The physical group `name` of the body's Gmsh mesh (None for polygon bodies).
     pub fn group(&self, name: &str) -> Option<&MeshGroup> {
         self.imported.as_ref().and_then(|m| m.group(name))
-    }
-}
-
-impl Dirichlet {
-    /// True when the support holds boundary node `node` (at `p`) of `body`'s mesh: a node of
-    /// its group, or a node inside its box.
-    pub fn selects_node(&self, body: &Body, node: usize, p: Point, tol: f64) -> bool {
-        match &self.group {
-            Some(g) => body.group(g).is_some_and(|g| g.has_node(node)),
-            None => geometry::in_box(p, &self.region, tol),
-        }
-    }
-}
-
-impl Neumann {
-    /// True when the traction acts on the boundary edge `[a, b]` (at `pa`, `pb`) of `body`'s
-    /// mesh: an edge of its group, or an edge with both ends inside its box.
-    pub fn selects_edge(
-        &self,
-        body: &Body,
-        [a, b]: [usize; 2],
-        [pa, pb]: [Point; 2],
-        tol: f64,
-    ) -> bool {
-        match &self.group {
-            Some(g) => body.group(g).is_some_and(|g| g.has_edge(a, b)),
-            None => {
-                geometry::in_box(pa, &self.region, tol) && geometry::in_box(pb, &self.region, tol)
-            }
-        }
     }
 }
 
