@@ -11,38 +11,77 @@
 //! primal or dual infeasibility.  When the sets flip (a set comes back, or the changes stop
 //! falling) the iteration continues with the interior-point method of [`interior`].
 
-use std::collections::HashSet;
 use std::time::{Duration, Instant};
 
 use signorini_qp::{
-    kkt_residuals_with, mat_vec, FarkasRay, QpProblem, QpStatus, ResidualScales, SolveOptions,
+    kkt_residuals_with, mat_vec, FarkasRay, KktResiduals, QpProblem, QpStatus, ResidualScales,
+    SolveOptions,
 };
 
 use crate::error::PdasError;
 use crate::factor::KktFactor;
 use crate::kernel::{pushed_away, rigid_part};
 use crate::kkt::KktMatrix;
-use crate::refine::{first_solve, refine, Limits, SetSolution};
+use crate::refine::{Limits, SetSolution};
 use crate::settings::{PdasSettings, StartSet};
-use crate::update::{ColumnCache, SetSolver, SetUpdate};
+use crate::update::ColumnCache;
 
 mod interior;
-
-/// Plain active-set steps before a step that does not reduce the changes hands over to the
-/// interior-point iteration (a set that comes back hands over at once).  Measured: handing
-/// over from the third step on turned exp6a, exp6b, exp3-body2-h0.15, hard/near-coincident
-/// and hard/slave-on-master-nodes from 5 plain steps into 12–16; from the sixth, no fixture
-/// hands over, and strip-partial hands over after its seventh.
-const MIN_PLAIN_STEPS: usize = 6;
+mod plain;
 
 /// Where the plain iteration handed over to the globalised one.
 struct Phase1 {
     /// Iterations used so far.
     iteration: usize,
-    /// The best iterate so far (smallest KKT residuals).
-    best: Outcome,
-    /// Its worst scaled KKT residual.
-    best_worst: f64,
+    /// The best iterate so far.
+    best: Best,
+}
+
+/// The best iterate so far (smallest worst KKT residual): the answer of an iteration that ends
+/// without meeting the tolerance.
+struct Best {
+    /// The iterate.
+    outcome: Outcome,
+    /// Its worst scaled KKT residual (∞ before the first).
+    worst: f64,
+}
+
+impl Best {
+    /// Before the first iterate: x = 0, λ = 0.
+    fn zero(problem: &QpProblem) -> Self {
+        Self {
+            outcome: Outcome {
+                x: vec![0.0; problem.dofs()],
+                multipliers: vec![0.0; problem.rows()],
+                status: QpStatus::MaxIterations,
+                iterations: 0,
+                message: String::new(),
+            },
+            worst: f64::INFINITY,
+        }
+    }
+
+    /// Keeps `candidate` when its worst residual is below the best so far.
+    fn keep_if_better(&mut self, candidate: Outcome, worst: f64) {
+        if worst < self.worst {
+            self.worst = worst;
+            self.outcome = candidate;
+        }
+    }
+
+    /// Takes the iterate out, to end the iteration with it.
+    fn take(&mut self) -> Outcome {
+        std::mem::replace(
+            &mut self.outcome,
+            Outcome {
+                x: Vec::new(),
+                multipliers: Vec::new(),
+                status: QpStatus::MaxIterations,
+                iterations: 0,
+                message: String::new(),
+            },
+        )
+    }
 }
 
 /// What the iteration hands back to the backend.
@@ -81,6 +120,18 @@ pub struct ActiveSet<'p> {
     analysis: Duration,
     /// Total time in numeric factorisations.
     factor_time: Duration,
+}
+
+/// A set's solution measured against the KKT conditions (see [`ActiveSet::measure`]).
+struct Measured {
+    /// (x, max(λ, 0)) as an answer, status `solved`.
+    candidate: Outcome,
+    /// Its KKT residuals.
+    residuals: KktResiduals,
+    /// Their worst scaled entry.
+    worst: f64,
+    /// Rows in which the predicted set differs from the solved one.
+    changes: usize,
 }
 
 /// Measured cost of the last factorisation and of one solve with it.
@@ -259,239 +310,45 @@ impl<'p> ActiveSet<'p> {
             && cost < timing.factor.as_secs_f64() + 2.0 * solve
     }
 
-    /// Runs the iteration.
-    pub fn run(&mut self) -> Outcome {
-        let p = self.problem;
-        let (n, m) = (p.dofs(), p.rows());
-        let max_iter = self.options.max_iter.unwrap_or(self.settings.max_iter);
-        let mut active = self.first_set();
-        let mut seen: HashSet<Vec<bool>> = HashSet::new();
-        let mut best = Outcome {
-            x: vec![0.0; n],
-            multipliers: vec![0.0; m],
-            status: QpStatus::MaxIterations,
-            iterations: 0,
-            message: String::new(),
-        };
-        let mut best_worst = f64::INFINITY;
-        let mut factored: Option<Vec<bool>> = None;
-        let mut timing = Timing::default();
-        let mut force_factor = false;
-        let mut changes_history: Vec<usize> = Vec::new();
-        let mut iteration = 0;
-        while iteration < max_iter {
-            iteration += 1;
-            if self.out_of_time() {
-                return self.finish(
-                    best,
-                    QpStatus::TimeLimit,
-                    iteration - 1,
-                    "time limit reached before the next factorisation".into(),
-                );
-            }
-            let delta = self.delta();
-            let update = match &factored {
-                Some(f) if !force_factor && self.prefer_update(f, &active, &timing) => {
-                    let (_, missing) = self.cache.need(f, &active);
-                    let clock = Instant::now();
-                    let update =
-                        SetUpdate::new(p, &mut self.factor, &mut self.cache, f, &active, delta);
-                    if missing > 0 {
-                        timing.column = clock.elapsed() / missing as u32;
-                    }
-                    match update {
-                        Ok(update) => update,
-                        Err(e) => {
-                            return self.finish(
-                                best,
-                                QpStatus::NumericalError,
-                                iteration - 1,
-                                e.to_string(),
-                            )
-                        }
-                    }
-                }
-                _ => None,
-            };
-            let fresh = update.is_none() && factored.as_ref() != Some(&active);
-            force_factor = false;
-            if fresh {
-                match self.factorise(&active, delta) {
-                    Ok(t) => {
-                        timing.factor = t;
-                        self.cache.clear();
-                    }
-                    Err(e) => {
-                        return self.finish(
-                            best,
-                            QpStatus::NumericalError,
-                            iteration - 1,
-                            e.to_string(),
-                        )
-                    }
-                }
-                factored = Some(active.clone());
-            }
-            if update.is_some() {
-                self.updates += 1;
-            }
-            let deadline = self.deadline();
-            let mut solver = SetSolver {
-                factor: &mut self.factor,
-                update: update.as_ref(),
-            };
-            let clock = Instant::now();
-            let mut solution = first_solve(p, &active, &mut solver);
-            if fresh {
-                timing.solve = clock.elapsed();
-                if timing.column.is_zero() {
-                    // Until a batch is measured: a column of a batched solve at half a solve.
-                    timing.column = timing.solve / 2;
-                }
-            }
-            let mut next = self.next_set(&solution);
-            let mut solver = SetSolver {
-                factor: &mut self.factor,
-                update: update.as_ref(),
-            };
-            if next == active {
-                let limits = Limits {
-                    max_steps: self.settings.refinement_steps,
-                    target: self.settings.refinement_target * self.options.tol,
-                    deadline,
-                };
-                refine(
-                    p,
-                    &self.scales,
-                    &active,
-                    &mut solver,
-                    &mut solution,
-                    &limits,
-                );
-                self.refinement_steps += solution.steps;
-                next = self.next_set(&solution);
-            }
-            if solution
-                .x
-                .iter()
-                .chain(&solution.multipliers)
-                .any(|v| !v.is_finite())
-            {
-                if update.is_some() {
-                    force_factor = true;
-                    continue;
-                }
-                return self.finish(
-                    best,
-                    QpStatus::NumericalError,
-                    iteration,
-                    format!(
-                        "non-finite solution of the KKT system on a set of {} rows",
-                        count(&active)
-                    ),
-                );
-            }
-            let clamped: Vec<f64> = solution.multipliers.iter().map(|l| l.max(0.0)).collect();
-            let r = kkt_residuals_with(p, &self.scales, &solution.x, &clamped);
-            let worst = r.worst();
-            let changes = next.iter().zip(&active).filter(|(a, b)| a != b).count();
-            if self.options.verbose {
-                eprintln!(
-                    "pdas: iteration {iteration}: {} active rows ({}), KKT system residual {:.1e} after {} refinement steps, KKT {worst:.1e}, {changes} changes",
-                    count(&active),
-                    match (&update, fresh) {
-                        (Some(u), _) => format!("update of rank {}", u.rank()),
-                        (None, true) => "factorised".to_string(),
-                        (None, false) => "same factor".to_string(),
-                    },
-                    solution.residual,
-                    solution.steps,
-                );
-            }
-            let candidate = Outcome {
-                x: solution.x,
+    /// When the refinement of a set's solution stops.
+    fn limits(&self) -> Limits {
+        Limits {
+            max_steps: self.settings.refinement_steps,
+            target: self.settings.refinement_target * self.options.tol,
+            deadline: self.deadline(),
+        }
+    }
+
+    /// Measures a set's solution (x, λ) and the set `next` it predicts: (x, max(λ, 0)) as a
+    /// candidate answer at `iteration`, its KKT residuals, and the rows that change.
+    fn measure(
+        &self,
+        x: Vec<f64>,
+        multipliers: &[f64],
+        set: &[bool],
+        next: &[bool],
+        iteration: usize,
+    ) -> Measured {
+        let clamped: Vec<f64> = multipliers.iter().map(|l| l.max(0.0)).collect();
+        let residuals = kkt_residuals_with(self.problem, &self.scales, &x, &clamped);
+        let worst = residuals.worst();
+        let changes = next.iter().zip(set).filter(|(a, b)| a != b).count();
+        Measured {
+            candidate: Outcome {
+                x,
                 multipliers: clamped,
                 status: QpStatus::Solved,
                 iterations: iteration,
                 message: String::new(),
-            };
-            let stalled = changes == 0;
-            // An answer is accepted on a set that reproduces itself (or at the end of a cycle or
-            // of the budget): residuals that meet the tolerance while rows still want to change
-            // can hide a penetration that a soft row's length scale makes look small.
-            let settled = stalled || seen.contains(&next) || iteration == max_iter;
-            if r.meet(self.options.tol) && settled {
-                let message = format!("{} active rows", count(&active));
-                return self.finish(candidate, QpStatus::Solved, iteration, message);
-            }
-            if stalled && update.is_some() {
-                // The update may have lost accuracy: factorise this set before judging it.
-                force_factor = true;
-                continue;
-            }
-            let cycling = !stalled && seen.contains(&next);
-            if cycling && update.is_some() {
-                // As for a settled set: judge a cycle only on a factorised set.
-                force_factor = true;
-                continue;
-            }
-            if stalled || cycling || solution.timed_out || iteration == max_iter {
-                if let Some((status, message)) =
-                    self.certificate(&candidate.x, &solution.multipliers, &solution.correction)
-                {
-                    return self.finish(candidate, status, iteration, message);
-                }
-            }
-            // Flipping: as many rows change as two steps before (or more), once the plain
-            // steps have had their chance (the seed and hard fixtures settle within 4–7 steps,
-            // some of them with a step that changes as many rows as the one two before).
-            let flipping = iteration >= MIN_PLAIN_STEPS
-                && changes_history
-                    .len()
-                    .checked_sub(2)
-                    .is_some_and(|k| changes >= changes_history[k]);
-            let restart = ((cycling || flipping) && iteration < max_iter)
-                .then(|| (candidate.x.clone(), solution.multipliers.clone()));
-            if worst < best_worst {
-                best_worst = worst;
-                best = candidate;
-            }
-            if solution.timed_out {
-                return self.finish(
-                    best,
-                    QpStatus::TimeLimit,
-                    iteration,
-                    "time limit reached during refinement".into(),
-                );
-            }
-            if stalled {
-                let message = format!(
-                    "active set of {} rows settled but the KKT residuals ({worst:.1e}, refined KKT system {:.1e}) miss the tolerance{}",
-                    count(&active),
-                    solution.residual,
-                    no_certificate(p, &solution.multipliers)
-                );
-                return self.finish(best, QpStatus::Inaccurate, iteration, message);
-            }
-            if let Some((x, multipliers)) = restart {
-                // A set came back, or the changes stopped falling: plain active-set steps are
-                // not converging here; continue with the globalised iteration from this point.
-                let state = Phase1 {
-                    iteration,
-                    best,
-                    best_worst,
-                };
-                return self.interior(x, &multipliers, state, max_iter);
-            }
-            changes_history.push(changes);
-            seen.insert(std::mem::replace(&mut active, next));
+            },
+            residuals,
+            worst,
+            changes,
         }
-        let message = format!(
-            "{max_iter} active-set iterations without meeting the tolerance (best KKT residuals {best_worst:.1e})"
-        );
-        self.finish(best, QpStatus::MaxIterations, max_iter, message)
     }
 
+    /// Ends the iteration with `outcome` as the answer, its status, and the message with the
+    /// counts and times of the whole solve.
     fn finish(
         &self,
         mut outcome: Outcome,

@@ -1,27 +1,24 @@
-//! The sparse LDLᵀ factor of the KKT matrix: one symbolic analysis (ordering from
-//! [`signorini_qp::linalg::fill_reducing_order`]), a numeric factorisation per active set,
-//! and solves with it.
+//! The sparse LDLᵀ factor of the KKT matrix: one symbolic analysis (the project's shared
+//! [`CholeskyPattern`], ordered by [`signorini_qp::linalg::fill_reducing_order`]), a numeric
+//! factorisation per active set, and solves with it.
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
-use faer::perm::PermRef;
-use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LdltRef, SymbolicCholesky,
-    SymmetricOrdering,
-};
+use faer::sparse::linalg::cholesky::{LdltRef, SymbolicCholesky};
 use faer::{Conj, MatMut, Par, Side};
-use signorini_qp::linalg::{faer_view, fill_reducing_order, OrderingMethod};
+use signorini_qp::linalg::{
+    faer_view, fill_reducing_order, CholeskyPattern, Layout, LinalgError, OrderingMethod,
+};
 use signorini_qp::CscMatrix;
 
 use crate::error::PdasError;
 
 /// The symbolic factor of K's pattern and the numeric values of the last factorisation.
 pub struct KktFactor {
-    symbolic: SymbolicCholesky<usize>,
+    pattern: CholeskyPattern,
     values: Vec<f64>,
     /// +1 on the primal block, −1 on the multiplier block (faer's dynamic regularisation).
     signs: Vec<i8>,
-    method: OrderingMethod,
     buffer: MemBuffer,
     scratch_bytes: usize,
 }
@@ -31,7 +28,7 @@ impl std::fmt::Debug for KktFactor {
         f.debug_struct("KktFactor")
             .field("dim", &self.signs.len())
             .field("nnz_l", &self.values.len())
-            .field("method", &self.method)
+            .field("method", &self.pattern.ordering())
             .finish()
     }
 }
@@ -43,38 +40,37 @@ impl KktFactor {
     pub fn analyse(k: &CscMatrix, dofs: usize) -> Result<Self, PdasError> {
         let dim = k.rows();
         let ordering = fill_reducing_order(k).map_err(|e| PdasError::Symbolic(e.to_string()))?;
-        let view = faer_view(k).map_err(|e| PdasError::Symbolic(e.to_string()))?;
-        let perm = PermRef::new_checked(&ordering.forward, &ordering.inverse, dim);
-        let symbolic = factorize_symbolic_cholesky(
-            view.symbolic(),
-            Side::Lower,
-            SymmetricOrdering::Custom(perm),
-            CholeskySymbolicParams::default(),
-        )
-        .map_err(|e| PdasError::Symbolic(format!("{e:?}")))?;
-        let scratch = StackReq::any_of(&[
-            symbolic.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default()),
-            symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
-        ]);
+        let pattern = CholeskyPattern::analyse_laid_out(k, &ordering, Layout::FaerChoice).map_err(
+            |e| match e {
+                // faer's own failure, as its message.
+                LinalgError::Faer(message) => PdasError::Symbolic(message),
+                other => PdasError::Symbolic(other.to_string()),
+            },
+        )?;
+        let scratch = scratch(pattern.symbolic());
         let signs = (0..dim).map(|i| if i < dofs { 1 } else { -1 }).collect();
         Ok(Self {
-            symbolic,
+            pattern,
             values: Vec::new(),
             signs,
-            method: ordering.method,
             buffer: MemBuffer::new(StackReq::EMPTY),
             scratch_bytes: scratch.size_bytes(),
         })
     }
 
+    /// faer's symbolic factor.
+    fn symbolic(&self) -> &SymbolicCholesky<usize> {
+        self.pattern.symbolic()
+    }
+
     /// Stored entries of the factor L (and D): the length of its value array.
     pub fn nnz_l(&self) -> usize {
-        self.symbolic.len_val()
+        self.pattern.stored_values()
     }
 
     /// The ordering method that ordered K.
     pub fn method(&self) -> OrderingMethod {
-        self.method
+        self.pattern.ordering()
     }
 
     /// Bytes the numeric factorisation will hold: the factor's values plus faer's workspace.
@@ -84,11 +80,7 @@ impl KktFactor {
 
     /// Allocates the factor's values and the workspace (call once, after the memory check).
     pub fn allocate(&mut self) -> Result<(), PdasError> {
-        let scratch = StackReq::any_of(&[
-            self.symbolic
-                .factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default()),
-            self.symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
-        ]);
+        let scratch = scratch(self.symbolic());
         self.buffer =
             MemBuffer::try_new(scratch).map_err(|e| PdasError::Numeric(format!("{e:?}")))?;
         let mut values = Vec::new();
@@ -112,7 +104,8 @@ impl KktFactor {
             dynamic_regularization_delta: delta,
             dynamic_regularization_epsilon: epsilon,
         };
-        self.symbolic
+        self.pattern
+            .symbolic()
             .factorize_numeric_ldlt(
                 &mut self.values,
                 view,
@@ -135,9 +128,9 @@ impl KktFactor {
         }
         let k = rhs.len() / dim;
         let mut buffer =
-            MemBuffer::try_new(self.symbolic.solve_in_place_scratch::<f64>(k, Par::Seq))
+            MemBuffer::try_new(self.symbolic().solve_in_place_scratch::<f64>(k, Par::Seq))
                 .map_err(|e| PdasError::Numeric(format!("{e:?}")))?;
-        let ldlt = LdltRef::new(&self.symbolic, &self.values);
+        let ldlt = LdltRef::new(self.pattern.symbolic(), &self.values);
         ldlt.solve_in_place_with_conj(
             Conj::No,
             MatMut::from_column_major_slice_mut(rhs, dim, k),
@@ -153,7 +146,7 @@ impl KktFactor {
         if dim == 0 {
             return;
         }
-        let ldlt = LdltRef::new(&self.symbolic, &self.values);
+        let ldlt = LdltRef::new(self.pattern.symbolic(), &self.values);
         ldlt.solve_in_place_with_conj(
             Conj::No,
             MatMut::from_column_major_slice_mut(rhs, dim, 1),
@@ -161,4 +154,12 @@ impl KktFactor {
             MemStack::new(&mut self.buffer),
         );
     }
+}
+
+/// The workspace of a numeric LDLᵀ and of a one-column solve with it.
+fn scratch(symbolic: &SymbolicCholesky<usize>) -> StackReq {
+    StackReq::any_of(&[
+        symbolic.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default()),
+        symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
+    ])
 }

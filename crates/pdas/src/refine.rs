@@ -44,6 +44,16 @@ pub struct SetSolution {
     pub correction: Vec<f64>,
 }
 
+impl SetSolution {
+    /// Whether x and λ are finite.
+    pub fn is_finite(&self) -> bool {
+        self.x
+            .iter()
+            .chain(&self.multipliers)
+            .all(|v| v.is_finite())
+    }
+}
+
 /// When refinement stops.
 #[derive(Debug, Clone, Copy)]
 pub struct Limits {

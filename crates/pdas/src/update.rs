@@ -82,6 +82,59 @@ pub struct SetUpdate {
     schur: Option<DenseLu>,
 }
 
+/// A small dense system of the update is singular (the set is factorised instead).
+struct Singular;
+
+impl ColumnCache {
+    /// Solves, in one batch with the factor, for the columns of the `removed` rows and of the
+    /// `added` rows (B rows `added_rows`) not stored yet, and stores them.
+    fn fill(
+        &mut self,
+        factor: &mut KktFactor,
+        n: usize,
+        dim: usize,
+        removed: &[usize],
+        added: &[usize],
+        added_rows: &[Vec<(usize, f64)>],
+    ) -> Result<(), PdasError> {
+        let missing_removed: Vec<usize> = removed
+            .iter()
+            .copied()
+            .filter(|i| !self.removal.contains_key(i))
+            .collect();
+        let missing_added: Vec<usize> = (0..added.len())
+            .filter(|&a| !self.added.contains_key(&added[a]))
+            .collect();
+        let batch = missing_removed.len() + missing_added.len();
+        if batch == 0 {
+            return Ok(());
+        }
+        let mut block = vec![0.0; dim * batch];
+        for (c, &i) in missing_removed.iter().enumerate() {
+            block[c * dim + n + i] = 1.0;
+        }
+        for (c, &a) in missing_added.iter().enumerate() {
+            let column = &mut block[(missing_removed.len() + c) * dim..];
+            for &(j, v) in &added_rows[a] {
+                column[j] = v;
+            }
+        }
+        factor.solve_many_in_place(&mut block)?;
+        let mut columns = block.chunks_exact(dim).map(|c| Arc::new(c.to_vec()));
+        for &i in &missing_removed {
+            if let Some(c) = columns.next() {
+                self.removal.insert(i, c);
+            }
+        }
+        for &a in &missing_added {
+            if let Some(c) = columns.next() {
+                self.added.insert(added[a], c);
+            }
+        }
+        Ok(())
+    }
+}
+
 impl SetUpdate {
     /// Prepares the update from the factored set `factored` to `active`, solving (in one
     /// batch) for the columns `cache` does not hold yet; `Ok(None)` when a small dense system
@@ -102,71 +155,29 @@ impl SetUpdate {
         let added: Vec<usize> = (0..active.len())
             .filter(|&i| !factored[i] && active[i])
             .collect();
-        let rows = problem.constraints.to_csr();
-        let added_rows: Vec<Vec<(usize, f64)>> = added
-            .iter()
-            .map(|&i| {
-                rows.outer_view(i)
-                    .map(|r| r.iter().map(|(j, v)| (j, *v)).collect())
-                    .unwrap_or_default()
-            })
-            .collect();
-        // One batched solve for every missing column.
-        let missing_removed: Vec<usize> = removed
-            .iter()
-            .copied()
-            .filter(|i| !cache.removal.contains_key(i))
-            .collect();
-        let missing_added: Vec<usize> = (0..added.len())
-            .filter(|&a| !cache.added.contains_key(&added[a]))
-            .collect();
-        let batch = missing_removed.len() + missing_added.len();
-        if batch > 0 {
-            let mut block = vec![0.0; dim * batch];
-            for (c, &i) in missing_removed.iter().enumerate() {
-                block[c * dim + n + i] = 1.0;
-            }
-            for (c, &a) in missing_added.iter().enumerate() {
-                let column = &mut block[(missing_removed.len() + c) * dim..];
-                for &(j, v) in &added_rows[a] {
-                    column[j] = v;
-                }
-            }
-            factor.solve_many_in_place(&mut block)?;
-            let mut columns = block.chunks_exact(dim).map(|c| Arc::new(c.to_vec()));
-            for &i in &missing_removed {
-                if let Some(c) = columns.next() {
-                    cache.removal.insert(i, c);
-                }
-            }
-            for &a in &missing_added {
-                if let Some(c) = columns.next() {
-                    cache.added.insert(added[a], c);
-                }
-            }
-        }
+        let added_rows = b_rows(problem, &added);
+        cache.fill(factor, n, dim, &removed, &added, &added_rows)?;
+        Ok(Self::assemble(n, cache, removed, added, added_rows, delta).ok())
+    }
+
+    /// The update from the cached columns: the removal correction (LU of PᵀY), the added
+    /// rows' columns corrected for the removals, and the LU of their Schur complement.
+    fn assemble(
+        n: usize,
+        cache: &ColumnCache,
+        removed: Vec<usize>,
+        added: Vec<usize>,
+        added_rows: Vec<Vec<(usize, f64)>>,
+        delta: f64,
+    ) -> Result<Self, Singular> {
         let removal_columns: Vec<Arc<Vec<f64>>> = removed
             .iter()
             .filter_map(|i| cache.removal.get(i).cloned())
             .collect();
-        let kr = removed.len();
-        if removal_columns.len() != kr {
-            return Ok(None);
+        if removal_columns.len() != removed.len() {
+            return Err(Singular);
         }
-        let removal = if kr > 0 {
-            let mut cap = vec![0.0; kr * kr];
-            for (a, &i) in removed.iter().enumerate() {
-                for (b, column) in removal_columns.iter().enumerate() {
-                    cap[a * kr + b] = column[n + i];
-                }
-            }
-            match DenseLu::new(cap, kr) {
-                Some(lu) => Some(lu),
-                None => return Ok(None),
-            }
-        } else {
-            None
-        };
+        let removal = removal_lu(n, &removed, &removal_columns)?;
         let mut update = Self {
             dofs: n,
             removed,
@@ -179,31 +190,15 @@ impl SetUpdate {
         };
         let mut added_columns = Vec::with_capacity(added.len());
         for i in &added {
-            let Some(raw) = cache.added.get(i) else {
-                return Ok(None);
-            };
-            let mut column = raw.as_ref().clone();
+            let mut column = cache.added.get(i).ok_or(Singular)?.as_ref().clone();
             update.correct_removed(&mut column);
             added_columns.push(column);
         }
-        let ka = added.len();
-        if ka > 0 {
-            let mut schur = vec![0.0; ka * ka];
-            for (a, row) in added_rows.iter().enumerate() {
-                for (b, column) in added_columns.iter().enumerate() {
-                    let product: f64 = row.iter().map(|&(j, v)| v * column[j]).sum();
-                    schur[a * ka + b] = -product - if a == b { delta } else { 0.0 };
-                }
-            }
-            match DenseLu::new(schur, ka) {
-                Some(lu) => update.schur = Some(lu),
-                None => return Ok(None),
-            }
-        }
+        update.schur = schur_lu(&added_rows, &added_columns, delta)?;
         update.added = added;
         update.added_rows = added_rows;
         update.added_columns = added_columns;
-        Ok(Some(update))
+        Ok(update)
     }
 
     /// Rows that differ from the factored set.
@@ -258,6 +253,59 @@ impl SetUpdate {
             }
         }
     }
+}
+
+/// The B rows of the `added` rows as (column, value) lists.
+fn b_rows(problem: &QpProblem, added: &[usize]) -> Vec<Vec<(usize, f64)>> {
+    let rows = problem.constraints.to_csr();
+    added
+        .iter()
+        .map(|&i| {
+            rows.outer_view(i)
+                .map(|r| r.iter().map(|(j, v)| (j, *v)).collect())
+                .unwrap_or_default()
+        })
+        .collect()
+}
+
+/// LU of PᵀY (removed × removed; `None` when nothing is removed).
+fn removal_lu(
+    n: usize,
+    removed: &[usize],
+    columns: &[Arc<Vec<f64>>],
+) -> Result<Option<DenseLu>, Singular> {
+    let kr = removed.len();
+    if kr == 0 {
+        return Ok(None);
+    }
+    let mut cap = vec![0.0; kr * kr];
+    for (a, &i) in removed.iter().enumerate() {
+        for (b, column) in columns.iter().enumerate() {
+            cap[a * kr + b] = column[n + i];
+        }
+    }
+    DenseLu::new(cap, kr).map(Some).ok_or(Singular)
+}
+
+/// LU of the added rows' Schur complement C = −δI − A_aᵀ K_RR⁻¹ A_a (`None` when nothing is
+/// added).
+fn schur_lu(
+    added_rows: &[Vec<(usize, f64)>],
+    added_columns: &[Vec<f64>],
+    delta: f64,
+) -> Result<Option<DenseLu>, Singular> {
+    let ka = added_rows.len();
+    if ka == 0 {
+        return Ok(None);
+    }
+    let mut schur = vec![0.0; ka * ka];
+    for (a, row) in added_rows.iter().enumerate() {
+        for (b, column) in added_columns.iter().enumerate() {
+            let product: f64 = row.iter().map(|&(j, v)| v * column[j]).sum();
+            schur[a * ka + b] = -product - if a == b { delta } else { 0.0 };
+        }
+    }
+    DenseLu::new(schur, ka).map(Some).ok_or(Singular)
 }
 
 /// Solves with the KKT matrix of the current set: the factor itself, or the factor of an

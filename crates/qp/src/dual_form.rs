@@ -170,14 +170,47 @@ pub fn condense(
         Ok(f) => f,
         Err(e) => return Ok(Err(CondenseStop::Factorisation(e.to_string()))),
     };
-    let b = &problem.constraints;
+    let Some(mut data) = hessian_columns(&factor, &problem.constraints, block, deadline) else {
+        return Ok(Err(CondenseStop::TimeLimit));
+    };
+    symmetrise(&mut data, m);
+    let indptr: Vec<usize> = (0..=m).map(|j| j * m).collect();
+    let indices: Vec<usize> = (0..m * m).map(|k| k % m.max(1)).collect();
+    let hessian =
+        CsMat::try_new_csc((m, m), indptr, indices, data).map_err(|e| QpError::Backend {
+            backend,
+            reason: format!("building H as CSC: {}", e.3),
+        })?;
+    let mut a_inv_f = problem.load.clone();
+    factor.solve_in_place(&mut a_inv_f);
+    let d: Vec<f64> = mat_vec(&problem.constraints, &a_inv_f)
+        .iter()
+        .zip(&problem.gap)
+        .map(|(v, g)| v - g)
+        .collect();
+    if !(hessian.data().iter().chain(&d).all(|v| v.is_finite())) {
+        return Ok(Err(CondenseStop::Overflow));
+    }
+    let dual = dual_problem(hessian, d);
+    Ok(Ok(Condensed { dual, factor }))
+}
+
+/// H = B A⁻¹ Bᵀ, column-major (m × m), from `A Y = Bᵀ` solved for `block` right-hand sides at
+/// a time (H = B Y); `None` when `deadline` passes between blocks.
+fn hessian_columns(
+    factor: &SparseCholesky,
+    b: &CscMatrix,
+    block: usize,
+    deadline: Option<Instant>,
+) -> Option<Vec<f64>> {
+    let (m, n) = (b.rows(), b.cols());
     let rows = b.to_csr();
     let mut data = vec![0.0; m * m];
     let mut y = vec![0.0; n * block];
     let mut start = 0;
     while start < m {
         if deadline.is_some_and(|d| Instant::now() >= d) {
-            return Ok(Err(CondenseStop::TimeLimit));
+            return None;
         }
         let k = block.min(m - start);
         let y = &mut y[..n * k];
@@ -204,8 +237,12 @@ pub fn condense(
         }
         start += k;
     }
-    // H is symmetric in exact arithmetic; make it so in floating point (the inner solvers read
-    // one triangle, the residual checks both).
+    Some(data)
+}
+
+/// H is symmetric in exact arithmetic; make it so in floating point (the inner solvers read
+/// one triangle, the residual checks both): each pair of entries becomes its mean.
+fn symmetrise(data: &mut [f64], m: usize) {
     for j in 0..m {
         for i in 0..j {
             let mean = 0.5 * (data[j * m + i] + data[i * m + j]);
@@ -213,36 +250,23 @@ pub fn condense(
             data[i * m + j] = mean;
         }
     }
-    let indptr: Vec<usize> = (0..=m).map(|j| j * m).collect();
-    let indices: Vec<usize> = (0..m * m).map(|k| k % m.max(1)).collect();
-    let hessian =
-        CsMat::try_new_csc((m, m), indptr, indices, data).map_err(|e| QpError::Backend {
-            backend,
-            reason: format!("building H as CSC: {}", e.3),
-        })?;
-    let mut a_inv_f = problem.load.clone();
-    factor.solve_in_place(&mut a_inv_f);
-    let d: Vec<f64> = mat_vec(b, &a_inv_f)
-        .iter()
-        .zip(&problem.gap)
-        .map(|(v, g)| v - g)
-        .collect();
-    if !(hessian.data().iter().chain(&d).all(|v| v.is_finite())) {
-        return Ok(Err(CondenseStop::Overflow));
-    }
+}
+
+/// The dual as a QP: stiffness H, load d, constraints −I, gap 0, one non-negative block.
+fn dual_problem(hessian: CscMatrix, d: Vec<f64>) -> QpProblem {
+    let m = d.len();
     let mut minus_identity = TriMat::new((m, m));
     for i in 0..m {
         minus_identity.add_triplet(i, i, -1.0);
     }
-    let dual = QpProblem {
+    QpProblem {
         stiffness: hessian,
         load: d,
         constraints: minus_identity.to_csc(),
         gap: vec![0.0; m],
         kernel: Vec::new(),
         blocks: vec![ConstraintBlock::NonNegative { rows: m }],
-    };
-    Ok(Ok(Condensed { dual, factor }))
+    }
 }
 
 /// x = A⁻¹ (f − Bᵀ λ).
@@ -253,6 +277,7 @@ pub fn primal_of(problem: &QpProblem, factor: &SparseCholesky, multipliers: &[f6
     x
 }
 
+/// The answer of a run that stopped without one: x = 0, λ = 0, `status`, `message`.
 fn stopped(
     problem: &QpProblem,
     status: QpStatus,
@@ -270,6 +295,123 @@ fn stopped(
     }
 }
 
+/// The answer when [`condense`] could not form the dual.
+fn not_condensed(problem: &QpProblem, stop: CondenseStop, start: Instant) -> QpSolution {
+    let (status, message) = match stop {
+        CondenseStop::TimeLimit => (
+            QpStatus::TimeLimit,
+            "the time limit passed while the dual Hessian was being formed".into(),
+        ),
+        CondenseStop::Factorisation(e) => (
+            QpStatus::NumericalError,
+            format!("the condensed dual needs A⁻¹: {e}"),
+        ),
+        CondenseStop::Overflow => (
+            QpStatus::NumericalError,
+            "the condensed dual H = B A⁻¹ Bᵀ (or its load d) overflows the floating-point range: a compliance beyond it; use the primal form".into(),
+        ),
+    };
+    stopped(problem, status, start, 0, message)
+}
+
+/// The time left before `deadline` (`Some(None)` without one); `None` once it has passed.
+fn time_left(deadline: Option<Instant>) -> Option<Option<Duration>> {
+    match deadline {
+        Some(d) => match d.checked_duration_since(Instant::now()) {
+            Some(r) if r > Duration::ZERO => Some(Some(r)),
+            _ => None,
+        },
+        None => Some(None),
+    }
+}
+
+/// The inner backend's verdict on the dual as a verdict on the primal.
+fn primal_status(inner: QpStatus) -> QpStatus {
+    match inner {
+        // The dual unbounded below is the primal without a feasible point.
+        QpStatus::DualInfeasible => QpStatus::PrimalInfeasible,
+        // λ = 0 is always feasible for the dual: a certificate cannot be right.
+        QpStatus::PrimalInfeasible => QpStatus::NumericalError,
+        other => other,
+    }
+}
+
+/// What one solve of the dual gave.
+enum Round {
+    /// The final answer: the inner backend failed or certified infeasibility.
+    Stopped(QpSolution),
+    /// (x, λ) mapped back to the primal, and whether the inner backend said `solved` while
+    /// the primal residuals miss the tolerance (a tighter inner tolerance may help).
+    Answer {
+        /// The answer (its `solve_time` is set when it is handed out).
+        solution: QpSolution,
+        /// Solved on the dual, not on the primal.
+        tighten: bool,
+    },
+}
+
+/// Where the solve of a condensed dual stands: the problem, its dual, and the clock.
+struct DualRun<'a> {
+    problem: &'a QpProblem,
+    condensed: &'a Condensed,
+    start: Instant,
+    /// Time taken to form the dual.
+    formed: Duration,
+    /// Inner iterations so far.
+    iterations: usize,
+}
+
+impl DualRun<'_> {
+    /// Solves the dual with `inner` at `options` (its tolerance `options.tol`) and maps the
+    /// answer back: λ = max(x_inner, 0), x = A⁻¹(f − Bᵀλ), judged on the primal residuals
+    /// at `primal_tol`.
+    fn round<B: QpBackend>(
+        &mut self,
+        inner: &mut B,
+        options: &SolveOptions,
+        primal_tol: f64,
+    ) -> Result<Round, QpError> {
+        let (problem, tol) = (self.problem, options.tol);
+        let answer = inner.solve(&self.condensed.dual, options)?;
+        self.iterations += answer.iterations;
+        let status = primal_status(answer.status);
+        let note = format!(
+            "condensed dual ({m} × {m} H formed in {:.3} s, inner tolerance {tol:.0e}); {}: {}",
+            self.formed.as_secs_f64(),
+            inner.name(),
+            answer.message.as_deref().unwrap_or("no message"),
+            m = problem.rows(),
+        );
+        if matches!(
+            status,
+            QpStatus::PrimalInfeasible | QpStatus::NumericalError
+        ) || answer.x.iter().any(|v| !v.is_finite())
+        {
+            let status = if status == QpStatus::PrimalInfeasible {
+                status
+            } else {
+                QpStatus::NumericalError
+            };
+            let out = stopped(problem, status, self.start, self.iterations, note);
+            return Ok(Round::Stopped(out));
+        }
+        let multipliers: Vec<f64> = answer.x.iter().map(|v| v.max(0.0)).collect();
+        let x = primal_of(problem, &self.condensed.factor, &multipliers);
+        let residuals = kkt_residuals(problem, &x, &multipliers);
+        let met = checked_status(status, &residuals, primal_tol) == QpStatus::Solved;
+        let solution = QpSolution {
+            x,
+            multipliers,
+            status,
+            iterations: self.iterations,
+            solve_time: Duration::ZERO,
+            message: Some(note),
+        };
+        let tighten = status == QpStatus::Solved && !met;
+        Ok(Round::Answer { solution, tighten })
+    }
+}
+
 impl<B: QpBackend> QpBackend for CondensedDual<B> {
     fn name(&self) -> &'static str {
         self.name
@@ -284,109 +426,44 @@ impl<B: QpBackend> QpBackend for CondensedDual<B> {
         let deadline = options.time_limit.map(|t| start + t);
         let condensed = match condense(self.name, problem, deadline)? {
             Ok(c) => c,
-            Err(CondenseStop::TimeLimit) => {
-                return Ok(stopped(
-                    problem,
-                    QpStatus::TimeLimit,
-                    start,
-                    0,
-                    "the time limit passed while the dual Hessian was being formed".into(),
-                ))
-            }
-            Err(CondenseStop::Factorisation(e)) => {
-                return Ok(stopped(
-                    problem,
-                    QpStatus::NumericalError,
-                    start,
-                    0,
-                    format!("the condensed dual needs A⁻¹: {e}"),
-                ))
-            }
-            Err(CondenseStop::Overflow) => {
-                return Ok(stopped(
-                    problem,
-                    QpStatus::NumericalError,
-                    start,
-                    0,
-                    "the condensed dual H = B A⁻¹ Bᵀ (or its load d) overflows the floating-point range: a compliance beyond it; use the primal form".into(),
-                ))
-            }
+            Err(stop) => return Ok(not_condensed(problem, stop, start)),
         };
-        let formed = start.elapsed();
+        let mut run = DualRun {
+            problem,
+            condensed: &condensed,
+            start,
+            formed: start.elapsed(),
+            iterations: 0,
+        };
         let mut tol = options.tol;
-        let mut iterations = 0;
         let mut tightenings = 0;
         loop {
-            let remaining = match deadline {
-                Some(d) => match d.checked_duration_since(Instant::now()) {
-                    Some(r) if r > Duration::ZERO => Some(r),
-                    _ => {
-                        return Ok(stopped(
-                            problem,
-                            QpStatus::TimeLimit,
-                            start,
-                            iterations,
-                            format!(
-                                "the time limit passed after forming the dual Hessian ({:.3} s)",
-                                formed.as_secs_f64()
-                            ),
-                        ))
-                    }
-                },
-                None => None,
+            let Some(remaining) = time_left(deadline) else {
+                let message = format!(
+                    "the time limit passed after forming the dual Hessian ({:.3} s)",
+                    run.formed.as_secs_f64()
+                );
+                let status = QpStatus::TimeLimit;
+                return Ok(stopped(problem, status, start, run.iterations, message));
             };
             let inner_options = SolveOptions {
                 tol,
                 time_limit: remaining,
                 ..options.clone()
             };
-            let inner = self.inner.solve(&condensed.dual, &inner_options)?;
-            iterations += inner.iterations;
-            let status = match inner.status {
-                // The dual unbounded below is the primal without a feasible point.
-                QpStatus::DualInfeasible => QpStatus::PrimalInfeasible,
-                // λ = 0 is always feasible for the dual: a certificate cannot be right.
-                QpStatus::PrimalInfeasible => QpStatus::NumericalError,
-                other => other,
-            };
-            let note = |tol: f64| {
-                format!(
-                    "condensed dual ({m} × {m} H formed in {:.3} s, inner tolerance {tol:.0e}); {}: {}",
-                    formed.as_secs_f64(),
-                    self.inner.name(),
-                    inner.message.as_deref().unwrap_or("no message"),
-                    m = problem.rows(),
-                )
-            };
-            if matches!(
-                status,
-                QpStatus::PrimalInfeasible | QpStatus::NumericalError
-            ) || inner.x.iter().any(|v| !v.is_finite())
-            {
-                let status = if status == QpStatus::PrimalInfeasible {
-                    status
-                } else {
-                    QpStatus::NumericalError
-                };
-                return Ok(stopped(problem, status, start, iterations, note(tol)));
+            match run.round(&mut self.inner, &inner_options, options.tol)? {
+                Round::Stopped(out) => return Ok(out),
+                Round::Answer { tighten, .. }
+                    if tighten && tightenings < TIGHTENINGS && tol > 1e-14 =>
+                {
+                    tightenings += 1;
+                    tol = (tol * 1e-2).max(1e-15);
+                }
+                Round::Answer { mut solution, .. } => {
+                    solution.solve_time = start.elapsed();
+                    return Ok(solution);
+                }
             }
-            let multipliers: Vec<f64> = inner.x.iter().map(|v| v.max(0.0)).collect();
-            let x = primal_of(problem, &condensed.factor, &multipliers);
-            let residuals = kkt_residuals(problem, &x, &multipliers);
-            let met = checked_status(status, &residuals, options.tol) == QpStatus::Solved;
-            if status == QpStatus::Solved && !met && tightenings < TIGHTENINGS && tol > 1e-14 {
-                tightenings += 1;
-                tol = (tol * 1e-2).max(1e-15);
-                continue;
-            }
-            return Ok(QpSolution {
-                x,
-                multipliers,
-                status,
-                iterations,
-                solve_time: start.elapsed(),
-                message: Some(note(tol)),
-            });
         }
     }
 }

@@ -9,26 +9,22 @@
 //! Then H = B_c S⁻¹ B_cᵀ = Yᵀ Y with Y = L_cc⁻¹ B_cᵀ: no sparse solve at all, only dense work of
 //! order |c|² m.  The interior is ordered by the project's one fill-reducing ordering,
 //! [`signorini_qp::linalg::fill_reducing_order`] (the floor's ordering path), with the contact
-//! DOFs moved to the end.  The same factor serves every later solve with A.
+//! DOFs moved to the end; the symbolic analysis and the numeric LLᵀ are the project's shared
+//! factor path ([`CholeskyPattern`], [`SparseCholesky`]).  The same factor serves every later
+//! solve with A.
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
-use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
-    SymbolicCholeskyRaw, SymmetricOrdering,
+use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
+use faer::{Mat, MatRef};
+use signorini_qp::linalg::{
+    fill_reducing_order, CholeskyPattern, FillOrdering, LinalgError, OrderingMethod, SparseCholesky,
 };
-use faer::sparse::linalg::SupernodalThreshold;
-use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
-use signorini_qp::linalg::{faer_view, numeric_llt, LinalgError};
-use signorini_qp::linalg::{fill_reducing_order, OrderingMethod};
 use signorini_qp::CscMatrix;
 
 /// A Cholesky factor of A with the `touched` DOFs last, and its dense trailing block.
 #[derive(Debug)]
 pub struct TrailingCholesky {
-    symbolic: SymbolicCholesky<usize>,
-    values: Vec<f64>,
+    factor: SparseCholesky,
     n: usize,
     /// L_cc, |c| × |c| lower triangular; row/column k is `touched[k]`.
     trailing: Mat<f64>,
@@ -68,25 +64,19 @@ impl TrailingCholesky {
         admit: impl FnOnce(usize) -> Result<(), E>,
     ) -> Result<Self, E> {
         let n = a.rows();
-        let view = faer_view(a)?;
-        let faer_error = |e: faer::sparse::FaerError| LinalgError::Faer(format!("{e:?}"));
         let order = fill_reducing_order(a)?;
+        let method = order.method;
         let analyse = |forward: &[usize]| {
             let mut inverse = vec![0; n];
             for (new, &old) in forward.iter().enumerate() {
                 inverse[old] = new;
             }
-            let perm = PermRef::new_checked(forward, &inverse, n);
-            factorize_symbolic_cholesky(
-                view.symbolic(),
-                Side::Lower,
-                SymmetricOrdering::Custom(perm),
-                CholeskySymbolicParams {
-                    supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-                    ..Default::default()
-                },
-            )
-            .map_err(faer_error)
+            let ordering = FillOrdering {
+                forward: forward.to_vec(),
+                inverse,
+                method,
+            };
+            CholeskyPattern::analyse_with(a, &ordering)
         };
         // nnz(L) ≥ nnz of A's lower triangle ≥ nnz(A)/2: when the rule already holds with that
         // lower bound, the plain analysis (≈ 10 % of a factorisation) is not needed to decide.
@@ -98,9 +88,9 @@ impl TrailingCholesky {
         };
         let keep_last = surely_pays
             || plain.as_ref().is_some_and(|p| {
-                !touched.is_empty() && trailing_pays(touched.len(), rows, p.len_val())
+                !touched.is_empty() && trailing_pays(touched.len(), rows, p.stored_values())
             });
-        let (forward, symbolic, touched) = if keep_last {
+        let (forward, pattern, touched) = if keep_last {
             let mut is_touched = vec![false; n];
             for &j in touched {
                 is_touched[j] = true;
@@ -108,8 +98,8 @@ impl TrailingCholesky {
             let mut forward = order.forward;
             forward.retain(|&j| !is_touched[j]);
             forward.extend_from_slice(touched);
-            let symbolic = analyse(&forward)?;
-            (forward, symbolic, touched)
+            let pattern = analyse(&forward)?;
+            (forward, pattern, touched)
         } else {
             let plain = match plain {
                 Some(plain) => plain,
@@ -117,22 +107,22 @@ impl TrailingCholesky {
             };
             (order.forward, plain, &[][..])
         };
-        admit(symbolic.len_val())?;
-        let values = numeric_llt(&symbolic, a)?;
+        admit(pattern.stored_values())?;
+        let factor = pattern.factor(a)?;
+        let (symbolic, values) = factor.raw();
         let SymbolicCholeskyRaw::Supernodal(supernodal) = symbolic.raw() else {
             return Err(LinalgError::Faer("expected a supernodal factorisation".into()).into());
         };
-        let llt = SupernodalLltRef::new(supernodal, &values);
+        let llt = SupernodalLltRef::new(supernodal, values);
         let trailing = trailing_block(llt, n, touched.len());
         let has_trailing = !touched.is_empty();
         let min_pivot_ratio = pivot_ratio(llt, a, &forward);
         Ok(Self {
-            symbolic,
-            values,
+            factor,
             n,
             trailing,
             min_pivot_ratio,
-            ordering: order.method,
+            ordering: method,
             has_trailing,
         })
     }
@@ -149,7 +139,7 @@ impl TrailingCholesky {
 
     /// Stored entries of L (supernodal: the dense supernode blocks, explicit zeros included).
     pub fn factor_entries(&self) -> usize {
-        self.values.len()
+        self.factor.raw().1.len()
     }
 
     /// minⱼ Lⱼⱼ² / Aⱼⱼ over the pivots (1 for an empty matrix).  A singular A that the
@@ -170,17 +160,7 @@ impl TrailingCholesky {
 
     /// Overwrites the column-major n × k block `rhs` with A⁻¹ rhs.
     pub fn solve_many_in_place(&self, rhs: &mut [f64]) {
-        if self.n == 0 {
-            return;
-        }
-        let k = rhs.len() / self.n;
-        let mut buffer = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, Par::Seq));
-        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(rhs, self.n, k),
-            Par::Seq,
-            MemStack::new(&mut buffer),
-        );
+        self.factor.solve_many_in_place(rhs);
     }
 }
 

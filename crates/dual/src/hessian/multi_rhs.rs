@@ -1,5 +1,7 @@
 //! H = B (A⁺ Bᵀ) by multi-right-hand-side solves with the cached factor.
 
+use std::ops::Range;
+
 use signorini_qp::CscMatrix;
 
 use super::dense::DenseSym;
@@ -14,6 +16,27 @@ pub fn touched_columns(inverse: &StiffnessInverse, constraints: &CscMatrix) -> V
         .filter(|(_, col)| col.nnz() > 0)
         .filter_map(|(j, _)| inverse.reduced_index(j).map(|r| (j, r)))
         .collect()
+}
+
+/// Runs `solve` on the blocks of at most `block` of `total` right-hand sides, in order,
+/// checking `out_of_time` before each: once it says so, [`DualError::OutOfTime`]
+/// "while `what` (k of `total` columns)".
+pub fn in_blocks(
+    total: usize,
+    block: usize,
+    what: &str,
+    out_of_time: &dyn Fn() -> bool,
+    mut solve: impl FnMut(Range<usize>),
+) -> Result<(), DualError> {
+    for start in (0..total).step_by(block) {
+        if out_of_time() {
+            return Err(DualError::OutOfTime(format!(
+                "while {what} ({start} of {total} columns)"
+            )));
+        }
+        solve(start..start + block.min(total - start));
+    }
+    Ok(())
 }
 
 /// H = B (A⁺ Bᵀ), blocks of `block` right-hand sides at a time; stops with
@@ -33,13 +56,9 @@ pub fn multi_rhs(
         size: m,
     };
     let mut work = vec![0.0; nr * block.min(m.max(1))];
-    for start in (0..m).step_by(block) {
-        if out_of_time() {
-            return Err(DualError::OutOfTime(format!(
-                "while forming the dense dual Hessian by multi-right-hand-side solves ({start} of {m} columns)"
-            )));
-        }
-        let count = block.min(m - start);
+    let what = "forming the dense dual Hessian by multi-right-hand-side solves";
+    in_blocks(m, block, what, out_of_time, |columns| {
+        let (start, count) = (columns.start, columns.len());
         let work = &mut work[..nr * count];
         work.fill(0.0);
         for k in 0..count {
@@ -66,7 +85,7 @@ pub fn multi_rhs(
                 }
             }
         }
-    }
+    })?;
     h.symmetrise();
     Ok(h)
 }

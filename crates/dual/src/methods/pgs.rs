@@ -140,135 +140,220 @@ pub fn run(
         data.set_penalty(norm, settings.equality_penalty);
         hessian.add_penalty(&data.modes, data.penalty);
     }
-    let dual_load = data.dual_load();
-    let mut inner_load = data.inner_load(&dual_load);
-    let diagonal = safe_diagonal(&hessian);
-    let m = data.rows();
-    let mut lambda = vec![0.0; m];
-    let mut gradient = residual(&hessian, &lambda, &inner_load);
+    let mut pgs = Pgs::start(data, settings, hessian);
     monitor.calibrate(&data.base);
-    let mut iter = 0;
-    let mut sweep_time = Duration::ZERO;
-    let mut objective = dense_objective(&lambda, &gradient, &inner_load).0;
-    let mut checked: Option<f64> = None;
-    let mut stalled = 0;
-    let mut progress = Progress::default();
-    let stop = |lambda: Vec<f64>, x: Vec<f64>, iter: usize, status, message| Outcome {
-        x,
-        multipliers: lambda,
-        status,
-        iterations: iter,
-        message,
-    };
     loop {
-        if let Some((status, message)) = monitor.limit(iter) {
-            return finish_at_limit(data, monitor, iter, lambda, status, message);
+        if let Some((status, message)) = monitor.limit(pgs.iter) {
+            let lambda = std::mem::take(&mut pgs.lambda);
+            return finish_at_limit(data, monitor, pgs.iter, lambda, status, message);
         }
+        if let Some(outcome) = pgs.sweep(data) {
+            return outcome;
+        }
+        let estimate = monitor.estimate(&pgs.lambda, &pgs.gradient);
+        if !monitor.due(pgs.iter, estimate) && pgs.stalled < STALL_SWEEPS {
+            continue;
+        }
+        if let Some(outcome) = pgs.full_check(data, monitor) {
+            return outcome;
+        }
+    }
+}
+
+/// The state of projected Gauss–Seidel between sweeps.
+struct Pgs {
+    /// H (+ c GᵀG for a floating body).
+    hessian: DenseSym,
+    /// Hᵢᵢ, kept away from zero ([`safe_diagonal`]).
+    diagonal: Vec<f64>,
+    /// ω.
+    relaxation: f64,
+    /// d, the dual load.
+    dual_load: Vec<f64>,
+    /// The load of the inner problem (d with the augmented-Lagrangian terms).
+    inner_load: Vec<f64>,
+    /// λ.
+    lambda: Vec<f64>,
+    /// w = H λ − d, kept in step by the sweeps.
+    gradient: Vec<f64>,
+    /// Sweeps so far.
+    iter: usize,
+    /// Time spent sweeping.
+    sweep_time: Duration,
+    /// The dense dual objective after the last sweep.
+    objective: f64,
+    /// The sparse dual objective at the last full check, if one was made since the last
+    /// multiplier update.
+    checked: Option<f64>,
+    /// Sweeps in a row without a decrease beyond round-off.
+    stalled: usize,
+    /// The best KKT residuals at the full checks.
+    progress: Progress,
+}
+
+impl Pgs {
+    /// λ = 0 and its gradient.
+    fn start(data: &DualData<'_>, settings: &DualSettings, hessian: DenseSym) -> Self {
+        let dual_load = data.dual_load();
+        let inner_load = data.inner_load(&dual_load);
+        let diagonal = safe_diagonal(&hessian);
+        let lambda = vec![0.0; data.rows()];
+        let gradient = residual(&hessian, &lambda, &inner_load);
+        let objective = dense_objective(&lambda, &gradient, &inner_load).0;
+        Self {
+            hessian,
+            diagonal,
+            relaxation: settings.relaxation,
+            dual_load,
+            inner_load,
+            lambda,
+            gradient,
+            iter: 0,
+            sweep_time: Duration::ZERO,
+            objective,
+            checked: None,
+            stalled: 0,
+            progress: Progress::default(),
+        }
+    }
+
+    /// The answer (λ, `x`) with `status` at the current sweep.
+    fn stop(&mut self, x: Vec<f64>, status: QpStatus, message: String) -> Outcome {
+        Outcome {
+            x,
+            multipliers: std::mem::take(&mut self.lambda),
+            status,
+            iterations: self.iter,
+            message,
+        }
+    }
+
+    /// One sweep, then its check of monotonicity (the answer when it fails) and the count of
+    /// sweeps without progress.
+    fn sweep(&mut self, data: &DualData<'_>) -> Option<Outcome> {
         let started = Instant::now();
         sweep(
-            &hessian,
-            &diagonal,
-            settings.relaxation,
-            &mut lambda,
-            &mut gradient,
+            &self.hessian,
+            &self.diagonal,
+            self.relaxation,
+            &mut self.lambda,
+            &mut self.gradient,
         );
-        sweep_time += started.elapsed();
-        iter += 1;
-        let (next, scale) = dense_objective(&lambda, &gradient, &inner_load);
+        self.sweep_time += started.elapsed();
+        self.iter += 1;
+        let iter = self.iter;
+        let (next, scale) = dense_objective(&self.lambda, &self.gradient, &self.inner_load);
+        let objective = self.objective;
         if next - objective > SWEEP_RISE * scale.max(objective.abs()) || !next.is_finite() {
-            let x = data.primal(&lambda);
-            return stop(
-                lambda,
+            let x = data.primal(&self.lambda);
+            return Some(self.stop(
                 x,
-                iter,
                 QpStatus::NumericalError,
                 format!(
                     "PGS lost monotonicity: dual objective rose by {:.3e} (scale {scale:.3e}) at sweep {iter}; the dense H is not positive semidefinite (formed inaccurately?) — try dual-ssn, pdas or dual-uzawa",
                     next - objective
                 ),
-            );
+            ));
         }
         if objective - next <= STALL_DECREASE * scale {
-            stalled += 1;
+            self.stalled += 1;
         } else {
-            stalled = 0;
+            self.stalled = 0;
         }
-        objective = next;
-        let estimate = monitor.estimate(&lambda, &gradient);
-        if !monitor.due(iter, estimate) && stalled < STALL_SWEEPS {
-            continue;
+        self.objective = next;
+        None
+    }
+
+    /// The full check (one sparse solve): the monitor's verdict, the consistency of the dense
+    /// H with the sparse solve, and the rate of progress; the answer when one of them stops.
+    fn full_check(
+        &mut self,
+        data: &mut DualData<'_>,
+        monitor: &mut Monitor<'_>,
+    ) -> Option<Outcome> {
+        let (x, sparse, sparse_scale) = self.sparse_measure(data, monitor);
+        match monitor.check(data, self.iter, &self.lambda, &x) {
+            Next::Continue => {}
+            Next::UpdateMultiplier => {
+                if let Some(message) = data.update_multiplier(&self.lambda) {
+                    return Some(self.stop(x, QpStatus::DualInfeasible, message));
+                }
+                self.inner_load = data.inner_load(&self.dual_load);
+                self.checked = None;
+                self.stalled = 0;
+                self.resync();
+                return None;
+            }
+            Next::Stop(status, message) => return Some(self.stop(x, status, message)),
         }
+        if let Some(message) = self.inconsistency(sparse, sparse_scale) {
+            return Some(self.stop(x, QpStatus::NumericalError, message));
+        }
+        self.checked = Some(sparse);
+        let worst = monitor.residuals(&x, &self.lambda).worst();
+        if let Some(message) =
+            self.progress
+                .record(self.iter, worst, monitor.tol(), monitor.max_iter())
+        {
+            let message = monitor.explain(message);
+            return Some(self.stop(x, QpStatus::Inaccurate, message));
+        }
+        if self.stalled >= STALL_SWEEPS {
+            let message = monitor.explain(format!(
+                "PGS stalled: the dual objective changed by less than round-off for {STALL_SWEEPS} sweeps (at sweep {}) without meeting the tolerance — try dual-ssn or pdas",
+                self.iter
+            ));
+            return Some(self.stop(x, QpStatus::Inaccurate, message));
+        }
+        self.resync();
+        None
+    }
+
+    /// x(λ) and the dual objective measured with the sparse solve (with its scale); stretches
+    /// the monitor's check period so that the checks (one solve each) stay under ~10 % of the
+    /// sweeping time.
+    fn sparse_measure(
+        &self,
+        data: &DualData<'_>,
+        monitor: &mut Monitor<'_>,
+    ) -> (Vec<f64>, f64, f64) {
         let started = Instant::now();
-        let free = data.free_part(&lambda);
-        let (sparse, sparse_scale) = sparse_objective(data, &lambda, &free);
-        let x = data.primal_from(free, &lambda);
+        let free = data.free_part(&self.lambda);
+        let (sparse, sparse_scale) = sparse_objective(data, &self.lambda, &free);
+        let x = data.primal_from(free, &self.lambda);
         let check_time = started.elapsed();
-        // Keep the periodic checks (one solve each) under ~10 % of the sweeping time.
-        let per_sweep = sweep_time.as_secs_f64() / iter as f64;
+        let per_sweep = self.sweep_time.as_secs_f64() / self.iter as f64;
         if per_sweep > 0.0 {
             let period = (10.0 * check_time.as_secs_f64() / per_sweep).ceil();
             monitor.stretch_period(period.min(1e6) as usize);
         }
-        match monitor.check(data, iter, &lambda, &x) {
-            Next::Continue => {}
-            Next::UpdateMultiplier => {
-                if let Some(message) = data.update_multiplier(&lambda) {
-                    return stop(lambda, x, iter, QpStatus::DualInfeasible, message);
-                }
-                inner_load = data.inner_load(&dual_load);
-                checked = None;
-                stalled = 0;
-                gradient = residual(&hessian, &lambda, &inner_load);
-                objective = dense_objective(&lambda, &gradient, &inner_load).0;
-                continue;
-            }
-            Next::Stop(status, message) => return stop(lambda, x, iter, status, message),
-        }
-        let (dense, _) = dense_objective(&lambda, &gradient, &inner_load);
+        (x, sparse, sparse_scale)
+    }
+
+    /// Why the dense H is inconsistent with A and B, if it is: the dense and the sparse
+    /// objective differ at the same λ, or the sparse one rose since the last check.
+    fn inconsistency(&self, sparse: f64, sparse_scale: f64) -> Option<String> {
+        let iter = self.iter;
+        let (dense, _) = dense_objective(&self.lambda, &self.gradient, &self.inner_load);
         if (dense - sparse).abs() > CONSISTENCY * sparse_scale || !dense.is_finite() {
-            return stop(
-                lambda,
-                x,
-                iter,
-                QpStatus::NumericalError,
-                format!(
-                    "PGS lost monotonicity: at sweep {iter} the dual objective is {dense:.6e} with the dense H but {sparse:.6e} measured with the sparse solve (scale {sparse_scale:.1e}): the dense H is inconsistent with A and B (ill-conditioned dual, or H not positive semidefinite) — try dual-ssn, pdas or dual-uzawa"
-                ),
-            );
+            return Some(format!(
+                "PGS lost monotonicity: at sweep {iter} the dual objective is {dense:.6e} with the dense H but {sparse:.6e} measured with the sparse solve (scale {sparse_scale:.1e}): the dense H is inconsistent with A and B (ill-conditioned dual, or H not positive semidefinite) — try dual-ssn, pdas or dual-uzawa"
+            ));
         }
-        if let Some(previous) = checked {
-            if sparse - previous > CHECK_RISE * sparse_scale.max(previous.abs()) {
-                return stop(
-                    lambda,
-                    x,
-                    iter,
-                    QpStatus::NumericalError,
-                    format!(
-                        "PGS lost monotonicity: dual objective (measured with the sparse solve) rose by {:.3e} (scale {sparse_scale:.3e}) by sweep {iter} while the dense one fell: the dense H is inconsistent with A and B (ill-conditioned dual) — try dual-ssn, pdas or dual-uzawa",
-                        sparse - previous
-                    ),
-                );
-            }
-        }
-        checked = Some(sparse);
-        let worst = monitor.residuals(&x, &lambda).worst();
-        if let Some(message) = progress.record(iter, worst, monitor.tol(), monitor.max_iter()) {
-            let message = monitor.explain(message);
-            return stop(lambda, x, iter, QpStatus::Inaccurate, message);
-        }
-        if stalled >= STALL_SWEEPS {
-            return stop(
-                lambda,
-                x,
-                iter,
-                QpStatus::Inaccurate,
-                monitor.explain(format!(
-                    "PGS stalled: the dual objective changed by less than round-off for {STALL_SWEEPS} sweeps (at sweep {iter}) without meeting the tolerance — try dual-ssn or pdas"
-                )),
-            );
-        }
-        gradient = residual(&hessian, &lambda, &inner_load);
-        objective = dense_objective(&lambda, &gradient, &inner_load).0;
+        let previous = self.checked?;
+        (sparse - previous > CHECK_RISE * sparse_scale.max(previous.abs())).then(|| {
+            format!(
+                "PGS lost monotonicity: dual objective (measured with the sparse solve) rose by {:.3e} (scale {sparse_scale:.3e}) by sweep {iter} while the dense one fell: the dense H is inconsistent with A and B (ill-conditioned dual) — try dual-ssn, pdas or dual-uzawa",
+                sparse - previous
+            )
+        })
+    }
+
+    /// Recomputes w = H λ − d and the dense objective from scratch (after a check, or a new
+    /// load), so that the sweeps' round-off does not accumulate.
+    fn resync(&mut self) {
+        self.gradient = residual(&self.hessian, &self.lambda, &self.inner_load);
+        self.objective = dense_objective(&self.lambda, &self.gradient, &self.inner_load).0;
     }
 }
 

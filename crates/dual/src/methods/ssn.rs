@@ -29,25 +29,18 @@
 
 use std::collections::HashSet;
 
-use signorini_qp::{norm_inf, QpStatus};
+use signorini_qp::QpStatus;
 
 use super::newton::{lumped_compliance, DenseBlock, MatrixFreeBlock};
-use crate::dual::{two_sum, DualData, Outcome};
+use crate::dual::{DualData, Outcome};
 use crate::error::DualError;
-use crate::hessian::{dense_bytes, dual_hessian};
+use crate::hessian::{dense_bytes, dual_hessian, DenseSym};
 use crate::monitor::{finish_at_limit, Monitor, Next};
 use crate::settings::DualSettings;
 
-/// At most this many corrections per Newton step (each costs one sparse solve).
-const MAX_REFINEMENT: usize = 30;
+mod step;
 
-/// Mixed-precision corrections of each sparse solve x(λ) (see
-/// [`DualData::free_part_accurate`]).
-const ACCURATE_SOLVE_CORRECTIONS: usize = 4;
-
-/// A correction is kept going only while it shrinks the scaled residual by at least this
-/// factor (slower contraction means round-off has been reached).
-const CONTRACTION: f64 = 0.5;
+use step::{dense_step, refined_step, Step};
 
 /// From this many active-set steps on, an iterate whose set still moves is checked against
 /// the tolerance (one sparse solve) before the next step: the set can move on round-off alone.
@@ -59,197 +52,333 @@ pub fn solve(
     settings: &DualSettings,
     monitor: &mut Monitor<'_>,
 ) -> Result<Outcome, DualError> {
-    let m = data.rows();
-    let k = data.modes.count();
     data.penalty = 0.0;
     if let Some(message) = data.modes.farkas_direction() {
         return Ok(stopped(data, QpStatus::DualInfeasible, message));
     }
-    // Besides H: the dense Newton matrix, its shifted copy and their factor.
-    let fits =
-        signorini_qp::memory::check_fits("dual-ssn", String::new, dense_bytes(data, settings, 3.0))
-            .is_ok();
-    let hessian = if fits && m <= settings.matrix_free_rows {
-        Some(dual_hessian(data, settings, 3.0, &|| {
-            monitor.out_of_time()
-        })?)
-    } else {
-        None
-    };
-    let load = data.dual_load();
-    let diagonal: Vec<f64> = match &hessian {
-        Some(h) => (0..m).map(|i| h.diag(i).max(f64::MIN_POSITIVE)).collect(),
-        None => lumped_compliance(data),
-    };
-    let mode = if hessian.is_some() {
-        "dense Newton steps"
-    } else {
-        "matrix-free Newton steps (projected CG through the sparse factor)"
-    };
-    let mut active: Vec<bool> = if data.floating() {
-        vec![true; m]
-    } else {
-        load.iter().map(|d| *d > 0.0).collect()
-    };
-    let mut seen: HashSet<Vec<bool>> = HashSet::new();
-    let mut lambda = vec![0.0; m];
-    let mut iter = 0;
-    let mut refinements = 0;
-    // Cheap steps while the set moves (dense: the dense step alone, no sparse solve;
-    // matrix-free: plain sparse solves in the refinement); once it settles, the same set is
-    // solved again, refined with the mixed-precision solves, and decided anew.
-    let mut stall = Stall::default();
-    let mut dense_phase = hessian.is_some();
-    let mut accurate = false;
-    let mut redo = false;
+    let newton = Newton::new(data, settings, monitor)?;
+    let mut state = State::start(data, &newton);
     loop {
-        if let Some((status, message)) = monitor.limit(iter) {
+        if let Some((status, message)) = monitor.limit(state.iter) {
             return Ok(finish_at_limit(
-                data, monitor, iter, lambda, status, message,
+                data,
+                monitor,
+                state.iter,
+                state.lambda,
+                status,
+                message,
             ));
         }
-        seen.insert(active.clone());
+        state.seen.insert(state.active.clone());
+        let Some(step) = newton.step(data, monitor, &state) else {
+            return Ok(newton.singular(data, &state));
+        };
+        if let Some(outcome) = newton.advance(data, monitor, &mut state, step) {
+            return Ok(outcome);
+        }
+    }
+}
+
+/// What the iteration keeps fixed: the dense H (when it is formed), the dual load d, the
+/// diagonal that scales the set rule, and how the steps are solved.
+struct Newton {
+    /// H, when it fits and m ≤ `matrix_free_rows`; else the steps are matrix-free.
+    hessian: Option<DenseSym>,
+    /// d.
+    load: Vec<f64>,
+    /// Hᵢᵢ (or the lumped compliance without H): the scale of the set rule.
+    diagonal: Vec<f64>,
+    /// How the steps are solved, for the message.
+    mode: &'static str,
+}
+
+/// The iteration's state, carried from one step to the next.
+struct State {
+    /// The current set F.
+    active: Vec<bool>,
+    /// The sets stepped from so far (one that comes back is a cycle).
+    seen: HashSet<Vec<bool>>,
+    /// λ of the last step.
+    lambda: Vec<f64>,
+    /// Active-set steps counted so far.
+    iter: usize,
+    /// Refinement solves so far.
+    refinements: usize,
+    /// Progress of a set that still moves.
+    stall: Stall,
+    /// Cheap steps while the set moves (dense: the dense step alone, no sparse solve;
+    /// matrix-free: plain sparse solves in the refinement); once it settles, the same set is
+    /// solved again, refined with the mixed-precision solves, and decided anew.
+    dense_phase: bool,
+    /// Refine with the mixed-precision sparse solves.
+    accurate: bool,
+    /// The next step solves the same set again (not counted as a step).
+    redo: bool,
+}
+
+impl State {
+    /// The first set: every row for a floating body, else the rows with dᵢ > 0.
+    fn start(data: &DualData<'_>, newton: &Newton) -> Self {
+        let m = data.rows();
+        let active = if data.floating() {
+            vec![true; m]
+        } else {
+            newton.load.iter().map(|d| *d > 0.0).collect()
+        };
+        Self {
+            active,
+            seen: HashSet::new(),
+            lambda: vec![0.0; m],
+            iter: 0,
+            refinements: 0,
+            stall: Stall::default(),
+            dense_phase: newton.hessian.is_some(),
+            accurate: false,
+            redo: false,
+        }
+    }
+}
+
+impl Newton {
+    /// Forms H when it fits (besides H: the dense Newton matrix, its shifted copy and their
+    /// factor) and m ≤ `matrix_free_rows`.
+    fn new(
+        data: &DualData<'_>,
+        settings: &DualSettings,
+        monitor: &Monitor<'_>,
+    ) -> Result<Self, DualError> {
+        let m = data.rows();
+        let fits = signorini_qp::memory::check_fits(
+            "dual-ssn",
+            String::new,
+            dense_bytes(data, settings, 3.0),
+        )
+        .is_ok();
+        let hessian = if fits && m <= settings.matrix_free_rows {
+            Some(dual_hessian(data, settings, 3.0, &|| {
+                monitor.out_of_time()
+            })?)
+        } else {
+            None
+        };
+        let load = data.dual_load();
+        let diagonal: Vec<f64> = match &hessian {
+            Some(h) => (0..m).map(|i| h.diag(i).max(f64::MIN_POSITIVE)).collect(),
+            None => lumped_compliance(data),
+        };
+        let mode = if hessian.is_some() {
+            "dense Newton steps"
+        } else {
+            "matrix-free Newton steps (projected CG through the sparse factor)"
+        };
+        Ok(Self {
+            hessian,
+            load,
+            diagonal,
+            mode,
+        })
+    }
+
+    /// The Newton step on the current set: while the set moves, the dense step alone, its
+    /// gradient from the dense H (no sparse solve); the settled set (or every set without H)
+    /// refined against the primal residual.  `None` when the system is singular.
+    fn step(&self, data: &DualData<'_>, monitor: &Monitor<'_>, state: &State) -> Option<Step> {
         let out_of_time = || monitor.out_of_time();
-        let step = match &hessian {
-            Some(h) if dense_phase => {
-                // While the set moves: the dense step alone, its gradient from the dense H (no
-                // sparse solve); the settled set is solved again, refined.
-                let block = DenseBlock::factor(h, &data.modes, &active);
-                dense_step(h, &block, data, &load)
+        match &self.hessian {
+            Some(h) if state.dense_phase => {
+                let block = DenseBlock::factor(h, &data.modes, &state.active);
+                dense_step(h, &block, data, &self.load)
             }
             Some(h) => {
-                let block = DenseBlock::factor(h, &data.modes, &active);
+                let block = DenseBlock::factor(h, &data.modes, &state.active);
                 refined_step(
                     data,
                     &block.rows,
                     &|r, e| block.solve(r, e),
-                    &load,
+                    &self.load,
                     monitor,
-                    accurate,
+                    state.accurate,
                 )
             }
-            None => {
-                MatrixFreeBlock::new(data, &active, &diagonal, &out_of_time).and_then(|block| {
+            None => MatrixFreeBlock::new(data, &state.active, &self.diagonal, &out_of_time)
+                .and_then(|block| {
                     refined_step(
                         data,
                         &block.rows,
                         &|r, e| block.solve(r, e),
-                        &load,
+                        &self.load,
                         monitor,
-                        accurate,
+                        state.accurate,
                     )
-                })
-            }
-        };
-        let Some(step) = step else {
-            let mut out = stopped(
-                data,
-                QpStatus::NumericalError,
-                format!(
-                    "singular active-set system on {} rows (redundant contact rows, or a rigid mode the active contacts do not hold; k = {k})",
-                    active.iter().filter(|a| **a).count()
-                ),
-            );
-            out.iterations = iter;
-            return Ok(out);
-        };
-        refinements += step.refinements;
-        lambda = step.lambda;
+                }),
+        }
+    }
+
+    /// The answer when the current set's system is singular.
+    fn singular(&self, data: &DualData<'_>, state: &State) -> Outcome {
+        let mut out = stopped(
+            data,
+            QpStatus::NumericalError,
+            format!(
+                "singular active-set system on {} rows (redundant contact rows, or a rigid mode the active contacts do not hold; k = {})",
+                state.active.iter().filter(|a| **a).count(),
+                data.modes.count()
+            ),
+        );
+        out.iterations = state.iter;
+        out
+    }
+
+    /// Takes the step and decides: the same set again (refined), an answer, or the next set.
+    fn advance(
+        &self,
+        data: &mut DualData<'_>,
+        monitor: &mut Monitor<'_>,
+        state: &mut State,
+        step: Step,
+    ) -> Option<Outcome> {
+        state.refinements += step.refinements;
+        state.lambda = step.lambda;
         data.multiplier = step.mu;
-        if !redo {
-            iter += 1;
+        if !state.redo {
+            state.iter += 1;
         }
-        redo = false;
-        let next_active: Vec<bool> = (0..m)
-            .map(|i| lambda[i] - step.gradient[i] / diagonal[i] > 0.0)
+        state.redo = false;
+        let next_active: Vec<bool> = (0..data.rows())
+            .map(|i| state.lambda[i] - step.gradient[i] / self.diagonal[i] > 0.0)
             .collect();
-        if next_active == active && dense_phase {
-            // Settled on the dense steps: solve the set again against the sparse residual.
-            dense_phase = false;
-            redo = true;
-            continue;
+        if next_active == state.active {
+            let refined = (step.residual, step.refinements);
+            return self.settled(data, monitor, state, step.x, refined);
         }
-        if next_active == active && !accurate {
-            // Plain refinement is enough for a well-conditioned dual (one or two sparse
-            // solves); only when it misses the tolerance is the set solved with the
-            // mixed-precision solves (five sparse solves per evaluation).
-            let solved = !lambda.iter().any(|l| *l < 0.0)
-                && matches!(
-                    monitor.check(data, iter, &lambda, &step.x),
-                    Next::Stop(QpStatus::Solved, _)
-                );
-            if !solved {
-                accurate = true;
-                redo = true;
-                continue;
+        if state.iter >= CHECK_MOVING_FROM {
+            if let Some(outcome) = self.check_moving(data, monitor, state, &next_active) {
+                return Some(outcome);
             }
         }
-        if next_active == active {
-            let clipped = lambda.iter().any(|l| *l < 0.0);
-            let lambda_clipped: Vec<f64> = lambda.iter().map(|l| l.max(0.0)).collect();
-            let x = if clipped {
-                data.primal_at(&lambda_clipped, &data.multiplier)
-            } else {
-                step.x
-            };
-            let (status, message) = match monitor.check(data, iter, &lambda_clipped, &x) {
-                Next::Stop(status, message) => (status, message),
-                _ => (
-                    QpStatus::Inaccurate,
-                    monitor.explain(format!(
-                        "active set settled but the KKT residuals miss the tolerance (refined primal residual {:.1e} after {} corrections)",
-                        step.residual, step.refinements
-                    )),
-                ),
-            };
-            return Ok(Outcome {
-                x,
-                multipliers: lambda_clipped,
-                status,
-                iterations: iter,
-                message: format!(
-                    "{message}; {iter} active-set steps ({mode}), {refinements} refinement solves"
-                ),
-            });
-        }
-        // The set can move on round-off alone while the iterate already meets the tolerance:
-        // a body 1e30 times softer than its neighbours makes νᵢ / Hᵢᵢ noise around zero, and each
-        // new set costs a dense factorisation of up to m rows.  From a few steps on, one sparse
-        // solve checks the iterate first (cheaper than that factorisation).
-        if iter >= CHECK_MOVING_FROM {
-            let (checked, worst) = checked_iterate(data, monitor, iter, &lambda);
-            if checked.status == QpStatus::Solved {
-                return Ok(Outcome {
-                    message: format!(
-                        "{}; the iterate met the tolerance while the active set still moved (on round-off); {iter} active-set steps ({mode}), {refinements} refinement solves",
-                        checked.message
-                    ),
-                    ..checked
-                });
-            }
-            let changes = (0..m).filter(|&i| next_active[i] != active[i]).count();
-            if let Some(why) = stall.observe(iter, changes, worst) {
-                return Ok(Outcome {
-                    message: format!(
-                        "{}; {why}; {iter} active-set steps ({mode}), {refinements} refinement solves",
-                        checked.message
-                    ),
-                    ..checked
-                });
-            }
-        }
-        if seen.contains(&next_active) {
-            let lambda_clipped = lambda.iter().map(|l| l.max(0.0)).collect();
-            return Ok(finish_at_limit(
+        if state.seen.contains(&next_active) {
+            let lambda_clipped = state.lambda.iter().map(|l| l.max(0.0)).collect();
+            return Some(finish_at_limit(
                 data,
                 monitor,
-                iter,
+                state.iter,
                 lambda_clipped,
                 QpStatus::MaxIterations,
                 "active set cycles".to_string(),
             ));
         }
-        active = next_active;
+        state.active = next_active;
+        None
+    }
+
+    /// The set reproduced itself.  Settled on the dense steps: solve it again against the
+    /// sparse residual.  Plain refinement is enough for a well-conditioned dual (one or two
+    /// sparse solves); only when it misses the tolerance is the set solved with the
+    /// mixed-precision solves (five sparse solves per evaluation).  Else the answer, with the
+    /// step's x and (residual, corrections) of its refinement.
+    fn settled(
+        &self,
+        data: &DualData<'_>,
+        monitor: &mut Monitor<'_>,
+        state: &mut State,
+        x: Vec<f64>,
+        refined: (f64, usize),
+    ) -> Option<Outcome> {
+        if state.dense_phase {
+            state.dense_phase = false;
+            state.redo = true;
+            return None;
+        }
+        if !state.accurate {
+            let solved = !state.lambda.iter().any(|l| *l < 0.0)
+                && matches!(
+                    monitor.check(data, state.iter, &state.lambda, &x),
+                    Next::Stop(QpStatus::Solved, _)
+                );
+            if !solved {
+                state.accurate = true;
+                state.redo = true;
+                return None;
+            }
+        }
+        Some(self.answer(data, monitor, state, x, refined))
+    }
+
+    /// The settled set's answer: λ clipped at zero (x formed again if that changed λ), judged
+    /// by the monitor.
+    fn answer(
+        &self,
+        data: &DualData<'_>,
+        monitor: &mut Monitor<'_>,
+        state: &State,
+        x: Vec<f64>,
+        (residual, corrections): (f64, usize),
+    ) -> Outcome {
+        let iter = state.iter;
+        let clipped = state.lambda.iter().any(|l| *l < 0.0);
+        let lambda_clipped: Vec<f64> = state.lambda.iter().map(|l| l.max(0.0)).collect();
+        let x = if clipped {
+            data.primal_at(&lambda_clipped, &data.multiplier)
+        } else {
+            x
+        };
+        let (status, message) = match monitor.check(data, iter, &lambda_clipped, &x) {
+            Next::Stop(status, message) => (status, message),
+            _ => (
+                QpStatus::Inaccurate,
+                monitor.explain(format!(
+                    "active set settled but the KKT residuals miss the tolerance (refined primal residual {residual:.1e} after {corrections} corrections)"
+                )),
+            ),
+        };
+        Outcome {
+            x,
+            multipliers: lambda_clipped,
+            status,
+            iterations: iter,
+            message: format!("{message}; {}", self.tally(state)),
+        }
+    }
+
+    /// The set can move on round-off alone while the iterate already meets the tolerance:
+    /// a body 1e30 times softer than its neighbours makes νᵢ / Hᵢᵢ noise around zero, and
+    /// each new set costs a dense factorisation of up to m rows.  From a few steps on, one
+    /// sparse solve checks the iterate first (cheaper than that factorisation); the answer
+    /// when it meets the tolerance or the moving set has stalled.
+    fn check_moving(
+        &self,
+        data: &DualData<'_>,
+        monitor: &Monitor<'_>,
+        state: &mut State,
+        next_active: &[bool],
+    ) -> Option<Outcome> {
+        let (checked, worst) = checked_iterate(data, monitor, state.iter, &state.lambda);
+        if checked.status == QpStatus::Solved {
+            return Some(Outcome {
+                message: format!(
+                    "{}; the iterate met the tolerance while the active set still moved (on round-off); {}",
+                    checked.message,
+                    self.tally(state)
+                ),
+                ..checked
+            });
+        }
+        let changes = (0..data.rows())
+            .filter(|&i| next_active[i] != state.active[i])
+            .count();
+        let why = state.stall.observe(state.iter, changes, worst)?;
+        Some(Outcome {
+            message: format!("{}; {why}; {}", checked.message, self.tally(state)),
+            ..checked
+        })
+    }
+
+    /// "12 active-set steps (dense Newton steps), 3 refinement solves" for messages.
+    fn tally(&self, state: &State) -> String {
+        format!(
+            "{} active-set steps ({}), {} refinement solves",
+            state.iter, self.mode, state.refinements
+        )
     }
 }
 
@@ -317,36 +446,6 @@ fn checked_iterate(
     (outcome, r.worst())
 }
 
-/// The unrefined dense Newton step: (λ_F, μ) from the factored block, and the gradient
-/// H λ − d + Gᵀ μ from the dense H (x is left empty: the step only decides the next set).
-fn dense_step(
-    hessian: &crate::hessian::DenseSym,
-    block: &DenseBlock,
-    data: &DualData<'_>,
-    load: &[f64],
-) -> Option<Step> {
-    let rhs: Vec<f64> = block.rows.iter().map(|&i| load[i]).collect();
-    let (lambda_f, mu) = block.solve(&rhs, &data.modes.load)?;
-    let mut lambda = vec![0.0; data.rows()];
-    for (&i, l) in block.rows.iter().zip(&lambda_f) {
-        lambda[i] = *l;
-    }
-    let mut gradient = hessian.mul(&lambda);
-    gradient.iter_mut().zip(load).for_each(|(w, d)| *w -= d);
-    crate::kernel::add_coupling_t(&data.modes, &mu, &mut gradient);
-    if gradient.iter().chain(&lambda).any(|v| !v.is_finite()) {
-        return None;
-    }
-    Some(Step {
-        lambda,
-        mu,
-        x: Vec::new(),
-        gradient,
-        residual: f64::NAN,
-        refinements: 0,
-    })
-}
-
 /// A finite answer (x = A⁺f) with a verdict and no iterations.
 fn stopped(data: &DualData<'_>, status: QpStatus, message: String) -> Outcome {
     Outcome {
@@ -356,128 +455,6 @@ fn stopped(data: &DualData<'_>, status: QpStatus, message: String) -> Outcome {
         iterations: 0,
         message,
     }
-}
-
-/// One Newton step, refined.
-#[derive(Debug)]
-struct Step {
-    lambda: Vec<f64>,
-    mu: Vec<f64>,
-    /// x = A⁺(f − Bᵀλ) − R μ.
-    x: Vec<f64>,
-    /// g − B x = H λ − d + Gᵀ μ (exact up to one sparse solve's round-off).
-    gradient: Vec<f64>,
-    /// The scaled primal residual left.
-    residual: f64,
-    /// Corrections taken.
-    refinements: usize,
-}
-
-/// The primal point of (λ, μ) and its residuals on the active rows.
-struct Evaluated {
-    x: Vec<f64>,
-    gradient: Vec<f64>,
-    rows: Vec<f64>,
-    kernel: Vec<f64>,
-    norm: f64,
-}
-
-fn evaluate(
-    data: &DualData<'_>,
-    rows: &[usize],
-    lambda: &[f64],
-    low: &[f64],
-    mu: &[f64],
-    corrections: usize,
-) -> Evaluated {
-    let free = data.free_part_accurate(lambda, Some(low), corrections);
-    let x = data.primal_at_from(free, mu);
-    let gradient = data.dual_gradient(&x);
-    let residual_rows: Vec<f64> = rows.iter().map(|&i| -gradient[i]).collect();
-    let kernel: Vec<f64> = data
-        .modes
-        .equality_residual(lambda)
-        .iter()
-        .map(|r| -r)
-        .collect();
-    let length = norm_inf(&x).max(f64::MIN_POSITIVE);
-    let force = norm_inf(&data.problem.load)
-        .max(norm_inf(&data.modes.load))
-        .max(f64::MIN_POSITIVE);
-    let norm = norm_inf(&residual_rows) / length + norm_inf(&kernel) / force;
-    Evaluated {
-        x,
-        gradient,
-        rows: residual_rows,
-        kernel,
-        norm,
-    }
-}
-
-/// The solve of one active set's Newton system: (r_F, r_e) ↦ (λ_F, μ), `None` when singular.
-type NewtonSolve<'a> = dyn Fn(&[f64], &[f64]) -> Option<(Vec<f64>, Vec<f64>)> + 'a;
-
-/// Solves the Newton system on the active `rows` with `solve` (dense factor or matrix-free CG)
-/// and refines it against the primal residual; `None` when the system is singular.
-fn refined_step(
-    data: &DualData<'_>,
-    rows: &[usize],
-    solve: &NewtonSolve<'_>,
-    load: &[f64],
-    monitor: &Monitor<'_>,
-    accurate: bool,
-) -> Option<Step> {
-    let corrections = if accurate {
-        ACCURATE_SOLVE_CORRECTIONS
-    } else {
-        0
-    };
-    let rows = rows.to_vec();
-    let rhs: Vec<f64> = rows.iter().map(|&i| load[i]).collect();
-    let (lambda_f, mut mu) = solve(&rhs, &data.modes.load)?;
-    let mut lambda = vec![0.0; data.rows()];
-    for (&i, l) in rows.iter().zip(&lambda_f) {
-        lambda[i] = *l;
-    }
-    // λ is carried as the unevaluated sum λ + λ_lo, so that corrections far below ε‖λ‖ (the
-    // dual of a thin body amplifies the rounding of λ by its condition number) still move x.
-    let mut low = vec![0.0; data.rows()];
-    let mut current = evaluate(data, &rows, &lambda, &low, &mu, corrections);
-    let mut refinements = 0;
-    while refinements < MAX_REFINEMENT && current.norm > 0.0 && !monitor.out_of_time() {
-        let Some((dl, dmu)) = solve(&current.rows, &current.kernel) else {
-            break;
-        };
-        let mut trial = lambda.clone();
-        let mut trial_low = low.clone();
-        for (&i, d) in rows.iter().zip(&dl) {
-            let (hi, err) = two_sum(trial[i], d + trial_low[i]);
-            trial[i] = hi;
-            trial_low[i] = err;
-        }
-        let trial_mu: Vec<f64> = mu.iter().zip(&dmu).map(|(a, b)| a + b).collect();
-        let next = evaluate(data, &rows, &trial, &trial_low, &trial_mu, corrections);
-        if next.norm.is_nan() || next.norm >= current.norm {
-            break;
-        }
-        refinements += 1;
-        let enough = next.norm > CONTRACTION * current.norm;
-        lambda = trial;
-        low = trial_low;
-        mu = trial_mu;
-        current = next;
-        if enough {
-            break;
-        }
-    }
-    Some(Step {
-        lambda,
-        mu,
-        x: current.x,
-        gradient: current.gradient,
-        residual: current.norm,
-        refinements,
-    })
 }
 
 #[cfg(test)]

@@ -22,10 +22,11 @@
 
 use std::time::Instant;
 
-use signorini_qp::{dot, kkt_residuals_with, mat_t_vec, mat_vec, QpStatus};
+use signorini_qp::{dot, mat_t_vec, mat_vec, QpProblem, QpStatus, ResidualScales};
 
-use super::{count, ActiveSet, Outcome, Phase1};
-use crate::refine::{first_solve, refine, Limits};
+use super::{count, ActiveSet, Best, Measured, Outcome, Phase1};
+use crate::error::PdasError;
+use crate::refine::{first_solve, refine, SetSolution};
 use crate::update::SetSolver;
 
 /// Fraction of the distance to the boundary an interior step may go.
@@ -38,212 +39,367 @@ const TO_BOUNDARY: f64 = 0.995;
 /// (η = 0.9 or 0.999 for [`TO_BOUNDARY`] instead of 0.995: 25 and 23 at ×1.)
 const START_CENTRING: f64 = 1e3;
 
+/// The interior-point iteration's state, carried from one step to the next.
+struct Interior {
+    /// Primal x.
+    x: Vec<f64>,
+    /// Slacks s = g − B x (at the solution), kept positive.
+    s: Vec<f64>,
+    /// Multipliers λ, kept positive.
+    lambda: Vec<f64>,
+    /// Iterations so far (the plain steps' included).
+    iteration: usize,
+    /// The iteration cap.
+    max_iter: usize,
+    /// The best iterate so far.
+    best: Best,
+    /// The set the last step predicted.
+    previous: Option<Vec<bool>>,
+    /// Sets solved exactly so far.
+    tried: Vec<Vec<bool>>,
+    /// Interior-point steps taken.
+    steps: usize,
+    /// Exact solves in crossovers.
+    crossovers: usize,
+    /// μ at the first interior step.
+    first_mu: Option<f64>,
+}
+
+impl Interior {
+    /// Records the set a step at complementarity `mu` predicts; whether to cross over to it:
+    /// it repeats the last step's, was not tried yet, and μ has fallen tenfold (the first sets
+    /// are the start's).
+    fn crossover_due(&mut self, set: &[bool], mu: f64) -> bool {
+        let repeated = self.previous.as_deref() == Some(set);
+        self.previous = Some(set.to_vec());
+        let mu0 = *self.first_mu.get_or_insert(mu);
+        // (Written as the negation of the reasons against, so that a NaN μ behaves as before.)
+        let against = !repeated || self.tried.iter().any(|t| t == set) || mu > 0.1 * mu0;
+        !against
+    }
+}
+
+/// The Newton direction of one interior step.
+struct Direction {
+    /// Δx.
+    dx: Vec<f64>,
+    /// Δλ.
+    dl: Vec<f64>,
+    /// Δs = −r_p − B Δx.
+    ds: Vec<f64>,
+}
+
+/// What an interior step measured, for the verbose log.
+struct Stepped {
+    /// Complementarity μ = sᵀλ / m before the step.
+    mu: f64,
+    /// Centring σ.
+    sigma: f64,
+    /// Step length α.
+    alpha: f64,
+}
+
 impl ActiveSet<'_> {
     /// Runs the interior-point iteration from (x, λ) until the iteration cap, the time limit
     /// or an accepted crossover.
     pub(super) fn interior(
         &mut self,
-        mut x: Vec<f64>,
+        x: Vec<f64>,
         multipliers: &[f64],
         phase1: Phase1,
         max_iter: usize,
     ) -> Outcome {
-        let p = self.problem;
-        let (n, m) = (p.dofs(), p.rows());
-        let Phase1 {
-            mut iteration,
-            mut best,
-            mut best_worst,
-        } = phase1;
-        let force = self.scales.force;
-        let rows = self.scales.rows.clone();
-        // Mehrotra's start in scaled variables ŝ = s / X, λ̂ = λ / F.
-        let bx = mat_vec(&p.constraints, &x);
-        let mut s: Vec<f64> = p.gap.iter().zip(&bx).map(|(g, b)| g - b).collect();
-        let mut lambda: Vec<f64> = multipliers.to_vec();
-        let shift_s = (-1.5 * (0..m).map(|i| s[i] / rows[i]).fold(0.0, f64::min)).max(0.0);
-        let shift_l = (-1.5 * lambda.iter().map(|l| l / force).fold(0.0, f64::min)).max(0.0);
-        for i in 0..m {
-            s[i] += shift_s * rows[i];
-            lambda[i] += shift_l * force;
-        }
-        let product: f64 = (0..m).map(|i| s[i] / rows[i] * lambda[i] / force).sum();
-        let sum_s: f64 = (0..m).map(|i| s[i] / rows[i]).sum();
-        let sum_l: f64 = lambda.iter().map(|l| l / force).sum();
-        let (extra_s, extra_l) = if product > 0.0 {
-            (
-                0.5 * product / sum_l.max(f64::MIN_POSITIVE),
-                0.5 * product / sum_s.max(f64::MIN_POSITIVE),
-            )
-        } else {
-            (1.0, 1.0)
+        let (s, lambda) = mehrotra_start(self.problem, &self.scales, &x, multipliers);
+        let mut state = Interior {
+            x,
+            s,
+            lambda,
+            iteration: phase1.iteration,
+            max_iter,
+            best: phase1.best,
+            previous: None,
+            tried: Vec::new(),
+            steps: 0,
+            crossovers: 0,
+            first_mu: None,
         };
-        let (extra_s, extra_l) = (START_CENTRING * extra_s, START_CENTRING * extra_l);
-        for i in 0..m {
-            s[i] += extra_s.max(1e-8) * rows[i];
-            lambda[i] += extra_l.max(1e-8) * force;
-        }
-        let floor = 1e-3 * self.delta();
-        let mut previous: Option<Vec<bool>> = None;
-        let mut tried: Vec<Vec<bool>> = Vec::new();
-        let mut steps = 0;
-        let mut crossovers = 0;
-        let mut first_mu: Option<f64> = None;
         loop {
-            if iteration >= max_iter || self.out_of_time() {
-                let (status, why) = if iteration >= max_iter {
-                    (QpStatus::MaxIterations, format!("{max_iter} iterations"))
-                } else {
-                    (QpStatus::TimeLimit, "time limit reached".to_string())
-                };
-                let message = format!(
-                    "{why} without meeting the tolerance (interior-point iteration after the active-set steps flipped: {steps} interior steps; best KKT residuals {best_worst:.1e})"
-                );
-                return self.finish(best, status, iteration, message);
+            if state.iteration >= max_iter || self.out_of_time() {
+                return self.interior_limit(state);
             }
-            iteration += 1;
-            steps += 1;
-            let mut r_d = mat_vec(&p.stiffness, &x);
-            let btl = mat_t_vec(&p.constraints, &lambda);
-            for j in 0..n {
-                r_d[j] += btl[j] - p.load[j];
-            }
-            let bx = mat_vec(&p.constraints, &x);
-            let r_p: Vec<f64> = (0..m).map(|i| bx[i] + s[i] - p.gap[i]).collect();
-            let mu = dot(&s, &lambda) / m.max(1) as f64;
-            let diagonal: Vec<f64> = (0..m).map(|i| (s[i] / lambda[i]).max(floor)).collect();
-            let clock = Instant::now();
-            self.kkt.set_diagonal(0.0, &diagonal);
-            if let Err(e) = self.factor_values(clock) {
-                return self.finish(best, QpStatus::NumericalError, iteration, e.to_string());
-            }
-            self.cache.clear();
-            // Predictor (affine scaling).
-            let solve = |this: &mut Self, tail: &[f64]| -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-                let mut z: Vec<f64> = r_d.iter().map(|v| -v).chain(tail.iter().copied()).collect();
-                this.factor.solve_in_place(&mut z);
-                let dl = z.split_off(n);
-                let bdx = mat_vec(&p.constraints, &z);
-                let ds: Vec<f64> = (0..m).map(|i| -r_p[i] - bdx[i]).collect();
-                (z, dl, ds)
+            state.iteration += 1;
+            state.steps += 1;
+            let stepped = match self.interior_step(&mut state) {
+                Ok(stepped) => stepped,
+                Err(outcome) => return outcome,
             };
-            let tail: Vec<f64> = (0..m).map(|i| -r_p[i] + s[i]).collect();
-            let (_, dl_a, ds_a) = solve(self, &tail);
-            let alpha_a = max_step(&s, &ds_a).min(max_step(&lambda, &dl_a)).min(1.0);
-            let mu_a = (0..m)
-                .map(|i| (s[i] + alpha_a * ds_a[i]) * (lambda[i] + alpha_a * dl_a[i]))
-                .sum::<f64>()
-                / m.max(1) as f64;
-            let sigma = (mu_a / mu).clamp(0.0, 1.0).powi(3);
-            // Corrector.
-            let tail: Vec<f64> = (0..m)
-                .map(|i| -r_p[i] + s[i] + (ds_a[i] * dl_a[i] - sigma * mu) / lambda[i])
-                .collect();
-            let (dx, dl, ds) = solve(self, &tail);
-            let alpha = (TO_BOUNDARY * max_step(&s, &ds).min(max_step(&lambda, &dl))).min(1.0);
-            if alpha.is_nan() || alpha <= 0.0 || dx.iter().chain(&dl).any(|v| !v.is_finite()) {
-                let message = format!(
-                    "the interior-point step failed (step length {alpha:.1e}) after {steps} interior steps; best KKT residuals {best_worst:.1e}"
-                );
-                return self.finish(best, QpStatus::Inaccurate, iteration, message);
-            }
-            x.iter_mut().zip(&dx).for_each(|(v, d)| *v += alpha * d);
-            s.iter_mut().zip(&ds).for_each(|(v, d)| *v += alpha * d);
-            lambda
-                .iter_mut()
-                .zip(&dl)
-                .for_each(|(v, d)| *v += alpha * d);
-            let set: Vec<bool> = (0..m).map(|i| lambda[i] * rows[i] > s[i] * force).collect();
+            let set = self.predicted_set(&state);
             if self.options.verbose {
                 eprintln!(
-                    "pdas: iteration {iteration}: interior step, μ {mu:.2e}, σ {sigma:.2e}, α {alpha:.3}, {} rows predicted active",
+                    "pdas: iteration {}: interior step, μ {:.2e}, σ {:.2e}, α {:.3}, {} rows predicted active",
+                    state.iteration,
+                    stepped.mu,
+                    stepped.sigma,
+                    stepped.alpha,
                     count(&set)
                 );
             }
-            let repeated = previous.as_ref() == Some(&set);
-            previous = Some(set.clone());
-            let mu0 = *first_mu.get_or_insert(mu);
-            // No crossover before μ has fallen tenfold: the first sets are the start's.
-            if !repeated || tried.contains(&set) || mu > 0.1 * mu0 {
+            if !state.crossover_due(&set, stepped.mu) {
                 continue;
             }
-            // Crossover: exact solves from the predicted set on, by the active-set rule for
-            // as long as the number of changes falls (the plain iteration's local regime).
-            let mut set = set;
-            let mut last_changes = usize::MAX;
-            loop {
-                tried.push(set.clone());
-                if iteration >= max_iter || self.out_of_time() {
-                    break;
-                }
-                iteration += 1;
-                crossovers += 1;
-                let delta = self.delta();
-                if let Err(e) = self.factorise_with(&set, delta, 0.0) {
-                    return self.finish(best, QpStatus::NumericalError, iteration, e.to_string());
-                }
-                let limits = Limits {
-                    max_steps: self.settings.refinement_steps,
-                    target: self.settings.refinement_target * self.options.tol,
-                    deadline: self.deadline(),
-                };
-                let mut solver = SetSolver {
-                    factor: &mut self.factor,
-                    update: None,
-                };
-                let mut solution = first_solve(p, &set, &mut solver);
-                refine(p, &self.scales, &set, &mut solver, &mut solution, &limits);
-                self.refinement_steps += solution.steps;
-                let next = self.next_set(&solution);
-                let clamped: Vec<f64> = solution.multipliers.iter().map(|l| l.max(0.0)).collect();
-                let r = kkt_residuals_with(p, &self.scales, &solution.x, &clamped);
-                let worst = r.worst();
-                let changes = next.iter().zip(&set).filter(|(a, b)| a != b).count();
-                if self.options.verbose {
-                    eprintln!(
-                    "pdas: iteration {iteration}: crossover to {} active rows, KKT {worst:.1e}, {changes} changes",
-                    count(&set)
-                );
-                }
-                let finite = solution
-                    .x
-                    .iter()
-                    .chain(&solution.multipliers)
-                    .all(|v| v.is_finite());
-                let candidate = Outcome {
-                    x: solution.x,
-                    multipliers: clamped,
-                    status: QpStatus::Solved,
-                    iterations: iteration,
-                    message: String::new(),
-                };
-                if finite && changes == 0 && r.meet(self.options.tol) {
-                    let message = format!(
-                    "{} active rows (the active-set steps flipped; {steps} interior-point steps, then {crossovers} exact solves from the set they found)",
-                    count(&set)
-                );
-                    return self.finish(candidate, QpStatus::Solved, iteration, message);
-                }
-                if finite && worst < best_worst {
-                    best_worst = worst;
-                    best = candidate;
-                }
-                if solution.timed_out {
-                    return self.finish(
-                        best,
-                        QpStatus::TimeLimit,
-                        iteration,
-                        "time limit reached during refinement".into(),
-                    );
-                }
-                if changes == 0 || changes > last_changes || tried.contains(&next) {
-                    break;
-                }
-                last_changes = changes;
-                set = next;
+            if let Some(outcome) = self.crossover(&mut state, set) {
+                return outcome;
             }
         }
     }
+
+    /// The end at the iteration cap or the time limit.
+    fn interior_limit(&self, state: Interior) -> Outcome {
+        let (status, why) = if state.iteration >= state.max_iter {
+            (
+                QpStatus::MaxIterations,
+                format!("{} iterations", state.max_iter),
+            )
+        } else {
+            (QpStatus::TimeLimit, "time limit reached".to_string())
+        };
+        let message = format!(
+            "{why} without meeting the tolerance (interior-point iteration after the active-set steps flipped: {} interior steps; best KKT residuals {:.1e})",
+            state.steps, state.best.worst
+        );
+        self.finish(state.best.outcome, status, state.iteration, message)
+    }
+
+    /// One predictor–corrector step: factorises K with D = diag(s/λ) and moves (x, s, λ);
+    /// `Err` with the final answer when the factorisation or the step fails.
+    fn interior_step(&mut self, state: &mut Interior) -> Result<Stepped, Outcome> {
+        let p = self.problem;
+        let m = p.rows();
+        let (r_d, r_p) = interior_residuals(p, state);
+        let (s, lambda) = (&state.s, &state.lambda);
+        let mu = dot(s, lambda) / m.max(1) as f64;
+        let floor = 1e-3 * self.delta();
+        let diagonal: Vec<f64> = (0..m).map(|i| (s[i] / lambda[i]).max(floor)).collect();
+        let clock = Instant::now();
+        self.kkt.set_diagonal(0.0, &diagonal);
+        if let Err(e) = self.factor_values(clock) {
+            let iteration = state.iteration;
+            return Err(self.finish(
+                state.best.take(),
+                QpStatus::NumericalError,
+                iteration,
+                e.to_string(),
+            ));
+        }
+        self.cache.clear();
+        // Predictor (affine scaling).
+        let tail: Vec<f64> = (0..m).map(|i| -r_p[i] + s[i]).collect();
+        let affine = self.direction(&r_d, &r_p, &tail);
+        let (ds_a, dl_a) = (&affine.ds, &affine.dl);
+        let alpha_a = max_step(s, ds_a).min(max_step(lambda, dl_a)).min(1.0);
+        let mu_a = (0..m)
+            .map(|i| (s[i] + alpha_a * ds_a[i]) * (lambda[i] + alpha_a * dl_a[i]))
+            .sum::<f64>()
+            / m.max(1) as f64;
+        let sigma = (mu_a / mu).clamp(0.0, 1.0).powi(3);
+        // Corrector.
+        let tail: Vec<f64> = (0..m)
+            .map(|i| -r_p[i] + s[i] + (ds_a[i] * dl_a[i] - sigma * mu) / lambda[i])
+            .collect();
+        let d = self.direction(&r_d, &r_p, &tail);
+        let alpha = (TO_BOUNDARY * max_step(s, &d.ds).min(max_step(lambda, &d.dl))).min(1.0);
+        if alpha.is_nan() || alpha <= 0.0 || d.dx.iter().chain(&d.dl).any(|v| !v.is_finite()) {
+            let message = format!(
+                "the interior-point step failed (step length {alpha:.1e}) after {} interior steps; best KKT residuals {:.1e}",
+                state.steps, state.best.worst
+            );
+            let iteration = state.iteration;
+            return Err(self.finish(state.best.take(), QpStatus::Inaccurate, iteration, message));
+        }
+        let step = |v: &mut Vec<f64>, dv: &[f64]| {
+            v.iter_mut().zip(dv).for_each(|(v, d)| *v += alpha * d);
+        };
+        step(&mut state.x, &d.dx);
+        step(&mut state.s, &d.ds);
+        step(&mut state.lambda, &d.dl);
+        Ok(Stepped { mu, sigma, alpha })
+    }
+
+    /// The direction for the right-hand side [−r_d; `tail`] with the current factor.
+    fn direction(&mut self, r_d: &[f64], r_p: &[f64], tail: &[f64]) -> Direction {
+        let p = self.problem;
+        let (n, m) = (p.dofs(), p.rows());
+        let mut z: Vec<f64> = r_d.iter().map(|v| -v).chain(tail.iter().copied()).collect();
+        self.factor.solve_in_place(&mut z);
+        let dl = z.split_off(n);
+        let bdx = mat_vec(&p.constraints, &z);
+        let ds: Vec<f64> = (0..m).map(|i| -r_p[i] - bdx[i]).collect();
+        Direction { dx: z, dl, ds }
+    }
+
+    /// The set the iterate predicts, { i : λᵢ Xᵢ > sᵢ F } (forces and gaps in the units of
+    /// the KKT residuals).
+    fn predicted_set(&self, state: &Interior) -> Vec<bool> {
+        let (rows, force) = (&self.scales.rows, self.scales.force);
+        (0..self.problem.rows())
+            .map(|i| state.lambda[i] * rows[i] > state.s[i] * force)
+            .collect()
+    }
+
+    /// Crossover: exact solves from the predicted set on, by the active-set rule for as long
+    /// as the number of changes falls (the plain iteration's local regime).  The final answer
+    /// when one is accepted (or the time runs out during refinement, or a factorisation
+    /// fails); `None` to go on with interior steps.
+    fn crossover(&mut self, state: &mut Interior, mut set: Vec<bool>) -> Option<Outcome> {
+        let mut last_changes = usize::MAX;
+        loop {
+            state.tried.push(set.clone());
+            if state.iteration >= state.max_iter || self.out_of_time() {
+                return None;
+            }
+            state.iteration += 1;
+            state.crossovers += 1;
+            let iteration = state.iteration;
+            let (mut solution, next) = match self.exact_solve(&set) {
+                Ok(solved) => solved,
+                Err(e) => {
+                    let outcome = state.best.take();
+                    return Some(self.finish(
+                        outcome,
+                        QpStatus::NumericalError,
+                        iteration,
+                        e.to_string(),
+                    ));
+                }
+            };
+            let finite = solution.is_finite();
+            let x = std::mem::take(&mut solution.x);
+            let measured = self.measure(x, &solution.multipliers, &set, &next, iteration);
+            if self.options.verbose {
+                eprintln!(
+                    "pdas: iteration {iteration}: crossover to {} active rows, KKT {:.1e}, {} changes",
+                    count(&set),
+                    measured.worst,
+                    measured.changes
+                );
+            }
+            let changes = measured.changes;
+            if let Some(outcome) = self.judge_crossover(state, measured, finite, &set, &solution) {
+                return Some(outcome);
+            }
+            if changes == 0 || changes > last_changes || state.tried.contains(&next) {
+                return None;
+            }
+            last_changes = changes;
+            set = next;
+        }
+    }
+
+    /// The exact solve of `set` (unregularised primal block, refined) and the set it predicts.
+    fn exact_solve(&mut self, set: &[bool]) -> Result<(SetSolution, Vec<bool>), PdasError> {
+        let p = self.problem;
+        let delta = self.delta();
+        self.factorise_with(set, delta, 0.0)?;
+        let limits = self.limits();
+        let mut solver = SetSolver {
+            factor: &mut self.factor,
+            update: None,
+        };
+        let mut solution = first_solve(p, set, &mut solver);
+        refine(p, &self.scales, set, &mut solver, &mut solution, &limits);
+        self.refinement_steps += solution.steps;
+        let next = self.next_set(&solution);
+        Ok((solution, next))
+    }
+
+    /// Accepts a crossover's solution that is finite, reproduces its set and meets the
+    /// tolerance, else keeps it when best; the final answer when accepted or when the time ran
+    /// out during refinement.
+    fn judge_crossover(
+        &self,
+        state: &mut Interior,
+        measured: Measured,
+        finite: bool,
+        set: &[bool],
+        solution: &SetSolution,
+    ) -> Option<Outcome> {
+        let iteration = state.iteration;
+        if finite && measured.changes == 0 && measured.residuals.meet(self.options.tol) {
+            let message = format!(
+                "{} active rows (the active-set steps flipped; {} interior-point steps, then {} exact solves from the set they found)",
+                count(set),
+                state.steps,
+                state.crossovers
+            );
+            return Some(self.finish(measured.candidate, QpStatus::Solved, iteration, message));
+        }
+        if finite {
+            state
+                .best
+                .keep_if_better(measured.candidate, measured.worst);
+        }
+        solution.timed_out.then(|| {
+            self.finish(
+                state.best.take(),
+                QpStatus::TimeLimit,
+                iteration,
+                "time limit reached during refinement".into(),
+            )
+        })
+    }
+}
+
+/// Mehrotra's start (s, λ) from (x, λ) in scaled variables ŝ = s / X, λ̂ = λ / F: s = g − B x
+/// and λ shifted to be non-negative, then both shifted by the centring term
+/// ([`START_CENTRING`]) into the interior.
+fn mehrotra_start(
+    p: &QpProblem,
+    scales: &ResidualScales,
+    x: &[f64],
+    multipliers: &[f64],
+) -> (Vec<f64>, Vec<f64>) {
+    let m = p.rows();
+    let force = scales.force;
+    let rows = &scales.rows;
+    let bx = mat_vec(&p.constraints, x);
+    let mut s: Vec<f64> = p.gap.iter().zip(&bx).map(|(g, b)| g - b).collect();
+    let mut lambda: Vec<f64> = multipliers.to_vec();
+    let shift_s = (-1.5 * (0..m).map(|i| s[i] / rows[i]).fold(0.0, f64::min)).max(0.0);
+    let shift_l = (-1.5 * lambda.iter().map(|l| l / force).fold(0.0, f64::min)).max(0.0);
+    for i in 0..m {
+        s[i] += shift_s * rows[i];
+        lambda[i] += shift_l * force;
+    }
+    let product: f64 = (0..m).map(|i| s[i] / rows[i] * lambda[i] / force).sum();
+    let sum_s: f64 = (0..m).map(|i| s[i] / rows[i]).sum();
+    let sum_l: f64 = lambda.iter().map(|l| l / force).sum();
+    let (extra_s, extra_l) = if product > 0.0 {
+        (
+            0.5 * product / sum_l.max(f64::MIN_POSITIVE),
+            0.5 * product / sum_s.max(f64::MIN_POSITIVE),
+        )
+    } else {
+        (1.0, 1.0)
+    };
+    let (extra_s, extra_l) = (START_CENTRING * extra_s, START_CENTRING * extra_l);
+    for i in 0..m {
+        s[i] += extra_s.max(1e-8) * rows[i];
+        lambda[i] += extra_l.max(1e-8) * force;
+    }
+    (s, lambda)
+}
+
+/// r_d = A x + Bᵀλ − f and r_p = B x + s − g at the state's iterate.
+fn interior_residuals(p: &QpProblem, state: &Interior) -> (Vec<f64>, Vec<f64>) {
+    let (n, m) = (p.dofs(), p.rows());
+    let mut r_d = mat_vec(&p.stiffness, &state.x);
+    let btl = mat_t_vec(&p.constraints, &state.lambda);
+    for j in 0..n {
+        r_d[j] += btl[j] - p.load[j];
+    }
+    let bx = mat_vec(&p.constraints, &state.x);
+    let r_p: Vec<f64> = (0..m).map(|i| bx[i] + state.s[i] - p.gap[i]).collect();
+    (r_d, r_p)
 }
 
 /// The largest α ≤ ∞ with v + α dv ≥ 0 (v > 0).

@@ -173,6 +173,16 @@ pub fn column_counts(a: &CscMatrix, inverse: &[usize]) -> Result<Vec<usize>, Lin
     Ok(counts)
 }
 
+/// How a symbolic analysis lays the factor out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Layout {
+    /// Supernodal always: every factor of A (the dual backends read the trailing block off
+    /// its supernodes).
+    Supernodal,
+    /// Simplicial or supernodal as faer's flop ratio chooses: pdas's LDLᵀ of its KKT matrix.
+    FaerChoice,
+}
+
 /// The symbolic analysis of a sparsity pattern (ordering, elimination tree, supernodes),
 /// reusable for every matrix with that pattern.
 #[derive(Debug, Clone)]
@@ -192,6 +202,17 @@ impl CholeskyPattern {
     /// Analyses the pattern of `a` under a given ordering (e.g. [`fill_reducing_order`]'s with
     /// some DOFs moved last), forced supernodal as every factor of A in the project.
     pub fn analyse_with(a: &CscMatrix, ordering: &FillOrdering) -> Result<Self, LinalgError> {
+        Self::analyse_laid_out(a, ordering, Layout::Supernodal)
+    }
+
+    /// Analyses the pattern of `a` under a given ordering, laid out as `layout` says (the
+    /// symbolic factor of every factorisation in the project, LLᵀ of A or LDLᵀ of a KKT
+    /// matrix, comes from here).
+    pub fn analyse_laid_out(
+        a: &CscMatrix,
+        ordering: &FillOrdering,
+        layout: Layout,
+    ) -> Result<Self, LinalgError> {
         let n = a.rows();
         if a.cols() != n {
             return Err(LinalgError::Shape {
@@ -223,9 +244,12 @@ impl CholeskyPattern {
             view.symbolic(),
             Side::Lower,
             SymmetricOrdering::Custom(perm),
-            CholeskySymbolicParams {
-                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-                ..Default::default()
+            match layout {
+                Layout::Supernodal => CholeskySymbolicParams {
+                    supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                    ..Default::default()
+                },
+                Layout::FaerChoice => CholeskySymbolicParams::default(),
             },
         )
         .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;

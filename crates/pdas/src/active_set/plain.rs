@@ -1,0 +1,386 @@
+//! The plain active-set steps: each step solves the KKT system of the current set (through a
+//! fresh factorisation or a low-rank update of the factored set's), refines it when the set
+//! predicts itself, and then decides — accept, re-check on a fresh factor, certify, give up,
+//! hand over to the interior-point iteration of [`super::interior`], or move to the next set.
+
+use std::collections::HashSet;
+use std::time::Instant;
+
+use signorini_qp::{QpProblem, QpStatus};
+
+use super::{count, no_certificate, ActiveSet, Best, Measured, Outcome, Phase1, Timing};
+use crate::error::PdasError;
+use crate::refine::{first_solve, refine, SetSolution};
+use crate::update::{SetSolver, SetUpdate};
+
+/// Plain active-set steps before a step that does not reduce the changes hands over to the
+/// interior-point iteration (a set that comes back hands over at once).  Measured: handing
+/// over from the third step on turned exp6a, exp6b, exp3-body2-h0.15, hard/near-coincident
+/// and hard/slave-on-master-nodes from 5 plain steps into 12–16; from the sixth, no fixture
+/// hands over, and strip-partial hands over after its seventh.
+const MIN_PLAIN_STEPS: usize = 6;
+
+/// The plain iteration's state, carried from one step to the next.
+struct Plain {
+    /// The current set F_k.
+    active: Vec<bool>,
+    /// The sets stepped from so far (one that comes back is a cycle).
+    seen: HashSet<Vec<bool>>,
+    /// The best iterate so far.
+    best: Best,
+    /// The set whose numeric factor is held, once there is one.
+    factored: Option<Vec<bool>>,
+    /// Measured cost of the last factorisation and of solves with it.
+    timing: Timing,
+    /// Factorise the current set even where an update would do (an update's answer is in doubt).
+    force_factor: bool,
+    /// Rows that changed at each step so far.
+    changes_history: Vec<usize>,
+    /// The current step (1-based once running).
+    iteration: usize,
+    /// The iteration cap.
+    max_iter: usize,
+}
+
+impl Plain {
+    /// The state before the first step: set `active`, a zero iterate as the best so far.
+    fn new(problem: &QpProblem, active: Vec<bool>, max_iter: usize) -> Self {
+        Self {
+            active,
+            seen: HashSet::new(),
+            best: Best::zero(problem),
+            factored: None,
+            timing: Timing::default(),
+            force_factor: false,
+            changes_history: Vec::new(),
+            iteration: 0,
+            max_iter,
+        }
+    }
+}
+
+/// What a step leads to.
+enum Flow {
+    /// The next step (on the next set, or on this one again with a fresh factor).
+    Next,
+    /// The iteration is over.
+    Done(Outcome),
+    /// The sets flip: the interior-point iteration takes over from (x, λ).
+    Handover {
+        /// x of the last step.
+        x: Vec<f64>,
+        /// λ of the last step (not clamped).
+        multipliers: Vec<f64>,
+    },
+}
+
+/// How the KKT system of the current set is solved this step.
+struct SetSolve {
+    /// The update from the factored set, or none when the factor is the set's own.
+    update: Option<SetUpdate>,
+    /// Whether the set was factorised this step.
+    fresh: bool,
+}
+
+impl ActiveSet<'_> {
+    /// Runs the iteration.
+    pub fn run(&mut self) -> Outcome {
+        let max_iter = self.options.max_iter.unwrap_or(self.settings.max_iter);
+        let mut state = Plain::new(self.problem, self.first_set(), max_iter);
+        while state.iteration < state.max_iter {
+            state.iteration += 1;
+            match self.plain_step(&mut state) {
+                Flow::Next => {}
+                Flow::Done(outcome) => return outcome,
+                Flow::Handover { x, multipliers } => {
+                    let phase1 = Phase1 {
+                        iteration: state.iteration,
+                        best: state.best,
+                    };
+                    return self.interior(x, &multipliers, phase1, max_iter);
+                }
+            }
+        }
+        let message = format!(
+            "{max_iter} active-set iterations without meeting the tolerance (best KKT residuals {:.1e})",
+            state.best.worst
+        );
+        self.finish(
+            state.best.outcome,
+            QpStatus::MaxIterations,
+            max_iter,
+            message,
+        )
+    }
+
+    /// One plain step: solve the current set, then decide.
+    fn plain_step(&mut self, state: &mut Plain) -> Flow {
+        let iteration = state.iteration;
+        if self.out_of_time() {
+            return Flow::Done(self.finish(
+                state.best.take(),
+                QpStatus::TimeLimit,
+                iteration - 1,
+                "time limit reached before the next factorisation".into(),
+            ));
+        }
+        let set_solve = match self.prepare_solve(state) {
+            Ok(s) => s,
+            Err(e) => {
+                return Flow::Done(self.finish(
+                    state.best.take(),
+                    QpStatus::NumericalError,
+                    iteration - 1,
+                    e.to_string(),
+                ))
+            }
+        };
+        let (solution, next) = self.solve_set(state, &set_solve);
+        if !solution.is_finite() {
+            if set_solve.update.is_some() {
+                state.force_factor = true;
+                return Flow::Next;
+            }
+            return Flow::Done(self.finish(
+                state.best.take(),
+                QpStatus::NumericalError,
+                iteration,
+                format!(
+                    "non-finite solution of the KKT system on a set of {} rows",
+                    count(&state.active)
+                ),
+            ));
+        }
+        self.decide(state, solution, next, &set_solve)
+    }
+
+    /// Makes the current set solvable: a low-rank update of the factored set's factor when
+    /// [`ActiveSet::prefer_update`] says so (and the update is not singular), else a
+    /// factorisation unless the factor already is the set's.
+    fn prepare_solve(&mut self, state: &mut Plain) -> Result<SetSolve, PdasError> {
+        let p = self.problem;
+        let delta = self.delta();
+        let update = match &state.factored {
+            Some(f)
+                if !state.force_factor && self.prefer_update(f, &state.active, &state.timing) =>
+            {
+                let (_, missing) = self.cache.need(f, &state.active);
+                let clock = Instant::now();
+                let update = SetUpdate::new(
+                    p,
+                    &mut self.factor,
+                    &mut self.cache,
+                    f,
+                    &state.active,
+                    delta,
+                );
+                if missing > 0 {
+                    state.timing.column = clock.elapsed() / missing as u32;
+                }
+                update?
+            }
+            _ => None,
+        };
+        let fresh = update.is_none() && state.factored.as_ref() != Some(&state.active);
+        state.force_factor = false;
+        if fresh {
+            state.timing.factor = self.factorise(&state.active, delta)?;
+            self.cache.clear();
+            state.factored = Some(state.active.clone());
+        }
+        if update.is_some() {
+            self.updates += 1;
+        }
+        Ok(SetSolve { update, fresh })
+    }
+
+    /// Solves the current set (timing the solve of a fresh factor), refines the solution when
+    /// the set predicts itself, and returns it with the set it predicts.
+    fn solve_set(&mut self, state: &mut Plain, set_solve: &SetSolve) -> (SetSolution, Vec<bool>) {
+        let p = self.problem;
+        let limits = self.limits();
+        let mut solver = SetSolver {
+            factor: &mut self.factor,
+            update: set_solve.update.as_ref(),
+        };
+        let clock = Instant::now();
+        let mut solution = first_solve(p, &state.active, &mut solver);
+        if set_solve.fresh {
+            state.timing.solve = clock.elapsed();
+            if state.timing.column.is_zero() {
+                // Until a batch is measured: a column of a batched solve at half a solve.
+                state.timing.column = state.timing.solve / 2;
+            }
+        }
+        let mut next = self.next_set(&solution);
+        if next == state.active {
+            let mut solver = SetSolver {
+                factor: &mut self.factor,
+                update: set_solve.update.as_ref(),
+            };
+            refine(
+                p,
+                &self.scales,
+                &state.active,
+                &mut solver,
+                &mut solution,
+                &limits,
+            );
+            self.refinement_steps += solution.steps;
+            next = self.next_set(&solution);
+        }
+        (solution, next)
+    }
+
+    /// Judges the step's solution: accepts it, asks for the set again on a fresh factor,
+    /// certifies infeasibility, or (in [`ActiveSet::move_on`]) keeps it as the best and moves on.
+    fn decide(
+        &mut self,
+        state: &mut Plain,
+        mut solution: SetSolution,
+        next: Vec<bool>,
+        set_solve: &SetSolve,
+    ) -> Flow {
+        let iteration = state.iteration;
+        let x = std::mem::take(&mut solution.x);
+        let measured = self.measure(x, &solution.multipliers, &state.active, &next, iteration);
+        if self.options.verbose {
+            log_step(iteration, &state.active, set_solve, &solution, &measured);
+        }
+        let Measured {
+            candidate,
+            residuals,
+            worst,
+            changes,
+        } = measured;
+        let stalled = changes == 0;
+        // An answer is accepted on a set that reproduces itself (or at the end of a cycle or
+        // of the budget): residuals that meet the tolerance while rows still want to change
+        // can hide a penetration that a soft row's length scale makes look small.
+        let settled = stalled || state.seen.contains(&next) || iteration == state.max_iter;
+        if residuals.meet(self.options.tol) && settled {
+            let message = format!("{} active rows", count(&state.active));
+            return Flow::Done(self.finish(candidate, QpStatus::Solved, iteration, message));
+        }
+        if stalled && set_solve.update.is_some() {
+            // The update may have lost accuracy: factorise this set before judging it.
+            state.force_factor = true;
+            return Flow::Next;
+        }
+        let cycling = !stalled && state.seen.contains(&next);
+        if cycling && set_solve.update.is_some() {
+            // As for a settled set: judge a cycle only on a factorised set.
+            state.force_factor = true;
+            return Flow::Next;
+        }
+        if stalled || cycling || solution.timed_out || iteration == state.max_iter {
+            if let Some((status, message)) =
+                self.certificate(&candidate.x, &solution.multipliers, &solution.correction)
+            {
+                return Flow::Done(self.finish(candidate, status, iteration, message));
+            }
+        }
+        let step = Judged {
+            candidate,
+            worst,
+            changes,
+            cycling,
+        };
+        self.move_on(state, solution, next, step)
+    }
+
+    /// After a step that is neither accepted nor certified: keeps the best iterate, stops on
+    /// the time limit or a settled set that misses the tolerance, hands over to the
+    /// interior-point iteration when the sets flip, or moves to the next set.
+    fn move_on(
+        &mut self,
+        state: &mut Plain,
+        solution: SetSolution,
+        next: Vec<bool>,
+        step: Judged,
+    ) -> Flow {
+        let p = self.problem;
+        let iteration = state.iteration;
+        let stalled = step.changes == 0;
+        // Flipping: as many rows change as two steps before (or more), once the plain
+        // steps have had their chance (the seed and hard fixtures settle within 4–7 steps,
+        // some of them with a step that changes as many rows as the one two before).
+        let flipping = iteration >= MIN_PLAIN_STEPS
+            && state
+                .changes_history
+                .len()
+                .checked_sub(2)
+                .is_some_and(|k| step.changes >= state.changes_history[k]);
+        let restart = ((step.cycling || flipping) && iteration < state.max_iter)
+            .then(|| (step.candidate.x.clone(), solution.multipliers.clone()));
+        state.best.keep_if_better(step.candidate, step.worst);
+        if solution.timed_out {
+            return Flow::Done(self.finish(
+                state.best.take(),
+                QpStatus::TimeLimit,
+                iteration,
+                "time limit reached during refinement".into(),
+            ));
+        }
+        if stalled {
+            let message = format!(
+                "active set of {} rows settled but the KKT residuals ({:.1e}, refined KKT system {:.1e}) miss the tolerance{}",
+                count(&state.active),
+                step.worst,
+                solution.residual,
+                no_certificate(p, &solution.multipliers)
+            );
+            return Flow::Done(self.finish(
+                state.best.take(),
+                QpStatus::Inaccurate,
+                iteration,
+                message,
+            ));
+        }
+        if let Some((x, multipliers)) = restart {
+            // A set came back, or the changes stopped falling: plain active-set steps are
+            // not converging here; continue with the globalised iteration from this point.
+            return Flow::Handover { x, multipliers };
+        }
+        state.changes_history.push(step.changes);
+        state
+            .seen
+            .insert(std::mem::replace(&mut state.active, next));
+        Flow::Next
+    }
+}
+
+/// A step's solution, measured and neither accepted nor certified.
+struct Judged {
+    /// (x, max(λ, 0)) as an answer.
+    candidate: Outcome,
+    /// Its worst scaled KKT residual.
+    worst: f64,
+    /// Rows that change for the next set.
+    changes: usize,
+    /// Whether the next set was stepped from before.
+    cycling: bool,
+}
+
+/// The verbose line of one plain step.
+fn log_step(
+    iteration: usize,
+    active: &[bool],
+    set_solve: &SetSolve,
+    solution: &SetSolution,
+    measured: &Measured,
+) {
+    eprintln!(
+        "pdas: iteration {iteration}: {} active rows ({}), KKT system residual {:.1e} after {} refinement steps, KKT {:.1e}, {} changes",
+        count(active),
+        match (&set_solve.update, set_solve.fresh) {
+            (Some(u), _) => format!("update of rank {}", u.rank()),
+            (None, true) => "factorised".to_string(),
+            (None, false) => "same factor".to_string(),
+        },
+        solution.residual,
+        solution.steps,
+        measured.worst,
+        measured.changes,
+    );
+}
