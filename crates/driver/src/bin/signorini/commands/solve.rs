@@ -2,26 +2,52 @@
 
 use anyhow::{Context, Result};
 use signorini::auto::AutoBackend;
-use signorini::backends::{make_backend, BackendKind, Form};
+use std::path::PathBuf;
+
+use signorini::backends::{make_backend, BackendKind, ChoiceParser, Form};
 use signorini::exit::Exit;
 use signorini::run;
 use signorini_core::qp::{QpStatus, SolveOptions};
 
-use crate::args::{limits, parse_backends, time_limit, Common};
+use crate::args::{limits, parse_backends, parse_time_limit, parse_tol, time_limit, Common};
 use crate::console::{warn, Console};
 
-/// What `solve` was asked to run.
-pub(crate) struct SolveArgs<'a> {
+/// `signorini solve SCENE …`: the options of a solve.
+#[derive(clap::Args)]
+pub(crate) struct SolveArgs {
+    #[command(flatten)]
+    pub(crate) common: Common,
+    /// QP backend: auto is the fastest likely to succeed, falling back to a robust one (see
+    /// docs/scene.md); clarabel/dual and osqp/dual are the condensed dual form.
+    #[arg(long, default_value = "auto", value_parser = ChoiceParser::<BackendKind>::new())]
     pub(crate) backend: BackendKind,
+    /// Formulation for clarabel and osqp: primal (sparse, in the displacements) or dual
+    /// (condensed, dense in the contact forces; not for bodies held by contact alone).
+    /// `--backend clarabel --form dual` is `--backend clarabel/dual`.
+    #[arg(long, value_parser = ChoiceParser::<Form>::new())]
     pub(crate) form: Option<Form>,
-    pub(crate) chain: &'a [BackendKind],
+    /// With `--backend auto`: the backends to try, in order, instead of auto's rule
+    /// (e.g. dual-ssn,clarabel).
+    #[arg(long, value_delimiter = ',', value_parser = ChoiceParser::<BackendKind>::new())]
+    pub(crate) chain: Vec<BackendKind>,
+    /// Relative KKT tolerance the answer must meet to count as solved.
+    #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
     pub(crate) tol: f64,
-    pub(crate) time_limit_s: Option<f64>,
-    /// Encoding of solution.vtu.
+    /// Seconds the backend may take (with auto: the whole chain); it then stops with status
+    /// time-limit.
+    #[arg(long, value_parser = parse_time_limit)]
+    pub(crate) time_limit: Option<f64>,
+    /// Output directory (created if missing).
+    #[arg(long, default_value = "out")]
+    pub(crate) out: PathBuf,
+    /// Encoding of solution.vtu: binary (zlib-compressed, base64 appended data; small and
+    /// fast to read) or ascii (decimal text, several times larger).
+    #[arg(long, value_enum, default_value_t = signorini::output::VtuFormat::Binary)]
     pub(crate) vtu: signorini::output::VtuFormat,
 }
 
-pub(crate) fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) -> Result<Exit> {
+pub(crate) fn solve(args: &SolveArgs) -> Result<Exit> {
+    let (common, out) = (&args.common, args.out.as_path());
     let mut kind = args.backend;
     if let Some(form) = args.form {
         kind = kind.with_form(form)?;
@@ -37,7 +63,7 @@ pub(crate) fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) ->
     let scene = run::load_scene(common.scene.as_deref())?;
     let options = SolveOptions {
         tol: args.tol,
-        time_limit: time_limit(args.time_limit_s),
+        time_limit: time_limit(args.time_limit),
         ..SolveOptions::default()
     };
     let settings = signorini_core::report::BackendSettings {
@@ -53,7 +79,7 @@ pub(crate) fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) ->
         let mut auto = if args.chain.is_empty() {
             AutoBackend::default()
         } else {
-            let kinds = parse_backends(args.chain, &[])?;
+            let kinds = parse_backends(&args.chain, &[])?;
             anyhow::ensure!(
                 !kinds.contains(&BackendKind::Auto),
                 "--chain cannot hold auto itself"

@@ -1,13 +1,63 @@
 //! `signorini suite`: a directory of scenes through every backend, checked against their expectations.
 
+use std::path::PathBuf;
+
 use anyhow::{Context, Result};
+use signorini::backends::{BackendKind, ChoiceParser};
 use signorini::exit::Exit;
 use signorini_core::mesh::MeshLimits;
 use signorini_core::qp::SolveOptions;
 
-use crate::args::{parse_backends, time_limit};
+use crate::args::{parse_backends, parse_factor, parse_time_limit, parse_tol, time_limit};
 use crate::console::{warn, Console};
-use crate::SuiteArgs;
+
+/// `signorini suite DIR …`: the options of a suite run.
+#[derive(clap::Args)]
+pub(crate) struct SuiteArgs {
+    /// Directory of scenes (*.toml, searched recursively), each with NAME.expected.json beside
+    /// it (e.g. fixtures/seed, fixtures/hard).
+    pub(crate) dir: PathBuf,
+    /// Comma-separated backends [default: every one compiled in: clarabel, osqp, dual-pgs,
+    /// dual-uzawa, dual-ssn, pdas].
+    #[arg(long, value_delimiter = ',', value_parser = ChoiceParser::<BackendKind>::new())]
+    pub(crate) backends: Vec<BackendKind>,
+    /// Relative KKT tolerance every backend is asked to meet (the expectations were blessed at
+    /// 1e-9: a looser tolerance may move answers beyond their rtol).
+    #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
+    pub(crate) tol: f64,
+    /// Seconds each backend may take on each case; it then stops with status time-limit (a
+    /// failure, counted at this time in the shifted geometric means).
+    #[arg(long, default_value_t = 10.0, value_parser = parse_time_limit)]
+    pub(crate) time_limit: f64,
+    /// Solves timed per backend and case; the median is reported.  Only solves that succeed in
+    /// under a second are repeated (longer ones are not dominated by timer noise).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
+    pub(crate) repeat: u32,
+    /// Run only the cases whose name contains one of these texts (comma-separated), e.g.
+    /// `--only strip,contrast`.
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) only: Vec<String>,
+    /// Largest total number of elements a scene may ask for before it is refused.
+    #[arg(long, default_value_t = 5_000_000)]
+    pub(crate) max_elements: usize,
+    /// Write or refresh every case's expectation from the most accurate backend that solved it
+    /// (tolerances and reasons of existing files kept; only changed files rewritten).
+    #[arg(long)]
+    pub(crate) bless: bool,
+    /// An earlier run's suite.json: report which cases got slower or faster (time ÷ floor) or
+    /// changed status.
+    #[arg(long, value_name = "SUITE_JSON")]
+    pub(crate) baseline: Option<PathBuf>,
+    /// With --baseline: the factor of time ÷ floor beyond which a case is slower or faster.
+    #[arg(long, default_value_t = signorini::suite::baseline::DEFAULT_FACTOR, value_parser = parse_factor, requires = "baseline")]
+    pub(crate) factor: f64,
+    /// With --baseline: exit 2 when a case got slower (by default slower cases are reported only).
+    #[arg(long, requires = "baseline")]
+    pub(crate) fail_slower: bool,
+    /// Output directory for suite.json, suite.csv, suite.xml and suite.svg (created if missing).
+    #[arg(long, default_value = "out")]
+    pub(crate) out: PathBuf,
+}
 
 pub(crate) fn suite(args: &SuiteArgs) -> Result<Exit> {
     use signorini::suite::{self, bless::Change};
