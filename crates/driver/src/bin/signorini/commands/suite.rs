@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use signorini::backends::{BackendKind, ChoiceParser};
 use signorini::exit::Exit;
+use signorini::suite::{self, bless::Blessing, bless::Change, report::SuiteReport};
 use signorini_core::mesh::MeshLimits;
 use signorini_core::qp::SolveOptions;
 
@@ -60,29 +61,7 @@ pub(crate) struct SuiteArgs {
 }
 
 pub(crate) fn suite(args: &SuiteArgs) -> Result<Exit> {
-    use signorini::suite::{self, bless::Change};
-    let backends = if args.backends.is_empty() {
-        suite::DEFAULT_BACKENDS
-            .into_iter()
-            .filter(|k| k.available())
-            .collect()
-    } else {
-        parse_backends(&args.backends, &[])?
-    };
-    let settings = suite::SuiteSettings {
-        backends,
-        solve: SolveOptions {
-            tol: args.tol,
-            time_limit: time_limit(Some(args.time_limit)),
-            ..SolveOptions::default()
-        },
-        limits: MeshLimits {
-            max_elements: args.max_elements,
-            ..MeshLimits::default()
-        },
-        repeat: args.repeat as usize,
-        only: args.only.clone(),
-    };
+    let settings = settings(args)?;
     // A bad baseline is refused before anything runs.
     let baseline = args
         .baseline
@@ -124,8 +103,46 @@ pub(crate) fn suite(args: &SuiteArgs) -> Result<Exit> {
     }
     let written = suite::write::write(&args.out, &report)
         .with_context(|| format!("writing the suite's files to {}", args.out.display()))?;
+    print_summary(args, &report, &blessed, &written)?;
+    Ok(verdict(args, &report))
+}
+
+/// The suite's settings from the command line: the backends named (or every default one
+/// compiled in), the solve options, the element limit, repetitions and the cases selected.
+fn settings(args: &SuiteArgs) -> Result<suite::SuiteSettings> {
+    let backends = if args.backends.is_empty() {
+        suite::DEFAULT_BACKENDS
+            .into_iter()
+            .filter(|k| k.available())
+            .collect()
+    } else {
+        parse_backends(&args.backends, &[])?
+    };
+    Ok(suite::SuiteSettings {
+        backends,
+        solve: SolveOptions {
+            tol: args.tol,
+            time_limit: time_limit(Some(args.time_limit)),
+            ..SolveOptions::default()
+        },
+        limits: MeshLimits {
+            max_elements: args.max_elements,
+            ..MeshLimits::default()
+        },
+        repeat: args.repeat as usize,
+        only: args.only.clone(),
+    })
+}
+
+/// Prints the table, the comparison with the baseline, the blessings and the files written.
+fn print_summary(
+    args: &SuiteArgs,
+    report: &SuiteReport,
+    blessed: &[Blessing],
+    written: &[PathBuf],
+) -> Result<()> {
     let mut con = Console::new();
-    for line in suite::table::table(&report).lines() {
+    for line in suite::table::table(report).lines() {
         con.line(line)?;
     }
     if let Some(b) = &report.baseline {
@@ -136,34 +153,45 @@ pub(crate) fn suite(args: &SuiteArgs) -> Result<Exit> {
     }
     if args.bless {
         con.line("")?;
-        for b in &blessed {
-            let path = b.path.display();
-            match &b.change {
-                Change::New => con.line(format_args!("  blessed {path} (new)"))?,
-                Change::Changed(what) => {
-                    con.line(format_args!("  blessed {path} (changed):"))?;
-                    for w in what {
-                        con.line(format_args!("      {w}"))?;
-                    }
-                }
-                Change::Unchanged => {}
-                Change::Skipped(why) => {
-                    con.line(format_args!("  not blessed {}: {why}", b.case))?
-                }
-            }
-        }
-        let unchanged = blessed
-            .iter()
-            .filter(|b| b.change == Change::Unchanged)
-            .count();
-        con.line(format_args!(
-            "  {unchanged} expectations unchanged (within their tolerances)"
-        ))?;
+        print_blessings(&mut con, blessed)?;
     }
-    for p in &written {
+    for p in written {
         con.line(format_args!("  wrote {}", p.display()))?;
     }
     con.finish()?;
+    Ok(())
+}
+
+/// One line per blessed (or skipped) expectation, then the count of unchanged ones.
+fn print_blessings(con: &mut Console, blessed: &[Blessing]) -> Result<()> {
+    for b in blessed {
+        let path = b.path.display();
+        match &b.change {
+            Change::New => con.line(format_args!("  blessed {path} (new)"))?,
+            Change::Changed(what) => {
+                con.line(format_args!("  blessed {path} (changed):"))?;
+                for w in what {
+                    con.line(format_args!("      {w}"))?;
+                }
+            }
+            Change::Unchanged => {}
+            Change::Skipped(why) => con.line(format_args!("  not blessed {}: {why}", b.case))?,
+        }
+    }
+    let unchanged = blessed
+        .iter()
+        .filter(|b| b.change == Change::Unchanged)
+        .count();
+    con.line(format_args!(
+        "  {unchanged} expectations unchanged (within their tolerances)"
+    ))?;
+    Ok(())
+}
+
+/// The exit code, with a warning for each reason it is not 0: with `--bless`, cases that could
+/// not run; else regressions, cases without an expectation and (with `--fail-slower`) slower
+/// runs.
+fn verdict(args: &SuiteArgs, report: &SuiteReport) -> Exit {
     let errors: Vec<&str> = report
         .cases
         .iter()
@@ -172,13 +200,13 @@ pub(crate) fn suite(args: &SuiteArgs) -> Result<Exit> {
         .collect();
     if args.bless {
         if errors.is_empty() {
-            return Ok(Exit::Success);
+            return Exit::Success;
         }
         warn(format_args!(
             "error: could not run, so not blessed: {}",
             errors.join(", ")
         ));
-        return Ok(Exit::NotSolved);
+        return Exit::NotSolved;
     }
     let regressed = report.regressions();
     let unchecked: Vec<&str> = report
@@ -207,5 +235,5 @@ pub(crate) fn suite(args: &SuiteArgs) -> Result<Exit> {
         ));
         code = Exit::NotSolved;
     }
-    Ok(code)
+    code
 }
