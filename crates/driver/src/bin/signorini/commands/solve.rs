@@ -76,32 +76,7 @@ pub(crate) fn solve(args: &SolveArgs) -> Result<Exit> {
     };
     let provenance = signorini::contract::provenance(common.scene.as_deref(), settings)?;
     let mut outcome = if kind == BackendKind::Auto {
-        let mut auto = if args.chain.is_empty() {
-            AutoBackend::default()
-        } else {
-            let kinds = parse_backends(&args.chain, &[])?;
-            anyhow::ensure!(
-                !kinds.contains(&BackendKind::Auto),
-                "--chain cannot hold auto itself"
-            );
-            AutoBackend::with_kinds(kinds, "the chain given by --chain")
-        };
-        let result = run::solve_scene(&scene, &mut auto, &options, &limits(common));
-        if let Some(record) = auto.record() {
-            for attempt in &record.attempts {
-                warn(attempt.line());
-            }
-            warn(format_args!(
-                "auto: chose {}: {}",
-                record.chosen.as_deref().unwrap_or("none"),
-                record.reason
-            ));
-        }
-        let mut outcome = result?;
-        if let Some(record) = auto.record() {
-            record.annotate(&mut outcome.report);
-        }
-        outcome
+        solve_auto(args, &scene, &options)?
     } else {
         let mut backend = make_backend(kind)?;
         run::solve_scene(&scene, backend.as_mut(), &options, &limits(common))?
@@ -109,7 +84,52 @@ pub(crate) fn solve(args: &SolveArgs) -> Result<Exit> {
     outcome.report.provenance = Some(provenance);
     let written = run::write_outputs_with(out, &scene, &outcome, args.vtu)
         .with_context(|| format!("writing results to {}", out.display()))?;
-    let r = &outcome.report;
+    print_report(&outcome.report, &written)?;
+    Ok(verdict(&outcome))
+}
+
+/// Solves with `auto` (its rule, or the chain of `--chain`), printing each attempt and its
+/// choice, and records the choice in the report.
+fn solve_auto(
+    args: &SolveArgs,
+    scene: &signorini_core::scene::Scene,
+    options: &SolveOptions,
+) -> Result<run::Outcome> {
+    let common = &args.common;
+    let mut auto = if args.chain.is_empty() {
+        AutoBackend::default()
+    } else {
+        let kinds = parse_backends(&args.chain, &[])?;
+        anyhow::ensure!(
+            !kinds.contains(&BackendKind::Auto),
+            "--chain cannot hold auto itself"
+        );
+        AutoBackend::with_kinds(kinds, "the chain given by --chain")
+    };
+    let result = run::solve_scene(scene, &mut auto, options, &limits(common));
+    if let Some(record) = auto.record() {
+        for attempt in &record.attempts {
+            warn(attempt.line());
+        }
+        warn(format_args!(
+            "auto: chose {}: {}",
+            record.chosen.as_deref().unwrap_or("none"),
+            record.reason
+        ));
+    }
+    let mut outcome = result?;
+    if let Some(record) = auto.record() {
+        record.annotate(&mut outcome.report);
+    }
+    Ok(outcome)
+}
+
+/// Prints the run's summary: DOFs and status, each body, each contact pair with rows, the
+/// residuals, the times and the files written.
+fn print_report(
+    r: &signorini_core::report::RunReport,
+    written: &[std::path::PathBuf],
+) -> Result<()> {
     let mut con = Console::new();
     con.line(&r.scene)?;
     con.line(format_args!(
@@ -141,15 +161,21 @@ pub(crate) fn solve(args: &SolveArgs) -> Result<Exit> {
         "  time: mesh {:.4} s, assemble {:.4} s, solve {:.4} s, total {:.4} s",
         r.timing_s.mesh, r.timing_s.assemble, r.timing_s.solve, r.timing_s.total
     ))?;
-    for p in &written {
+    for p in written {
         con.line(format_args!("  wrote {}", p.display()))?;
     }
     con.finish()?;
+    Ok(())
+}
+
+/// The exit code of a solve, after its warnings: 0 when solved, else 2 with the status.
+fn verdict(outcome: &run::Outcome) -> Exit {
+    let r = &outcome.report;
     for w in &r.warnings {
         warn(format_args!("warning: {}", w.message));
     }
     if outcome.solution.status == QpStatus::Solved {
-        Ok(Exit::Success)
+        Exit::Success
     } else {
         warn(format_args!(
             "error: status {} (backend said {}){}",
@@ -162,6 +188,6 @@ pub(crate) fn solve(args: &SolveArgs) -> Result<Exit> {
                 .map(|m| format!(": {m}"))
                 .unwrap_or_default()
         ));
-        Ok(Exit::NotSolved)
+        Exit::NotSolved
     }
 }
