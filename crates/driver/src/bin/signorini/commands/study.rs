@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use signorini::backends::{BackendKind, ChoiceParser, NamedParser};
 use signorini::exit::Exit;
 use signorini::run;
+use signorini::study::StudyOutcome;
 use signorini_core::qp::SolveOptions;
 
 use crate::args::{limits, parse_tol, Common};
@@ -80,12 +81,32 @@ pub(crate) fn study(args: &StudyArgs) -> Result<Exit> {
         },
     )?;
     bar.finish_and_clear();
+    print_outcome(&scene.title, &outcome)?;
+    if outcome.failed == 0 {
+        Ok(Exit::Success)
+    } else {
+        for p in outcome.points.iter().filter(|p| !p.solved()) {
+            warn(format_args!(
+                "not solved: {} hmax {}: {} {}",
+                p.combination(),
+                p.hmax,
+                p.status,
+                p.message
+            ));
+        }
+        warn(format_args!(
+            "error: study: {} of {} points not solved",
+            outcome.failed,
+            outcome.points.len()
+        ));
+        Ok(Exit::NotSolved)
+    }
+}
+
+/// Prints the study's points, skipped combinations, convergence rates and files written.
+fn print_outcome(title: &str, outcome: &StudyOutcome) -> Result<()> {
     let mut con = Console::new();
-    con.line(format_args!(
-        "{}: {} points",
-        scene.title,
-        outcome.points.len()
-    ))?;
+    con.line(format_args!("{}: {} points", title, outcome.points.len()))?;
     for s in &outcome.skipped {
         con.line(format_args!(
             "  skipped {}: does not apply ({})",
@@ -126,23 +147,5 @@ pub(crate) fn study(args: &StudyArgs) -> Result<Exit> {
         con.line(format_args!("  wrote {}", p.display()))?;
     }
     con.finish()?;
-    if outcome.failed == 0 {
-        Ok(Exit::Success)
-    } else {
-        for p in outcome.points.iter().filter(|p| !p.solved()) {
-            warn(format_args!(
-                "not solved: {} hmax {}: {} {}",
-                p.combination(),
-                p.hmax,
-                p.status,
-                p.message
-            ));
-        }
-        warn(format_args!(
-            "error: study: {} of {} points not solved",
-            outcome.failed,
-            outcome.points.len()
-        ));
-        Ok(Exit::NotSolved)
-    }
+    Ok(())
 }
