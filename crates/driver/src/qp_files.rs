@@ -97,8 +97,11 @@ struct Mtx {
     cols: usize,
     size_line: usize,
     symmetric: bool,
-    entries: Vec<(usize, usize, f64, usize)>,
+    entries: Vec<Entry>,
 }
+
+/// One stored value: row, column (from 0), value, and the line it was read from.
+type Entry = (usize, usize, f64, usize);
 
 impl Mtx {
     fn error(&self, line: Option<usize>, reason: impl Into<String>) -> QpFileError {
@@ -189,8 +192,8 @@ fn read_mtx(path: &Path) -> Result<Mtx, QpFileError> {
         entries: Vec::new(),
     };
     match layout {
-        Layout::Coordinate => read_coordinate(&mut mtx, data, counts[2])?,
-        Layout::Array => read_array(&mut mtx, data)?,
+        Layout::Coordinate => mtx.entries = read_coordinate(&mtx, data, counts[2])?,
+        Layout::Array => mtx.entries = read_array(&mtx, data)?,
     }
     Ok(mtx)
 }
@@ -295,20 +298,14 @@ fn parse_size(
 /// The entries of a coordinate file: exactly `declared` lines `row column value` (in the lower
 /// triangle when symmetric).
 fn read_coordinate<'t>(
-    mtx: &mut Mtx,
+    mtx: &Mtx,
     data: impl Iterator<Item = (usize, &'t str)>,
     declared: usize,
-) -> Result<(), QpFileError> {
-    let (path, rows, cols, size_line, symmetric) = (
-        mtx.path.clone(),
-        mtx.rows,
-        mtx.cols,
-        mtx.size_line,
-        mtx.symmetric,
-    );
-    let path = path.as_path();
+) -> Result<Vec<Entry>, QpFileError> {
+    let (path, rows, cols, size_line) = (mtx.path.as_path(), mtx.rows, mtx.cols, mtx.size_line);
+    let mut entries: Vec<Entry> = Vec::new();
     for (line, text) in data {
-        if mtx.entries.len() == declared {
+        if entries.len() == declared {
             return Err(mtx.error(
                 Some(line),
                 format!("more entries than the {declared} declared on line {size_line}"),
@@ -324,7 +321,7 @@ fn read_coordinate<'t>(
         let i = index(path, line, t[0], "row", rows)?;
         let j = index(path, line, t[1], "column", cols)?;
         let v = value(path, line, t[2])?;
-        if symmetric && i < j {
+        if mtx.symmetric && i < j {
             return Err(mtx.error(
                 Some(line),
                 format!(
@@ -334,36 +331,30 @@ fn read_coordinate<'t>(
                 ),
             ));
         }
-        mtx.entries.push((i, j, v, line));
+        entries.push((i, j, v, line));
     }
-    if mtx.entries.len() < declared {
+    if entries.len() < declared {
         return Err(mtx.error(
             None,
             format!(
                 "the file ends after {} of the {declared} entries declared on line {size_line}",
-                mtx.entries.len()
+                entries.len()
             ),
         ));
     }
-    Ok(())
+    Ok(entries)
 }
 
 /// The values of an array file: one a line, column-major (a symmetric file's lower triangle
 /// column by column), exactly as many as the size declares.
 fn read_array<'t>(
-    mtx: &mut Mtx,
+    mtx: &Mtx,
     data: impl Iterator<Item = (usize, &'t str)>,
-) -> Result<(), QpFileError> {
-    let (path, rows, cols, size_line, symmetric) = (
-        mtx.path.clone(),
-        mtx.rows,
-        mtx.cols,
-        mtx.size_line,
-        mtx.symmetric,
-    );
-    let path = path.as_path();
+) -> Result<Vec<Entry>, QpFileError> {
+    let (path, rows, cols, size_line) = (mtx.path.as_path(), mtx.rows, mtx.cols, mtx.size_line);
+    let mut entries: Vec<Entry> = Vec::new();
     // Column-major; a symmetric array stores the lower triangle column by column.
-    let positions: Box<dyn Iterator<Item = (usize, usize)>> = if symmetric {
+    let positions: Box<dyn Iterator<Item = (usize, usize)>> = if mtx.symmetric {
         Box::new((0..cols).flat_map(move |j| (j..rows).map(move |i| (i, j))))
     } else {
         Box::new((0..cols).flat_map(move |j| (0..rows).map(move |i| (i, j))))
@@ -384,18 +375,18 @@ fn read_array<'t>(
             ));
         };
         let v = value(path, line, t[0])?;
-        mtx.entries.push((i, j, v, line));
+        entries.push((i, j, v, line));
     }
     if positions.peek().is_some() {
         return Err(mtx.error(
             None,
             format!(
                 "the file ends after {} values; line {size_line} declares {rows}×{cols}",
-                mtx.entries.len()
+                entries.len()
             ),
         ));
     }
-    Ok(())
+    Ok(entries)
 }
 
 /// The full CSC matrix of a file (a symmetric file mirrored), duplicates summed.
