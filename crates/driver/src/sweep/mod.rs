@@ -57,6 +57,14 @@
 //! probes), floats written with Rust's shortest round-trip `{:e}`; not the title; and the hmax
 //! of the swept bodies written as `swept`, so the hash does not depend on the swept sizes but
 //! does on which bodies are swept.
+//!
+//! # Where each part lives
+//!
+//! `plan.rs` (the plan, its grid and checks), `execute.rs` (the sweep itself), `rows.rs`
+//! (`sweep.csv`'s rows, read and written), `resume.rs` (`--resume`), `hash.rs` (the scene
+//! hash), `accuracy.rs` (the error columns), `measure.rs` (memory, medians), `set.rs` (the
+//! output set and its checkpoint), `solutions.rs` (`--vtu`), `shard.rs` and `merge.rs` (shards
+//! and `sweep merge`).
 
 use std::path::PathBuf;
 
