@@ -19,6 +19,7 @@ use signorini_core::scene::Scene;
 use crate::outdir::{DirLock, OutputSet};
 use crate::output::OutputError;
 
+/// A vector as a Matrix Market array n×1.
 fn write_dense(w: &mut dyn Write, v: &[f64]) -> std::io::Result<()> {
     writeln!(w, "%%MatrixMarket matrix array real general")?;
     writeln!(w, "% written by signorini")?;
@@ -85,88 +86,102 @@ pub fn export(
     if !qp.kernel.is_empty() {
         put("N.mtx", &mut |w| write_columns(w, &qp.kernel))?;
     }
-    put("dofs.csv", &mut |w| {
-        let mut csv = csv::Writer::from_writer(w);
-        csv.write_record(["unknown", "body", "node", "component", "x", "y"])?;
-        for (k, &d) in model.free.iter().enumerate() {
-            let node = d / 2;
-            let body = (0..model.meshes.len())
-                .rev()
-                .find(|&b| model.dofs.node_offset(b) <= node)
-                .unwrap_or(0);
-            let local = node - model.dofs.node_offset(body);
-            let p = model.meshes[body].nodes[local];
-            csv.write_record([
-                k.to_string(),
-                scene.bodies[body].name.clone(),
-                local.to_string(),
-                ["x", "y"][d % 2].to_string(),
-                format!("{:e}", p[0]),
-                format!("{:e}", p[1]),
-            ])?;
-        }
-        csv.flush()
-    })?;
-    put("rows.csv", &mut |w| {
-        let mut csv = csv::Writer::from_writer(w);
-        csv.write_record([
-            "row",
-            "pair",
-            "slave",
-            "slave_node",
-            "x",
-            "y",
-            "masters",
-            "nx",
-            "ny",
-            "gap",
-        ])?;
-        let mut row = 0;
-        for pair in &model.contacts {
-            for r in &pair.rows {
-                csv.write_record([
-                    row.to_string(),
-                    (pair.pair + 1).to_string(),
-                    scene.bodies[pair.slave].name.clone(),
-                    r.slave_node.to_string(),
-                    format!("{:e}", r.position[0]),
-                    format!("{:e}", r.position[1]),
-                    r.masters
-                        .iter()
-                        .map(|(k, w)| format!("{k}:{w:e}"))
-                        .collect::<Vec<_>>()
-                        .join(";"),
-                    format!("{:e}", r.normal[0]),
-                    format!("{:e}", r.normal[1]),
-                    format!("{:e}", qp.gap[row]),
-                ])?;
-                row += 1;
-            }
-        }
-        csv.flush()
-    })?;
-    put("README.txt", &mut |w| {
-        writeln!(w, "Scene: {}", scene.title)?;
-        writeln!(w, "Problem: minimise 1/2 x'Ax - f'x subject to Bx <= g")?;
-        writeln!(
-            w,
-            "n = {} unknowns (free DOFs, see dofs.csv), m = {} contact rows (see rows.csv).",
-            qp.dofs(),
-            qp.rows()
-        )?;
-        writeln!(
-            w,
-            "A is symmetric (both triangles stored); the multipliers of Bx <= g are the contact forces."
-        )?;
-        if !qp.kernel.is_empty() {
-            writeln!(
-                w,
-                "A is singular: {} rigid-body mode(s) of floating bodies are held only by contact; N.mtx holds a basis of A's null space (n x {}).",
-                qp.kernel.len(),
-                qp.kernel.len()
-            )?;
-        }
-        Ok(())
-    })?;
+    put("dofs.csv", &mut |w| write_dofs(w, scene, model))?;
+    put("rows.csv", &mut |w| write_rows(w, scene, model, qp))?;
+    put("README.txt", &mut |w| write_readme(w, scene, qp))?;
     set.commit()
+}
+
+/// `dofs.csv`: each unknown's body, node, component and coordinates.
+fn write_dofs(w: &mut dyn Write, scene: &Scene, model: &Model) -> std::io::Result<()> {
+    let mut csv = csv::Writer::from_writer(w);
+    csv.write_record(["unknown", "body", "node", "component", "x", "y"])?;
+    for (k, &d) in model.free.iter().enumerate() {
+        let node = d / 2;
+        let body = (0..model.meshes.len())
+            .rev()
+            .find(|&b| model.dofs.node_offset(b) <= node)
+            .unwrap_or(0);
+        let local = node - model.dofs.node_offset(body);
+        let p = model.meshes[body].nodes[local];
+        csv.write_record([
+            k.to_string(),
+            scene.bodies[body].name.clone(),
+            local.to_string(),
+            ["x", "y"][d % 2].to_string(),
+            format!("{:e}", p[0]),
+            format!("{:e}", p[1]),
+        ])?;
+    }
+    csv.flush()
+}
+
+/// `rows.csv`: each contact row's pair, slave body and node, position, masters, normal and gap.
+fn write_rows(
+    w: &mut dyn Write,
+    scene: &Scene,
+    model: &Model,
+    qp: &QpProblem,
+) -> std::io::Result<()> {
+    let mut csv = csv::Writer::from_writer(w);
+    csv.write_record([
+        "row",
+        "pair",
+        "slave",
+        "slave_node",
+        "x",
+        "y",
+        "masters",
+        "nx",
+        "ny",
+        "gap",
+    ])?;
+    let mut row = 0;
+    for pair in &model.contacts {
+        for r in &pair.rows {
+            csv.write_record([
+                row.to_string(),
+                (pair.pair + 1).to_string(),
+                scene.bodies[pair.slave].name.clone(),
+                r.slave_node.to_string(),
+                format!("{:e}", r.position[0]),
+                format!("{:e}", r.position[1]),
+                r.masters
+                    .iter()
+                    .map(|(k, w)| format!("{k}:{w:e}"))
+                    .collect::<Vec<_>>()
+                    .join(";"),
+                format!("{:e}", r.normal[0]),
+                format!("{:e}", r.normal[1]),
+                format!("{:e}", qp.gap[row]),
+            ])?;
+            row += 1;
+        }
+    }
+    csv.flush()
+}
+
+/// `README.txt`: the problem the files state, its sizes, and the null space when A is singular.
+fn write_readme(w: &mut dyn Write, scene: &Scene, qp: &QpProblem) -> std::io::Result<()> {
+    writeln!(w, "Scene: {}", scene.title)?;
+    writeln!(w, "Problem: minimise 1/2 x'Ax - f'x subject to Bx <= g")?;
+    writeln!(
+        w,
+        "n = {} unknowns (free DOFs, see dofs.csv), m = {} contact rows (see rows.csv).",
+        qp.dofs(),
+        qp.rows()
+    )?;
+    writeln!(
+        w,
+        "A is symmetric (both triangles stored); the multipliers of Bx <= g are the contact forces."
+    )?;
+    if !qp.kernel.is_empty() {
+        writeln!(
+            w,
+            "A is singular: {} rigid-body mode(s) of floating bodies are held only by contact; N.mtx holds a basis of A's null space (n x {}).",
+            qp.kernel.len(),
+            qp.kernel.len()
+        )?;
+    }
+    Ok(())
 }

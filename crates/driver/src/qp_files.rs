@@ -97,8 +97,11 @@ struct Mtx {
     cols: usize,
     size_line: usize,
     symmetric: bool,
-    entries: Vec<(usize, usize, f64, usize)>,
+    entries: Vec<Entry>,
 }
+
+/// One stored value: row, column (from 0), value, and the line it was read from.
+type Entry = (usize, usize, f64, usize);
 
 impl Mtx {
     fn error(&self, line: Option<usize>, reason: impl Into<String>) -> QpFileError {
@@ -161,7 +164,43 @@ fn index(
 
 /// Reads one Matrix Market file strictly (see the module's documentation).
 fn read_mtx(path: &Path) -> Result<Mtx, QpFileError> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    let text = read_text(path)?;
+    let mut lines = text.lines().enumerate().map(|(k, l)| (k + 1, l.trim()));
+    // The header.
+    let header = lines.next().map(|(_, l)| l).unwrap_or("");
+    let (layout, symmetric) = parse_header(path, header)?;
+    let mut data = lines.filter(|(_, l)| !l.is_empty() && !l.starts_with('%'));
+    // The size line.
+    let (size_line, size) = data
+        .next()
+        .ok_or_else(|| refuse(path, None, "the file ends before its size line"))?;
+    let counts = parse_size(path, layout, size_line, size)?;
+    let (rows, cols) = (counts[0], counts[1]);
+    if symmetric && rows != cols {
+        return Err(refuse(
+            path,
+            Some(size_line),
+            format!("a symmetric matrix must be square, not {rows}×{cols}"),
+        ));
+    }
+    let mut mtx = Mtx {
+        path: path.to_path_buf(),
+        rows,
+        cols,
+        size_line,
+        symmetric,
+        entries: Vec::new(),
+    };
+    match layout {
+        Layout::Coordinate => mtx.entries = read_coordinate(&mtx, data, counts[2])?,
+        Layout::Array => mtx.entries = read_array(&mtx, data)?,
+    }
+    Ok(mtx)
+}
+
+/// The file's text, or a refusal saying it is missing or unreadable.
+fn read_text(path: &Path) -> Result<String, QpFileError> {
+    std::fs::read_to_string(path).map_err(|e| {
         refuse(
             path,
             None,
@@ -171,10 +210,11 @@ fn read_mtx(path: &Path) -> Result<Mtx, QpFileError> {
                 format!("cannot be read: {e}")
             },
         )
-    })?;
-    let mut lines = text.lines().enumerate().map(|(k, l)| (k + 1, l.trim()));
-    // The header.
-    let header = lines.next().map(|(_, l)| l).unwrap_or("");
+    })
+}
+
+/// The layout and symmetry the header line declares (real or integer fields only).
+fn parse_header(path: &Path, header: &str) -> Result<(Layout, bool), QpFileError> {
     let words: Vec<String> = header
         .split_whitespace()
         .map(|w| w.to_ascii_lowercase())
@@ -221,14 +261,19 @@ fn read_mtx(path: &Path) -> Result<Mtx, QpFileError> {
             ))
         }
     };
-    let mut data = lines.filter(|(_, l)| !l.is_empty() && !l.starts_with('%'));
-    // The size line.
-    let (size_line, size) = data
-        .next()
-        .ok_or_else(|| refuse(path, None, "the file ends before its size line"))?;
+    Ok((layout, symmetric))
+}
+
+/// The size line's counts: `rows cols entries` for a coordinate file, `rows cols` for an array.
+fn parse_size(
+    path: &Path,
+    layout: Layout,
+    size_line: usize,
+    size: &str,
+) -> Result<Vec<usize>, QpFileError> {
     let tokens: Vec<&str> = size.split_whitespace().collect();
     let want = if layout == Layout::Coordinate { 3 } else { 2 };
-    let counts: Vec<usize> = tokens
+    tokens
         .iter()
         .map(|t| t.parse::<usize>())
         .collect::<Result<_, _>>()
@@ -247,102 +292,101 @@ fn read_mtx(path: &Path) -> Result<Mtx, QpFileError> {
                     }
                 ),
             )
-        })?;
-    let (rows, cols) = (counts[0], counts[1]);
-    if symmetric && rows != cols {
-        return Err(refuse(
-            path,
-            Some(size_line),
-            format!("a symmetric matrix must be square, not {rows}×{cols}"),
+        })
+}
+
+/// The entries of a coordinate file: exactly `declared` lines `row column value` (in the lower
+/// triangle when symmetric).
+fn read_coordinate<'t>(
+    mtx: &Mtx,
+    data: impl Iterator<Item = (usize, &'t str)>,
+    declared: usize,
+) -> Result<Vec<Entry>, QpFileError> {
+    let (path, rows, cols, size_line) = (mtx.path.as_path(), mtx.rows, mtx.cols, mtx.size_line);
+    let mut entries: Vec<Entry> = Vec::new();
+    for (line, text) in data {
+        if entries.len() == declared {
+            return Err(mtx.error(
+                Some(line),
+                format!("more entries than the {declared} declared on line {size_line}"),
+            ));
+        }
+        let t: Vec<&str> = text.split_whitespace().collect();
+        if t.len() != 3 {
+            return Err(mtx.error(
+                Some(line),
+                format!("expected `row column value`, found `{text}`"),
+            ));
+        }
+        let i = index(path, line, t[0], "row", rows)?;
+        let j = index(path, line, t[1], "column", cols)?;
+        let v = value(path, line, t[2])?;
+        if mtx.symmetric && i < j {
+            return Err(mtx.error(
+                Some(line),
+                format!(
+                    "entry ({}, {}) lies above the diagonal; a symmetric file stores the lower triangle only",
+                    i + 1,
+                    j + 1
+                ),
+            ));
+        }
+        entries.push((i, j, v, line));
+    }
+    if entries.len() < declared {
+        return Err(mtx.error(
+            None,
+            format!(
+                "the file ends after {} of the {declared} entries declared on line {size_line}",
+                entries.len()
+            ),
         ));
     }
-    let mut mtx = Mtx {
-        path: path.to_path_buf(),
-        rows,
-        cols,
-        size_line,
-        symmetric,
-        entries: Vec::new(),
+    Ok(entries)
+}
+
+/// The values of an array file: one a line, column-major (a symmetric file's lower triangle
+/// column by column), exactly as many as the size declares.
+fn read_array<'t>(
+    mtx: &Mtx,
+    data: impl Iterator<Item = (usize, &'t str)>,
+) -> Result<Vec<Entry>, QpFileError> {
+    let (path, rows, cols, size_line) = (mtx.path.as_path(), mtx.rows, mtx.cols, mtx.size_line);
+    let mut entries: Vec<Entry> = Vec::new();
+    // Column-major; a symmetric array stores the lower triangle column by column.
+    let positions: Box<dyn Iterator<Item = (usize, usize)>> = if mtx.symmetric {
+        Box::new((0..cols).flat_map(move |j| (j..rows).map(move |i| (i, j))))
+    } else {
+        Box::new((0..cols).flat_map(move |j| (0..rows).map(move |i| (i, j))))
     };
-    match layout {
-        Layout::Coordinate => {
-            let declared = counts[2];
-            for (line, text) in data {
-                if mtx.entries.len() == declared {
-                    return Err(mtx.error(
-                        Some(line),
-                        format!("more entries than the {declared} declared on line {size_line}"),
-                    ));
-                }
-                let t: Vec<&str> = text.split_whitespace().collect();
-                if t.len() != 3 {
-                    return Err(mtx.error(
-                        Some(line),
-                        format!("expected `row column value`, found `{text}`"),
-                    ));
-                }
-                let i = index(path, line, t[0], "row", rows)?;
-                let j = index(path, line, t[1], "column", cols)?;
-                let v = value(path, line, t[2])?;
-                if symmetric && i < j {
-                    return Err(mtx.error(
-                        Some(line),
-                        format!(
-                            "entry ({}, {}) lies above the diagonal; a symmetric file stores the lower triangle only",
-                            i + 1,
-                            j + 1
-                        ),
-                    ));
-                }
-                mtx.entries.push((i, j, v, line));
-            }
-            if mtx.entries.len() < declared {
-                return Err(mtx.error(
-                    None,
-                    format!(
-                        "the file ends after {} of the {declared} entries declared on line {size_line}",
-                        mtx.entries.len()
-                    ),
-                ));
-            }
+    let mut positions = positions.peekable();
+    for (line, text) in data {
+        let t: Vec<&str> = text.split_whitespace().collect();
+        if t.len() != 1 {
+            return Err(mtx.error(
+                Some(line),
+                format!("expected one value per line in an array file, found `{text}`"),
+            ));
         }
-        Layout::Array => {
-            // Column-major; a symmetric array stores the lower triangle column by column.
-            let positions: Box<dyn Iterator<Item = (usize, usize)>> = if symmetric {
-                Box::new((0..cols).flat_map(move |j| (j..rows).map(move |i| (i, j))))
-            } else {
-                Box::new((0..cols).flat_map(move |j| (0..rows).map(move |i| (i, j))))
-            };
-            let mut positions = positions.peekable();
-            for (line, text) in data {
-                let t: Vec<&str> = text.split_whitespace().collect();
-                if t.len() != 1 {
-                    return Err(mtx.error(
-                        Some(line),
-                        format!("expected one value per line in an array file, found `{text}`"),
-                    ));
-                }
-                let Some((i, j)) = positions.next() else {
-                    return Err(mtx.error(
-                        Some(line),
-                        format!("more values than the {rows}×{cols} declared on line {size_line}"),
-                    ));
-                };
-                let v = value(path, line, t[0])?;
-                mtx.entries.push((i, j, v, line));
-            }
-            if positions.peek().is_some() {
-                return Err(mtx.error(
-                    None,
-                    format!(
-                        "the file ends after {} values; line {size_line} declares {rows}×{cols}",
-                        mtx.entries.len()
-                    ),
-                ));
-            }
-        }
+        let Some((i, j)) = positions.next() else {
+            return Err(mtx.error(
+                Some(line),
+                format!("more values than the {rows}×{cols} declared on line {size_line}"),
+            ));
+        };
+        let v = value(path, line, t[0])?;
+        entries.push((i, j, v, line));
     }
-    Ok(mtx)
+    if positions.peek().is_some() {
+        return Err(mtx.error(
+            None,
+            format!(
+                "the file ends after {} values; line {size_line} declares {rows}×{cols}",
+                entries.len()
+            ),
+        ));
+    }
+    Ok(entries)
 }
 
 /// The full CSC matrix of a file (a symmetric file mirrored), duplicates summed.

@@ -384,6 +384,8 @@ fn summary(record: &ChainRecord, note: Option<String>) -> String {
     text
 }
 
+/// Runs `members` in order until one's answer is `solved` (see the module docs): each attempt
+/// gets the time left of `options.time_limit`, and `record` gets every attempt and the choice.
 fn run_chain(
     members: &mut [Member],
     problem: &QpProblem,
@@ -397,21 +399,15 @@ fn run_chain(
     let mut last_error: Option<QpError> = None;
     let count = members.len();
     for (index, member) in members.iter_mut().enumerate() {
-        let remaining = match deadline {
-            Some(d) => match d.checked_duration_since(Instant::now()) {
-                Some(r) if r > Duration::ZERO => Some(r),
-                _ => {
-                    record.reason.push_str(&format!(
-                        "; the time limit passed before attempt {} of {count}",
-                        index + 1
-                    ));
-                    if let Some((_, name)) = &answer {
-                        record.chosen = Some(name.clone());
-                    }
-                    return Ok(timed_out(problem, answer, start));
-                }
-            },
-            None => None,
+        let Some(remaining) = time_left(deadline) else {
+            record.reason.push_str(&format!(
+                "; the time limit passed before attempt {} of {count}",
+                index + 1
+            ));
+            if let Some((_, name)) = &answer {
+                record.chosen = Some(name.clone());
+            }
+            return Ok(timed_out(problem, answer, start));
         };
         let attempt_options = SolveOptions {
             time_limit: remaining,
@@ -442,56 +438,117 @@ fn run_chain(
         let t0 = Instant::now();
         let result = backend.solve(problem, &attempt_options);
         let took = t0.elapsed();
-        match result {
+        let next = match result {
             Ok(solution) => {
-                let residuals = kkt_residuals(problem, &solution.x, &solution.multipliers);
-                let status = checked_status(solution.status, &residuals, options.tol);
-                record.attempts.push(Attempt {
-                    backend: name.clone(),
-                    status: Some(status),
-                    backend_status: Some(solution.status),
-                    iterations: solution.iterations,
-                    solve_time: took,
-                    message: solution.message.clone(),
-                });
-                if status == QpStatus::Solved {
-                    record.chosen = Some(name.clone());
-                    if index > 0 {
-                        record
-                            .reason
-                            .push_str(&format!("; {name} solved after fall-back"));
-                    }
-                    return Ok(solution);
-                }
-                let out_of_time = status == QpStatus::TimeLimit;
-                answer = Some((solution, name));
-                if out_of_time {
-                    record
-                        .reason
-                        .push_str("; the time limit passed during the last attempt");
-                    break;
-                }
+                let attempt = (index, name, took);
+                on_answer(problem, options, solution, attempt, record, &mut answer)
             }
-            Err(error) => {
-                record.attempts.push(Attempt {
-                    backend: name.clone(),
-                    status: None,
-                    backend_status: None,
-                    iterations: 0,
-                    solve_time: took,
-                    message: Some(error.to_string()),
-                });
-                let ends = matches!(error, QpError::TooLarge { .. }) && !dense_dual(&name);
-                last_error = Some(error);
-                if ends {
-                    record.reason.push_str(&format!(
-                        "; {name} was refused for lack of memory and every later backend factors A too: chain ended"
-                    ));
-                    break;
-                }
-            }
+            Err(error) => on_error(error, &name, took, record, &mut last_error),
+        };
+        match next {
+            Next::Chosen(solution) => return Ok(solution),
+            Next::Stop => break,
+            Next::Continue => {}
         }
     }
+    conclude(answer, last_error, record)
+}
+
+/// What the chain does after an attempt.
+enum Next {
+    /// This answer is solved: return it.
+    Chosen(QpSolution),
+    /// Try the next member.
+    Continue,
+    /// End the chain (out of time, or out of memory for every later backend).
+    Stop,
+}
+
+/// The time left before `deadline` (`Some(None)` without one); `None` once it has passed.
+fn time_left(deadline: Option<Instant>) -> Option<Option<Duration>> {
+    match deadline {
+        Some(d) => match d.checked_duration_since(Instant::now()) {
+            Some(r) if r > Duration::ZERO => Some(Some(r)),
+            _ => None,
+        },
+        None => Some(None),
+    }
+}
+
+/// Records attempt `(index, name, took)` that produced `solution`, judged by the core's check:
+/// chosen when solved, else kept as the best `answer` so far (ending the chain at a time limit).
+fn on_answer(
+    problem: &QpProblem,
+    options: &SolveOptions,
+    solution: QpSolution,
+    (index, name, took): (usize, String, Duration),
+    record: &mut ChainRecord,
+    answer: &mut Option<(QpSolution, String)>,
+) -> Next {
+    let residuals = kkt_residuals(problem, &solution.x, &solution.multipliers);
+    let status = checked_status(solution.status, &residuals, options.tol);
+    record.attempts.push(Attempt {
+        backend: name.clone(),
+        status: Some(status),
+        backend_status: Some(solution.status),
+        iterations: solution.iterations,
+        solve_time: took,
+        message: solution.message.clone(),
+    });
+    if status == QpStatus::Solved {
+        record.chosen = Some(name.clone());
+        if index > 0 {
+            record
+                .reason
+                .push_str(&format!("; {name} solved after fall-back"));
+        }
+        return Next::Chosen(solution);
+    }
+    let out_of_time = status == QpStatus::TimeLimit;
+    *answer = Some((solution, name));
+    if out_of_time {
+        record
+            .reason
+            .push_str("; the time limit passed during the last attempt");
+        return Next::Stop;
+    }
+    Next::Continue
+}
+
+/// Records attempt `name` that failed with `error` (kept as the `last_error`); a memory refusal
+/// ends the chain unless the backend is a dense dual one.
+fn on_error(
+    error: QpError,
+    name: &str,
+    took: Duration,
+    record: &mut ChainRecord,
+    last_error: &mut Option<QpError>,
+) -> Next {
+    record.attempts.push(Attempt {
+        backend: name.to_string(),
+        status: None,
+        backend_status: None,
+        iterations: 0,
+        solve_time: took,
+        message: Some(error.to_string()),
+    });
+    let ends = matches!(error, QpError::TooLarge { .. }) && !dense_dual(name);
+    *last_error = Some(error);
+    if ends {
+        record.reason.push_str(&format!(
+            "; {name} was refused for lack of memory and every later backend factors A too: chain ended"
+        ));
+        return Next::Stop;
+    }
+    Next::Continue
+}
+
+/// The chain's result when no attempt was solved: the last answer, else the last error.
+fn conclude(
+    answer: Option<(QpSolution, String)>,
+    last_error: Option<QpError>,
+    record: &mut ChainRecord,
+) -> Result<QpSolution, QpError> {
     match answer {
         Some((solution, name)) => {
             record.reason.push_str(&format!(

@@ -135,6 +135,22 @@ pub fn xml_escape(text: &str) -> String {
     out
 }
 
+/// Reads the rows of the CSV file at `path` (with a header) as `T`s: [`OutputError::Io`] when
+/// it cannot be opened, [`OutputError::Mismatch`] naming the row for one that does not read.
+pub fn read_csv<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<T>, OutputError> {
+    let mut reader = csv::Reader::from_path(path).map_err(|e| OutputError::Io {
+        path: path.to_path_buf(),
+        source: io::Error::other(e),
+    })?;
+    reader
+        .deserialize()
+        .enumerate()
+        .map(|(i, r)| {
+            r.map_err(|e| OutputError::Mismatch(format!("{}: row {}: {e}", path.display(), i + 2)))
+        })
+        .collect()
+}
+
 /// Writes `path` atomically: `write` fills a temporary file in the same directory, which is then
 /// renamed over `path`.  If `write` (or flushing, or the rename) fails, neither a partial `path`
 /// nor the temporary file is left behind, and an existing `path` is left untouched.

@@ -23,7 +23,8 @@
 
 use plotters::prelude::*;
 
-use signorini_core::report::{ContactReport, RunReport};
+use plotters::coord::types::RangedCoordf64;
+use signorini_core::report::{ContactNodeReport, ContactReport, RunReport};
 use signorini_core::scene::Formulation;
 
 use super::chart_style::{
@@ -113,6 +114,107 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
+/// Whether a node can be plotted (finite `s` and pressure).
+fn finite(n: &ContactNodeReport) -> bool {
+    n.s.is_finite() && n.pressure.is_finite()
+}
+
+/// The curve of pair `k` (its finite nodes, scaled by `sx` and `sy`): the runs of consecutive
+/// active nodes of one interface piece, the active and the inactive markers.
+fn pair_curve(k: usize, c: &ContactReport, sx: f64, sy: f64) -> PairCurve {
+    let mut nodes: Vec<_> = c.nodes.iter().filter(|n| finite(n)).collect();
+    nodes.sort_by(|a, b| a.piece.cmp(&b.piece).then(a.s.total_cmp(&b.s)));
+    let mut curve = PairCurve {
+        label: xml_sanitize(&pair_label(k, c)),
+        colour: PALETTE[k % PALETTE.len()],
+        runs: Vec::new(),
+        active: Vec::new(),
+        inactive: Vec::new(),
+    };
+    let mut run: Vec<(f64, f64)> = Vec::new();
+    let mut piece = None;
+    for n in nodes {
+        let p = (n.s / sx, n.pressure / sy);
+        if piece != Some(n.piece) || !n.active {
+            if run.len() > 1 {
+                curve.runs.push(std::mem::take(&mut run));
+            }
+            run.clear();
+            piece = Some(n.piece);
+        }
+        if n.active {
+            run.push(p);
+            curve.active.push(p);
+        } else {
+            curve.inactive.push(p);
+        }
+    }
+    if run.len() > 1 {
+        curve.runs.push(run);
+    }
+    curve
+}
+
+/// The pressure chart's coordinates.
+type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// Draws every pair's lines and markers with its legend entry, then the legend entries of the
+/// hollow markers (when some node is inactive) and of the `note`.
+fn draw_series<'a, 'b: 'a>(
+    chart: &mut Chart<'a, 'b>,
+    curves: &[PairCurve],
+    any_inactive: bool,
+    note: Option<&str>,
+) -> Result<(), OutputError> {
+    for c in curves {
+        let colour = c.colour;
+        let style = colour.stroke_width(2);
+        for run in &c.runs {
+            chart
+                .draw_series(LineSeries::new(run.iter().copied(), style))
+                .map_err(plot_err)?;
+        }
+        chart
+            .draw_series(
+                c.active
+                    .iter()
+                    .map(|&p| Circle::new(p, MARKER, colour.filled())),
+            )
+            .map_err(plot_err)?;
+        chart
+            .draw_series(
+                c.inactive
+                    .iter()
+                    .map(|&p| Circle::new(p, MARKER, colour.stroke_width(1))),
+            )
+            .map_err(plot_err)?;
+        chart
+            .draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
+            .map_err(plot_err)?
+            .label(c.label.clone())
+            .legend(move |(x, y)| {
+                EmptyElement::at((x, y))
+                    + PathElement::new([(0, 0), (24, 0)], style)
+                    + Circle::new((12, 0), MARKER, colour.filled())
+            });
+    }
+    if any_inactive {
+        chart
+            .draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
+            .map_err(plot_err)?
+            .label(INACTIVE_LABEL)
+            .legend(|(x, y)| Circle::new((x + 12, y), MARKER, GREY.stroke_width(1)));
+    }
+    if let Some(note) = note {
+        chart
+            .draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
+            .map_err(plot_err)?
+            .label(note)
+            .legend(|(x, y)| EmptyElement::at((x, y)));
+    }
+    Ok(())
+}
+
 /// Renders `pressure.svg` for the report's contact pairs; `None` when the report has no contact
 /// row (then no file is written).  `title` is the scene's title (any text: it is sanitised, and
 /// plotters escapes `& < > " '`).
@@ -120,8 +222,7 @@ pub fn render_pressure_svg(title: &str, report: &RunReport) -> Result<Option<Str
     if report.contacts.iter().all(|c| c.nodes.is_empty()) {
         return Ok(None);
     }
-    let finite =
-        |n: &&signorini_core::report::ContactNodeReport| n.s.is_finite() && n.pressure.is_finite();
+    let finite = |n: &&ContactNodeReport| finite(n);
     let points = || {
         report
             .contacts
@@ -133,43 +234,13 @@ pub fn render_pressure_svg(title: &str, report: &RunReport) -> Result<Option<Str
     let (sx, ex) = scale(points().map(|n| n.s));
     let (sy, ey) = scale(points().map(|n| n.pressure));
 
-    let mut curves = Vec::new();
-    for (k, c) in report.contacts.iter().enumerate() {
-        if c.nodes.is_empty() {
-            continue;
-        }
-        let mut nodes: Vec<_> = c.nodes.iter().filter(finite).collect();
-        nodes.sort_by(|a, b| a.piece.cmp(&b.piece).then(a.s.total_cmp(&b.s)));
-        let mut curve = PairCurve {
-            label: xml_sanitize(&pair_label(k, c)),
-            colour: PALETTE[k % PALETTE.len()],
-            runs: Vec::new(),
-            active: Vec::new(),
-            inactive: Vec::new(),
-        };
-        let mut run: Vec<(f64, f64)> = Vec::new();
-        let mut piece = None;
-        for n in nodes {
-            let p = (n.s / sx, n.pressure / sy);
-            if piece != Some(n.piece) || !n.active {
-                if run.len() > 1 {
-                    curve.runs.push(std::mem::take(&mut run));
-                }
-                run.clear();
-                piece = Some(n.piece);
-            }
-            if n.active {
-                run.push(p);
-                curve.active.push(p);
-            } else {
-                curve.inactive.push(p);
-            }
-        }
-        if run.len() > 1 {
-            curve.runs.push(run);
-        }
-        curves.push(curve);
-    }
+    let curves: Vec<PairCurve> = report
+        .contacts
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| !c.nodes.is_empty())
+        .map(|(k, c)| pair_curve(k, c, sx, sy))
+        .collect();
 
     let xr = range(points().map(|n| n.s / sx));
     let yr = range(points().map(|n| n.pressure / sy));
@@ -222,52 +293,7 @@ pub fn render_pressure_svg(title: &str, report: &RunReport) -> Result<Option<Str
             .draw()
             .map_err(plot_err)?;
 
-        for c in &curves {
-            let colour = c.colour;
-            let style = colour.stroke_width(2);
-            for run in &c.runs {
-                chart
-                    .draw_series(LineSeries::new(run.iter().copied(), style))
-                    .map_err(plot_err)?;
-            }
-            chart
-                .draw_series(
-                    c.active
-                        .iter()
-                        .map(|&p| Circle::new(p, MARKER, colour.filled())),
-                )
-                .map_err(plot_err)?;
-            chart
-                .draw_series(
-                    c.inactive
-                        .iter()
-                        .map(|&p| Circle::new(p, MARKER, colour.stroke_width(1))),
-                )
-                .map_err(plot_err)?;
-            chart
-                .draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
-                .map_err(plot_err)?
-                .label(c.label.clone())
-                .legend(move |(x, y)| {
-                    EmptyElement::at((x, y))
-                        + PathElement::new([(0, 0), (24, 0)], style)
-                        + Circle::new((12, 0), MARKER, colour.filled())
-                });
-        }
-        if any_inactive {
-            chart
-                .draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
-                .map_err(plot_err)?
-                .label(INACTIVE_LABEL)
-                .legend(|(x, y)| Circle::new((x + 12, y), MARKER, GREY.stroke_width(1)));
-        }
-        if let Some(note) = &note {
-            chart
-                .draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
-                .map_err(plot_err)?
-                .label(note.clone())
-                .legend(|(x, y)| EmptyElement::at((x, y)));
-        }
+        draw_series(&mut chart, &curves, any_inactive, note.as_deref())?;
         draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
         root.present().map_err(plot_err)?;
     }

@@ -183,26 +183,52 @@ type Sections = [(&'static str, &'static str, Vec<Array>); 4];
 
 /// Every array of the grid (assumes validated input).
 fn sections(bodies: &[BodyField]) -> Sections {
-    let body_ids = |per: fn(&BodyField) -> usize| -> Vec<i32> {
-        bodies
-            .iter()
-            .enumerate()
-            .flat_map(|(k, b)| std::iter::repeat_n(k as i32, per(b)))
-            .collect()
-    };
-    let array = |name, components, per_line, values| Array {
+    let points: Vec<f64> = bodies
+        .iter()
+        .flat_map(|b| b.mesh.nodes.iter().flat_map(|p| [p[0], p[1], 0.0]))
+        .collect();
+    [
+        (
+            "Points",
+            "",
+            vec![array("Points", 3, 3, Values::F64(points))],
+        ),
+        ("Cells", "", cells(bodies)),
+        (
+            "PointData",
+            r#" Vectors="displacement" Scalars="contact_pressure""#,
+            point_data(bodies),
+        ),
+        (
+            "CellData",
+            r#" Tensors="stress" Scalars="von_mises""#,
+            cell_data(bodies),
+        ),
+    ]
+}
+
+/// An array without component names.
+fn array(name: &'static str, components: usize, per_line: usize, values: Values) -> Array {
+    Array {
         name,
         components,
         component_names: &[],
         per_line,
         values,
-    };
+    }
+}
 
-    let points: Vec<f64> = bodies
+/// Each body's number, repeated `per(body)` times (its nodes or its cells).
+fn body_ids(bodies: &[BodyField], per: fn(&BodyField) -> usize) -> Vec<i32> {
+    bodies
         .iter()
-        .flat_map(|b| b.mesh.nodes.iter().flat_map(|p| [p[0], p[1], 0.0]))
-        .collect();
+        .enumerate()
+        .flat_map(|(k, b)| std::iter::repeat_n(k as i32, per(b)))
+        .collect()
+}
 
+/// The `Cells` arrays: connectivity (node numbers over all bodies), offsets and cell types.
+fn cells(bodies: &[BodyField]) -> Vec<Array> {
     let mut first = 0usize;
     let mut conn = Vec::new();
     for b in bodies {
@@ -237,6 +263,15 @@ fn sections(bodies: &[BodyField]) -> Sections {
         })
         .collect();
 
+    vec![
+        array("connectivity", 1, 12, Values::I64(conn)),
+        array("offsets", 1, 12, Values::I64(offsets)),
+        array("types", 1, 24, Values::U8(types)),
+    ]
+}
+
+/// The `PointData` arrays: displacement, contact pressure and body number.
+fn point_data(bodies: &[BodyField]) -> Vec<Array> {
     let displacement: Vec<f64> = bodies
         .iter()
         .flat_map(|b| b.displacement.iter().flat_map(|u| [u[0], u[1], 0.0]))
@@ -245,6 +280,20 @@ fn sections(bodies: &[BodyField]) -> Sections {
         .iter()
         .flat_map(|b| b.contact_pressure.iter().copied())
         .collect();
+    vec![
+        array("displacement", 3, 3, Values::F64(displacement)),
+        array("contact_pressure", 1, 6, Values::F64(pressure)),
+        array(
+            "body_id",
+            1,
+            24,
+            Values::I32(body_ids(bodies, |b| b.mesh.nodes.len())),
+        ),
+    ]
+}
+
+/// The `CellData` arrays: stress (as VTK's symmetric tensor), von Mises stress and body number.
+fn cell_data(bodies: &[BodyField]) -> Vec<Array> {
     // BodyField's stress is σxx, σyy, σxy, σzz; VTK's tensor order is XX YY ZZ XY YZ XZ.
     let stress: Vec<f64> = bodies
         .iter()
@@ -259,51 +308,17 @@ fn sections(bodies: &[BodyField]) -> Sections {
         .flat_map(|b| b.von_mises.iter().copied())
         .collect();
 
-    [
-        (
-            "Points",
-            "",
-            vec![array("Points", 3, 3, Values::F64(points))],
-        ),
-        (
-            "Cells",
-            "",
-            vec![
-                array("connectivity", 1, 12, Values::I64(conn)),
-                array("offsets", 1, 12, Values::I64(offsets)),
-                array("types", 1, 24, Values::U8(types)),
-            ],
-        ),
-        (
-            "PointData",
-            r#" Vectors="displacement" Scalars="contact_pressure""#,
-            vec![
-                array("displacement", 3, 3, Values::F64(displacement)),
-                array("contact_pressure", 1, 6, Values::F64(pressure)),
-                array(
-                    "body_id",
-                    1,
-                    24,
-                    Values::I32(body_ids(|b| b.mesh.nodes.len())),
-                ),
-            ],
-        ),
-        (
-            "CellData",
-            r#" Tensors="stress" Scalars="von_mises""#,
-            vec![
-                Array {
-                    component_names: &["XX", "YY", "ZZ", "XY", "YZ", "XZ"],
-                    ..array("stress", 6, 6, Values::F64(stress))
-                },
-                array("von_mises", 1, 6, Values::F64(von_mises)),
-                array(
-                    "body_id",
-                    1,
-                    24,
-                    Values::I32(body_ids(|b| b.mesh.cells.len())),
-                ),
-            ],
+    vec![
+        Array {
+            component_names: &["XX", "YY", "ZZ", "XY", "YZ", "XZ"],
+            ..array("stress", 6, 6, Values::F64(stress))
+        },
+        array("von_mises", 1, 6, Values::F64(von_mises)),
+        array(
+            "body_id",
+            1,
+            24,
+            Values::I32(body_ids(bodies, |b| b.mesh.cells.len())),
         ),
     ]
 }

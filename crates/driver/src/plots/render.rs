@@ -154,12 +154,7 @@ pub(crate) fn render(fig: &Figure) -> Result<Option<String>, OutputError> {
             .map_err(plot_err)?
             .plotting_area()
             .dim_in_pixel();
-        let legend_w = (labels.iter().map(|l| l.chars().count()).max().unwrap_or(0) as f64
-            * 0.56
-            * f64::from(LEGEND_FONT)
-            + 45.0)
-            / f64::from(pw.max(1));
-        let legend_h = (labels.len() as f64 * LEGEND_ROW + 12.0) / f64::from(ph.max(1));
+        let (legend_w, legend_h) = legend_size(&labels, pw, ph);
         let (corner, yr) = place_legend(&shown, fig.hline.as_ref().map(|h| h.0), xr, yr, {
             (legend_w + 0.02, legend_h + 0.02)
         });
@@ -177,38 +172,63 @@ pub(crate) fn render(fig: &Figure) -> Result<Option<String>, OutputError> {
             .draw()
             .map_err(plot_err)?;
 
-        if let Some((y, label)) = &fig.hline {
-            let style = GREY.stroke_width(2);
-            chart
-                .draw_series(DashedLineSeries::new([(xr.0, *y), (xr.1, *y)], 8, 5, style))
-                .map_err(plot_err)?
-                .label(label.clone())
-                .legend(move |(x, y)| DashedPathElement::new([(x, y), (x + 24, y)], 6, 4, style));
-        }
-        for c in &shown {
-            draw_curve(&mut chart, c)?;
-        }
-        if any_hollow {
-            chart
-                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                .map_err(plot_err)?
-                .label(HOLLOW_LABEL)
-                .legend(|(x, y)| {
-                    EmptyElement::at((x + 12, y))
-                        + PathElement::new(closed_outline(0), GREY.stroke_width(2))
-                });
-        }
-        for note in &fig.notes {
-            chart
-                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                .map_err(plot_err)?
-                .label(note.clone())
-                .legend(|(x, y)| EmptyElement::at((x, y)));
-        }
+        draw_series(&mut chart, fig, &shown, any_hollow, xr)?;
         draw_legend(&mut chart, corner)?;
         root.present().map_err(plot_err)?;
     }
     Ok(Some(buf))
+}
+
+/// The legend's width and height as fractions of the plotting area (`pw` × `ph` pixels), for
+/// `labels` in the legend font.
+fn legend_size(labels: &[&str], pw: u32, ph: u32) -> (f64, f64) {
+    let legend_w = (labels.iter().map(|l| l.chars().count()).max().unwrap_or(0) as f64
+        * 0.56
+        * f64::from(LEGEND_FONT)
+        + 45.0)
+        / f64::from(pw.max(1));
+    let legend_h = (labels.len() as f64 * LEGEND_ROW + 12.0) / f64::from(ph.max(1));
+    (legend_w, legend_h)
+}
+
+/// Draws the figure's reference line (dashed, across `xr`), its curves, and the legend entries
+/// of the hollow markers (when some are shown) and of the notes.
+fn draw_series<'a>(
+    chart: &mut Chart<'a, 'a>,
+    fig: &Figure,
+    shown: &[&Curve],
+    any_hollow: bool,
+    xr: (f64, f64),
+) -> Result<(), OutputError> {
+    if let Some((y, label)) = &fig.hline {
+        let style = GREY.stroke_width(2);
+        chart
+            .draw_series(DashedLineSeries::new([(xr.0, *y), (xr.1, *y)], 8, 5, style))
+            .map_err(plot_err)?
+            .label(label.clone())
+            .legend(move |(x, y)| DashedPathElement::new([(x, y), (x + 24, y)], 6, 4, style));
+    }
+    for c in shown {
+        draw_curve(chart, c)?;
+    }
+    if any_hollow {
+        chart
+            .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+            .map_err(plot_err)?
+            .label(HOLLOW_LABEL)
+            .legend(|(x, y)| {
+                EmptyElement::at((x + 12, y))
+                    + PathElement::new(closed_outline(0), GREY.stroke_width(2))
+            });
+    }
+    for note in &fig.notes {
+        chart
+            .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+            .map_err(plot_err)?
+            .label(note.clone())
+            .legend(|(x, y)| EmptyElement::at((x, y)));
+    }
+    Ok(())
 }
 
 /// Legend text of the hollow-marker entry.

@@ -384,17 +384,7 @@ fn write_csv(w: &mut dyn std::io::Write, points: &[StudyPoint]) -> std::io::Resu
 
 /// Reads the points of a `study.csv`.
 pub fn read_points(path: &Path) -> Result<Vec<StudyPoint>, OutputError> {
-    let mut reader = csv::Reader::from_path(path).map_err(|e| OutputError::Io {
-        path: path.to_path_buf(),
-        source: std::io::Error::other(e),
-    })?;
-    reader
-        .deserialize()
-        .enumerate()
-        .map(|(i, r)| {
-            r.map_err(|e| OutputError::Mismatch(format!("{}: row {}: {e}", path.display(), i + 2)))
-        })
-        .collect()
+    crate::output::read_csv(path)
 }
 
 const MEMBERS: [&str; 2] = [STUDY_FILE, ACCURACY_PLOT];

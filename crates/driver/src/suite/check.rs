@@ -14,8 +14,8 @@
 //! A NaN anywhere fails its comparison.  A different number of pairs or probes, or other
 //! names, is a failure of its own (the scene changed under its expectation).
 
-use super::expectation::{Expectation, ExpectedStatus};
-use super::report::{Figures, Verdict};
+use super::expectation::{Expectation, ExpectedStatus, Tolerances};
+use super::report::{Figures, PairForce, ProbeValue, Verdict};
 
 /// What a run ended with, as the check needs it.
 #[derive(Debug, Clone, Copy)]
@@ -82,19 +82,34 @@ pub fn compare_figures(
             umax,
         ));
     }
-    if measured.contact_forces.len() != expected.contact_forces.len() {
+    compare_forces(
+        rtol,
+        &expected.contact_forces,
+        &measured.contact_forces,
+        load,
+        &mut out,
+    );
+    compare_probes(rtol, &expected.probes, &measured.probes, umax, &mut out);
+    out
+}
+
+/// The pairs' normal forces of `measured` against `expected` (same pairs, each within its
+/// tolerance of a scale at least `load`), one sentence per mismatch into `out`.
+fn compare_forces(
+    rtol: &Tolerances,
+    expected: &[PairForce],
+    measured: &[PairForce],
+    load: f64,
+    out: &mut Vec<String>,
+) {
+    if measured.len() != expected.len() {
         out.push(format!(
             "contact pairs: {}, expected {}",
-            measured.contact_forces.len(),
-            expected.contact_forces.len()
+            measured.len(),
+            expected.len()
         ));
     } else {
-        for (i, (m, e)) in measured
-            .contact_forces
-            .iter()
-            .zip(&expected.contact_forces)
-            .enumerate()
-        {
+        for (i, (m, e)) in measured.iter().zip(expected).enumerate() {
             let pair = format!("pair {} ({}–{})", i + 1, e.bodies[0], e.bodies[1]);
             if m.bodies != e.bodies {
                 out.push(format!(
@@ -120,14 +135,25 @@ pub fn compare_figures(
             }
         }
     }
-    if measured.probes.len() != expected.probes.len() {
+}
+
+/// The probes' displacements of `measured` against `expected` (same probes, each component
+/// within its tolerance of a scale at least `umax`), one sentence per mismatch into `out`.
+fn compare_probes(
+    rtol: &Tolerances,
+    expected: &[ProbeValue],
+    measured: &[ProbeValue],
+    umax: f64,
+    out: &mut Vec<String>,
+) {
+    if measured.len() != expected.len() {
         out.push(format!(
             "probes: {}, expected {}",
-            measured.probes.len(),
-            expected.probes.len()
+            measured.len(),
+            expected.len()
         ));
     } else {
-        for (m, e) in measured.probes.iter().zip(&expected.probes) {
+        for (m, e) in measured.iter().zip(expected) {
             if m.name != e.name {
                 out.push(format!(
                     "probe names: \"{}\", expected \"{}\"",
@@ -151,7 +177,6 @@ pub fn compare_figures(
             }
         }
     }
-    out
 }
 
 /// The verdict of `answer` under `expectation` (`None`: no expectation file, so

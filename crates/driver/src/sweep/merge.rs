@@ -271,7 +271,62 @@ pub fn merge(dirs: &[PathBuf], out: &Path, overwrite: bool) -> Result<MergeOutco
     let Some(first_dir) = dirs.first() else {
         return Err(refused(Path::new("."), None, "no shard directory given"));
     };
-    // The manifests, and the study they share.
+    let manifests = read_manifests(dirs)?;
+    let study = manifests[0].1.clone();
+    check_every_shard(&manifests, study.shard.count)?;
+    let (mut rows, row_dirs) = read_shards(dirs, &manifests, &study)?;
+    rows.sort_by_key(|r| r.0);
+    let sources: Vec<(usize, Point, PathBuf)> = rows
+        .iter()
+        .map(|(k, p, _, _)| (*k, p.clone(), row_dirs[k].clone()))
+        .collect();
+    let points_index: HashMap<usize, usize> =
+        rows.iter().enumerate().map(|(i, r)| (r.0, i)).collect();
+    let mut points = with_error_vs_reference(&rows, &row_dirs, &study)?;
+    fill_error_vs_finest(&mut points);
+    // Everything checked: write.
+    let csv_path = out.join(SWEEP_FILE);
+    if csv_path.exists() && !overwrite {
+        return Err(MergeError::Exists(csv_path));
+    }
+    for dir in dirs {
+        if same_dir(dir, out) {
+            return Err(refused(
+                dir,
+                None,
+                "is both a shard and the output directory: merge into another directory (--out)",
+            ));
+        }
+    }
+    let _ = first_dir;
+    let rows_for_plots: Vec<crate::plots::SweepRow> = points.iter().map(Point::to_row).collect();
+    let short = study.title.split(':').next().unwrap_or(&study.title).trim();
+    let plots = crate::plots::render_sweep(&rows_for_plots, short)?;
+    let lock = DirLock::acquire(out)?;
+    if std::fs::symlink_metadata(&csv_path).is_ok() && !overwrite {
+        return Err(MergeError::Exists(csv_path));
+    }
+    let solutions = copy_solutions(&sources, study.points, out)?;
+    let (csv, plot_paths, files) = write_merged(&lock, &points, &points_index, &plots, &solutions)?;
+    let failed = points.iter().filter(|p| p.status != "solved").count();
+    let manifest = merged_manifest(study, &manifests);
+    let skipped = manifest.skipped.len();
+    Ok(MergeOutcome {
+        csv,
+        plots: plot_paths,
+        files,
+        points,
+        manifest,
+        skipped,
+        failed,
+    })
+}
+
+/// A merged row: its number in the plan, the point, its worst residual and its displacements.
+type Row = (usize, Point, f64, Vec<f64>);
+
+/// The manifests of `dirs`, in order, checked to describe one study with each shard once.
+fn read_manifests(dirs: &[PathBuf]) -> Result<Vec<(PathBuf, Manifest)>, MergeError> {
     let mut manifests: Vec<(PathBuf, Manifest)> = Vec::with_capacity(dirs.len());
     for dir in dirs {
         let (path, text, m) = read_manifest(dir)?;
@@ -294,8 +349,11 @@ pub fn merge(dirs: &[PathBuf], out: &Path, overwrite: bool) -> Result<MergeOutco
         }
         manifests.push((path, m));
     }
-    let study = manifests[0].1.clone();
-    let count = study.shard.count;
+    Ok(manifests)
+}
+
+/// Refuses a set of manifests that lacks one of the `count` shards.
+fn check_every_shard(manifests: &[(PathBuf, Manifest)], count: usize) -> Result<(), MergeError> {
     let missing: Vec<String> = (1..=count)
         .filter(|i| !manifests.iter().any(|(_, m)| m.shard.index == *i))
         .map(|i| format!("{i}/{count}"))
@@ -313,58 +371,25 @@ pub fn merge(dirs: &[PathBuf], out: &Path, overwrite: bool) -> Result<MergeOutco
             ),
         ));
     }
-    // The rows of every shard, with their displacements.
+    Ok(())
+}
+
+/// The rows of every shard with their displacements, and the directory of each point; every row
+/// checked to be the study's, its shard's and given once, every point of a shard present or
+/// listed as skipped.
+fn read_shards(
+    dirs: &[PathBuf],
+    manifests: &[(PathBuf, Manifest)],
+    study: &Manifest,
+) -> Result<(Vec<Row>, HashMap<usize, PathBuf>), MergeError> {
     let mut seen: HashMap<String, (PathBuf, u64)> = HashMap::new();
-    let mut rows: Vec<(usize, Point, f64, Vec<f64>)> = Vec::with_capacity(study.points);
+    let mut rows: Vec<Row> = Vec::with_capacity(study.points);
     let mut row_dirs: HashMap<usize, PathBuf> = HashMap::new();
-    for (dir, (mpath, m)) in dirs.iter().zip(&manifests) {
+    for (dir, (mpath, m)) in dirs.iter().zip(manifests) {
         let csv = dir.join(SWEEP_FILE);
         let mut present = Vec::new();
         for (line, p) in read_rows(&csv)? {
-            if p.scene_hash != study.scene_hash {
-                return Err(refused(
-                    &csv,
-                    Some(line),
-                    format!(
-                        "scene_hash {} is not the study's {}: the row belongs to another scene",
-                        p.scene_hash, study.scene_hash
-                    ),
-                ));
-            }
-            let Some(k) = plan_point(m, &p) else {
-                return Err(refused(
-                    &csv,
-                    Some(line),
-                    format!(
-                        "hmax {}, {}, tol {:e} is not a point of the study's grid",
-                        p.hmax, p.backend, p.tol
-                    ),
-                ));
-            };
-            if !m.shard.owns(k) {
-                return Err(refused(
-                    &csv,
-                    Some(line),
-                    format!(
-                        "point {k} belongs to shard {}/{count}, not to this directory's shard {}",
-                        Shard::of_point(k, count),
-                        m.shard
-                    ),
-                ));
-            }
-            if let Some((f, l)) = seen.insert(key(p.hmax, &p.backend, p.tol), (csv.clone(), line)) {
-                return Err(refused(
-                    &csv,
-                    Some(line),
-                    format!(
-                        "repeats the point of {}: line {l} (hmax {}, {}, tol {:e})",
-                        f.display(),
-                        p.hmax,
-                        p.backend,
-                        p.tol
-                    ),
-                ));
-            }
+            let k = check_row(&csv, line, &p, m, study, &mut seen)?;
             let upath = dir
                 .join(shard::DISPLACEMENTS_DIR)
                 .join(shard::point_data_name(k));
@@ -396,14 +421,74 @@ pub fn merge(dirs: &[PathBuf], out: &Path, overwrite: bool) -> Result<MergeOutco
             }
         }
     }
-    rows.sort_by_key(|r| r.0);
-    let sources: Vec<(usize, Point, PathBuf)> = rows
-        .iter()
-        .map(|(k, p, _, _)| (*k, p.clone(), row_dirs[k].clone()))
-        .collect();
-    let points_index: HashMap<usize, usize> =
-        rows.iter().enumerate().map(|(i, r)| (r.0, i)).collect();
-    // error_vs_reference, mesh by mesh in plan order, as an unsharded sweep computes it.
+    Ok((rows, row_dirs))
+}
+
+/// Checks row `p` (line `line` of `csv`, a file of shard `m`): the study's scene, a point of
+/// its grid, of this shard, not seen before (`seen`, updated).  Returns its number in the plan.
+fn check_row(
+    csv: &Path,
+    line: u64,
+    p: &Point,
+    m: &Manifest,
+    study: &Manifest,
+    seen: &mut HashMap<String, (PathBuf, u64)>,
+) -> Result<usize, MergeError> {
+    let count = study.shard.count;
+    if p.scene_hash != study.scene_hash {
+        return Err(refused(
+            csv,
+            Some(line),
+            format!(
+                "scene_hash {} is not the study's {}: the row belongs to another scene",
+                p.scene_hash, study.scene_hash
+            ),
+        ));
+    }
+    let Some(k) = plan_point(m, p) else {
+        return Err(refused(
+            csv,
+            Some(line),
+            format!(
+                "hmax {}, {}, tol {:e} is not a point of the study's grid",
+                p.hmax, p.backend, p.tol
+            ),
+        ));
+    };
+    if !m.shard.owns(k) {
+        return Err(refused(
+            csv,
+            Some(line),
+            format!(
+                "point {k} belongs to shard {}/{count}, not to this directory's shard {}",
+                Shard::of_point(k, count),
+                m.shard
+            ),
+        ));
+    }
+    if let Some((f, l)) = seen.insert(key(p.hmax, &p.backend, p.tol), (csv.to_path_buf(), line)) {
+        return Err(refused(
+            csv,
+            Some(line),
+            format!(
+                "repeats the point of {}: line {l} (hmax {}, {}, tol {:e})",
+                f.display(),
+                p.hmax,
+                p.backend,
+                p.tol
+            ),
+        ));
+    }
+    Ok(k)
+}
+
+/// The points of `rows` (in plan order) with `error_vs_reference`, mesh by mesh in plan order,
+/// as an unsharded sweep computes it.
+fn with_error_vs_reference(
+    rows: &[Row],
+    row_dirs: &HashMap<usize, PathBuf>,
+    study: &Manifest,
+) -> Result<Vec<Point>, MergeError> {
     let per_mesh = study.tols.len() * study.backends.len();
     let mut points = Vec::with_capacity(rows.len());
     let mut reference: Option<(usize, f64, usize)> = None; // (mesh, worst, row)
@@ -442,40 +527,24 @@ pub fn merge(dirs: &[PathBuf], out: &Path, overwrite: bool) -> Result<MergeOutco
         };
         points.push(p);
     }
-    fill_error_vs_finest(&mut points);
-    // Everything checked: write.
-    let csv_path = out.join(SWEEP_FILE);
-    if csv_path.exists() && !overwrite {
-        return Err(MergeError::Exists(csv_path));
-    }
-    for dir in dirs {
-        if same_dir(dir, out) {
-            return Err(refused(
-                dir,
-                None,
-                "is both a shard and the output directory: merge into another directory (--out)",
-            ));
-        }
-    }
-    let _ = first_dir;
-    let rows_for_plots: Vec<crate::plots::SweepRow> = points.iter().map(Point::to_row).collect();
-    let short = study.title.split(':').next().unwrap_or(&study.title).trim();
-    let plots = crate::plots::render_sweep(&rows_for_plots, short)?;
-    let lock = DirLock::acquire(out)?;
-    if std::fs::symlink_metadata(&csv_path).is_ok() && !overwrite {
-        return Err(MergeError::Exists(csv_path));
-    }
-    // The shards' solutions (written with --vtu), copied so that the merged directory stands on
-    // its own, and their collection.
+    Ok(points)
+}
+
+/// The shards' solutions (written with --vtu), copied into `out/solutions/` so that the merged
+/// directory stands on its own: `(point, file name, source)` of each one copied.
+fn copy_solutions(
+    sources: &[(usize, Point, PathBuf)],
+    plan_points: usize,
+    out: &Path,
+) -> Result<Vec<(usize, String, String)>, MergeError> {
     let mut solutions: Vec<(usize, String, String)> = Vec::new();
-    for (k, p, dir) in &sources {
-        let name = solution_file_name(*k, study.points, p.hmax, &p.backend, p.tol);
+    for (k, p, dir) in sources {
+        let name = solution_file_name(*k, plan_points, p.hmax, &p.backend, p.tol);
         let from = dir.join(SOLUTIONS_DIR).join(&name);
         if from.is_file() {
             solutions.push((*k, name, from.display().to_string()));
         }
     }
-    let mut files = Vec::new();
     if !solutions.is_empty() {
         let slock = DirLock::acquire(&out.join(SOLUTIONS_DIR))?;
         for (_, name, from) in &solutions {
@@ -487,7 +556,23 @@ pub fn merge(dirs: &[PathBuf], out: &Path, overwrite: bool) -> Result<MergeOutco
             sset.commit()?;
         }
     }
-    let mut set = OutputSet::new(&lock, Some(SWEEP_FILE), &sweep_members())?;
+    Ok(solutions)
+}
+
+/// The paths a merge wrote: `sweep.csv`, the plots, and `solutions.pvd` (if any).
+type Written = (PathBuf, Vec<PathBuf>, Vec<PathBuf>);
+
+/// Writes the merged output set: the solutions' collection (when some were copied), `sweep.csv`
+/// and the plots.
+fn write_merged(
+    lock: &DirLock,
+    points: &[Point],
+    points_index: &HashMap<usize, usize>,
+    plots: &[(&'static str, String)],
+    solutions: &[(usize, String, String)],
+) -> Result<Written, MergeError> {
+    let mut files = Vec::new();
+    let mut set = OutputSet::new(lock, Some(SWEEP_FILE), &sweep_members())?;
     if !solutions.is_empty() {
         let entries: Vec<(usize, String, String)> = solutions
             .iter()
@@ -505,30 +590,25 @@ pub fn merge(dirs: &[PathBuf], out: &Path, overwrite: bool) -> Result<MergeOutco
             .collect();
         files.push(set.write(SOLUTIONS_FILE, |w| write_pvd(w, &entries))?);
     }
-    let csv = set.write(SWEEP_FILE, |w| write_csv(w, &points))?;
+    let csv = set.write(SWEEP_FILE, |w| write_csv(w, points))?;
     let mut plot_paths = Vec::new();
-    for (name, svg) in &plots {
+    for (name, svg) in plots {
         plot_paths.push(set.write(name, |w| w.write_all(svg.as_bytes()))?);
     }
     set.commit()?;
-    let failed = points.iter().filter(|p| p.status != "solved").count();
+    Ok((csv, plot_paths, files))
+}
+
+/// The study's manifest for the merged set: the shards' skipped points, sorted, as shard `1/1`.
+fn merged_manifest(study: Manifest, manifests: &[(PathBuf, Manifest)]) -> Manifest {
     let mut manifest = study;
     manifest.skipped = manifests
         .iter()
         .flat_map(|(_, m)| m.skipped.iter().copied())
         .collect();
     manifest.skipped.sort_unstable();
-    let skipped = manifest.skipped.len();
     manifest.shard = Shard { index: 1, count: 1 };
-    Ok(MergeOutcome {
-        csv,
-        plots: plot_paths,
-        files,
-        points,
-        manifest,
-        skipped,
-        failed,
-    })
+    manifest
 }
 
 /// Whether `a` and `b` name the same existing directory.

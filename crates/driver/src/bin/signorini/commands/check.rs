@@ -21,7 +21,15 @@ fn size(bytes: f64) -> String {
     }
 }
 
-pub(crate) fn check(common: &Common) -> Result<Exit> {
+/// `signorini check SCENE`: the options of a check.
+#[derive(clap::Args)]
+pub(crate) struct CheckArgs {
+    #[command(flatten)]
+    pub(crate) common: Common,
+}
+
+pub(crate) fn check(args: &CheckArgs) -> Result<Exit> {
+    let common = &args.common;
     let scene = run::load_scene(common.scene.as_deref())?;
     // Everything solve verifies before its backend runs; "valid" only once all of it passed.
     let report = signorini::check::check(&scene, &limits(common))?;

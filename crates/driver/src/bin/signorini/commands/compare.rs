@@ -1,27 +1,49 @@
 //! `signorini compare`: one scene (or QP files), every backend, compare.json and compare.csv.
 
 use anyhow::{Context, Result};
-use signorini::backends::{BackendKind, Form};
+use std::path::PathBuf;
+
+use signorini::backends::{BackendKind, ChoiceParser, Form};
 use signorini::exit::Exit;
 use signorini::run;
 use signorini_core::qp::SolveOptions;
 
-use crate::args::{limits, parse_backends, time_limit, Common};
+use crate::args::{limits, parse_backends, parse_time_limit, parse_tol, time_limit, Common};
 use crate::console::{warn, Console};
 
-pub(crate) fn compare(
-    common: &Common,
-    names: &[BackendKind],
-    forms: &[Form],
-    tol: f64,
-    time_limit_s: Option<f64>,
-    out: &std::path::Path,
-    qp: Option<&std::path::Path>,
-) -> Result<Exit> {
-    let kinds = parse_backends(names, forms)?;
+/// `signorini compare SCENE …`: the options of a comparison.
+#[derive(clap::Args)]
+pub(crate) struct CompareArgs {
+    #[command(flatten)]
+    pub(crate) common: Common,
+    /// Comma-separated backends [default: clarabel,osqp,dual-pgs,dual-uzawa, those compiled in].
+    #[arg(long, value_delimiter = ',', value_parser = ChoiceParser::<BackendKind>::new())]
+    pub(crate) backends: Vec<BackendKind>,
+    /// Comma-separated forms each of clarabel and osqp runs in; the other backends run
+    /// once, in their own form [default: as named in --backends].
+    #[arg(long, value_delimiter = ',', value_parser = ChoiceParser::<Form>::new())]
+    pub(crate) forms: Vec<Form>,
+    /// Relative KKT tolerance every backend is asked to meet.
+    #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
+    pub(crate) tol: f64,
+    /// Seconds each backend may take; it then stops with status time-limit.
+    #[arg(long, value_parser = parse_time_limit)]
+    pub(crate) time_limit: Option<f64>,
+    /// Output directory for compare.json and compare.csv (created if missing).
+    #[arg(long, default_value = "out")]
+    pub(crate) out: PathBuf,
+    /// Instead of a scene: a directory holding a QP as Matrix Market files A.mtx, f.mtx,
+    /// B.mtx, g.mtx (the layout `export` writes; docs/scene.md), from this or another code.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["scene", "max_elements"])]
+    pub(crate) qp: Option<PathBuf>,
+}
+
+pub(crate) fn compare(args: &CompareArgs) -> Result<Exit> {
+    let (common, out, qp) = (&args.common, args.out.as_path(), args.qp.as_deref());
+    let kinds = parse_backends(&args.backends, &args.forms)?;
     let options = SolveOptions {
-        tol,
-        time_limit: time_limit(time_limit_s),
+        tol: args.tol,
+        time_limit: time_limit(args.time_limit),
         ..SolveOptions::default()
     };
     let bar = indicatif::ProgressBar::new(kinds.len() as u64).with_style(

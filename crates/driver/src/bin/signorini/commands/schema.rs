@@ -5,8 +5,16 @@ use signorini::exit::Exit;
 
 use crate::console::Console;
 
-pub(crate) fn schema(document: signorini::contract::Document) -> Result<Exit> {
-    let text = serde_json::to_string_pretty(&signorini::contract::schema(document))
+/// `signorini schema DOCUMENT`: which schema to print.
+#[derive(clap::Args)]
+pub(crate) struct SchemaArgs {
+    /// Which document.
+    #[arg(value_enum)]
+    pub(crate) document: signorini::contract::Document,
+}
+
+pub(crate) fn schema(args: &SchemaArgs) -> Result<Exit> {
+    let text = serde_json::to_string_pretty(&signorini::contract::schema(args.document))
         .context("serialising the schema")?;
     let mut con = Console::new();
     con.line(text)?;

@@ -2,26 +2,52 @@
 
 use anyhow::{Context, Result};
 use signorini::auto::AutoBackend;
-use signorini::backends::{make_backend, BackendKind, Form};
+use std::path::PathBuf;
+
+use signorini::backends::{make_backend, BackendKind, ChoiceParser, Form};
 use signorini::exit::Exit;
 use signorini::run;
 use signorini_core::qp::{QpStatus, SolveOptions};
 
-use crate::args::{limits, parse_backends, time_limit, Common};
+use crate::args::{limits, parse_backends, parse_time_limit, parse_tol, time_limit, Common};
 use crate::console::{warn, Console};
 
-/// What `solve` was asked to run.
-pub(crate) struct SolveArgs<'a> {
+/// `signorini solve SCENE …`: the options of a solve.
+#[derive(clap::Args)]
+pub(crate) struct SolveArgs {
+    #[command(flatten)]
+    pub(crate) common: Common,
+    /// QP backend: auto is the fastest likely to succeed, falling back to a robust one (see
+    /// docs/scene.md); clarabel/dual and osqp/dual are the condensed dual form.
+    #[arg(long, default_value = "auto", value_parser = ChoiceParser::<BackendKind>::new())]
     pub(crate) backend: BackendKind,
+    /// Formulation for clarabel and osqp: primal (sparse, in the displacements) or dual
+    /// (condensed, dense in the contact forces; not for bodies held by contact alone).
+    /// `--backend clarabel --form dual` is `--backend clarabel/dual`.
+    #[arg(long, value_parser = ChoiceParser::<Form>::new())]
     pub(crate) form: Option<Form>,
-    pub(crate) chain: &'a [BackendKind],
+    /// With `--backend auto`: the backends to try, in order, instead of auto's rule
+    /// (e.g. dual-ssn,clarabel).
+    #[arg(long, value_delimiter = ',', value_parser = ChoiceParser::<BackendKind>::new())]
+    pub(crate) chain: Vec<BackendKind>,
+    /// Relative KKT tolerance the answer must meet to count as solved.
+    #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
     pub(crate) tol: f64,
-    pub(crate) time_limit_s: Option<f64>,
-    /// Encoding of solution.vtu.
+    /// Seconds the backend may take (with auto: the whole chain); it then stops with status
+    /// time-limit.
+    #[arg(long, value_parser = parse_time_limit)]
+    pub(crate) time_limit: Option<f64>,
+    /// Output directory (created if missing).
+    #[arg(long, default_value = "out")]
+    pub(crate) out: PathBuf,
+    /// Encoding of solution.vtu: binary (zlib-compressed, base64 appended data; small and
+    /// fast to read) or ascii (decimal text, several times larger).
+    #[arg(long, value_enum, default_value_t = signorini::output::VtuFormat::Binary)]
     pub(crate) vtu: signorini::output::VtuFormat,
 }
 
-pub(crate) fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) -> Result<Exit> {
+pub(crate) fn solve(args: &SolveArgs) -> Result<Exit> {
+    let (common, out) = (&args.common, args.out.as_path());
     let mut kind = args.backend;
     if let Some(form) = args.form {
         kind = kind.with_form(form)?;
@@ -37,7 +63,7 @@ pub(crate) fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) ->
     let scene = run::load_scene(common.scene.as_deref())?;
     let options = SolveOptions {
         tol: args.tol,
-        time_limit: time_limit(args.time_limit_s),
+        time_limit: time_limit(args.time_limit),
         ..SolveOptions::default()
     };
     let settings = signorini_core::report::BackendSettings {
@@ -50,32 +76,7 @@ pub(crate) fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) ->
     };
     let provenance = signorini::contract::provenance(common.scene.as_deref(), settings)?;
     let mut outcome = if kind == BackendKind::Auto {
-        let mut auto = if args.chain.is_empty() {
-            AutoBackend::default()
-        } else {
-            let kinds = parse_backends(args.chain, &[])?;
-            anyhow::ensure!(
-                !kinds.contains(&BackendKind::Auto),
-                "--chain cannot hold auto itself"
-            );
-            AutoBackend::with_kinds(kinds, "the chain given by --chain")
-        };
-        let result = run::solve_scene(&scene, &mut auto, &options, &limits(common));
-        if let Some(record) = auto.record() {
-            for attempt in &record.attempts {
-                warn(attempt.line());
-            }
-            warn(format_args!(
-                "auto: chose {}: {}",
-                record.chosen.as_deref().unwrap_or("none"),
-                record.reason
-            ));
-        }
-        let mut outcome = result?;
-        if let Some(record) = auto.record() {
-            record.annotate(&mut outcome.report);
-        }
-        outcome
+        solve_auto(args, &scene, &options)?
     } else {
         let mut backend = make_backend(kind)?;
         run::solve_scene(&scene, backend.as_mut(), &options, &limits(common))?
@@ -83,7 +84,52 @@ pub(crate) fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) ->
     outcome.report.provenance = Some(provenance);
     let written = run::write_outputs_with(out, &scene, &outcome, args.vtu)
         .with_context(|| format!("writing results to {}", out.display()))?;
-    let r = &outcome.report;
+    print_report(&outcome.report, &written)?;
+    Ok(verdict(&outcome))
+}
+
+/// Solves with `auto` (its rule, or the chain of `--chain`), printing each attempt and its
+/// choice, and records the choice in the report.
+fn solve_auto(
+    args: &SolveArgs,
+    scene: &signorini_core::scene::Scene,
+    options: &SolveOptions,
+) -> Result<run::Outcome> {
+    let common = &args.common;
+    let mut auto = if args.chain.is_empty() {
+        AutoBackend::default()
+    } else {
+        let kinds = parse_backends(&args.chain, &[])?;
+        anyhow::ensure!(
+            !kinds.contains(&BackendKind::Auto),
+            "--chain cannot hold auto itself"
+        );
+        AutoBackend::with_kinds(kinds, "the chain given by --chain")
+    };
+    let result = run::solve_scene(scene, &mut auto, options, &limits(common));
+    if let Some(record) = auto.record() {
+        for attempt in &record.attempts {
+            warn(attempt.line());
+        }
+        warn(format_args!(
+            "auto: chose {}: {}",
+            record.chosen.as_deref().unwrap_or("none"),
+            record.reason
+        ));
+    }
+    let mut outcome = result?;
+    if let Some(record) = auto.record() {
+        record.annotate(&mut outcome.report);
+    }
+    Ok(outcome)
+}
+
+/// Prints the run's summary: DOFs and status, each body, each contact pair with rows, the
+/// residuals, the times and the files written.
+fn print_report(
+    r: &signorini_core::report::RunReport,
+    written: &[std::path::PathBuf],
+) -> Result<()> {
     let mut con = Console::new();
     con.line(&r.scene)?;
     con.line(format_args!(
@@ -115,15 +161,21 @@ pub(crate) fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) ->
         "  time: mesh {:.4} s, assemble {:.4} s, solve {:.4} s, total {:.4} s",
         r.timing_s.mesh, r.timing_s.assemble, r.timing_s.solve, r.timing_s.total
     ))?;
-    for p in &written {
+    for p in written {
         con.line(format_args!("  wrote {}", p.display()))?;
     }
     con.finish()?;
+    Ok(())
+}
+
+/// The exit code of a solve, after its warnings: 0 when solved, else 2 with the status.
+fn verdict(outcome: &run::Outcome) -> Exit {
+    let r = &outcome.report;
     for w in &r.warnings {
         warn(format_args!("warning: {}", w.message));
     }
     if outcome.solution.status == QpStatus::Solved {
-        Ok(Exit::Success)
+        Exit::Success
     } else {
         warn(format_args!(
             "error: status {} (backend said {}){}",
@@ -136,6 +188,6 @@ pub(crate) fn solve(common: &Common, args: &SolveArgs, out: &std::path::Path) ->
                 .map(|m| format!(": {m}"))
                 .unwrap_or_default()
         ));
-        Ok(Exit::NotSolved)
+        Exit::NotSolved
     }
 }

@@ -1,26 +1,51 @@
 //! `signorini study`: discretisation error against time for a scene with a reference.
 
 use anyhow::Result;
-use signorini::backends::BackendKind;
+use std::path::PathBuf;
+
+use signorini::backends::{BackendKind, ChoiceParser, NamedParser};
 use signorini::exit::Exit;
 use signorini::run;
+use signorini::study::StudyOutcome;
 use signorini_core::qp::SolveOptions;
 
-use crate::args::{limits, Common};
+use crate::args::{limits, parse_tol, Common};
 use crate::console::{warn, Console};
 
-/// What `study` was asked to run.
-pub(crate) struct StudyArgs<'a> {
-    pub(crate) hmax: &'a [f64],
-    pub(crate) formulations: &'a [signorini_core::scene::Formulation],
-    pub(crate) meshes: &'a [signorini::study::MeshKind],
-    pub(crate) elements: &'a [signorini_core::mesh::ElementKind],
+/// `signorini study SCENE …`: the options of a study.
+#[derive(clap::Args)]
+pub(crate) struct StudyArgs {
+    #[command(flatten)]
+    pub(crate) common: Common,
+    /// Comma-separated sizes of the coarsest body, e.g. 0.04,0.02,0.01; every other size of
+    /// the scene (other bodies, [[body.refine]]) is scaled by the same factor.
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub(crate) hmax: Vec<f64>,
+    /// Comma-separated contact formulations set on every pair.
+    #[arg(long, value_delimiter = ',', default_value = "node-to-segment,mortar", value_parser = NamedParser::new(&["node-to-segment", "mortar"], signorini::study::parse_formulation))]
+    pub(crate) formulations: Vec<signorini_core::scene::Formulation>,
+    /// Comma-separated mesh kinds: uniform (every [[body.refine]] dropped), graded (kept).
+    #[arg(long, value_delimiter = ',', default_value = "uniform,graded", value_parser = NamedParser::new(&["uniform", "graded"], |s| s.parse::<signorini::study::MeshKind>()))]
+    pub(crate) meshes: Vec<signorini::study::MeshKind>,
+    /// Comma-separated elements set on the bodies that are axis-aligned rectangles.
+    #[arg(long, value_delimiter = ',', default_value = "p1,q1", value_parser = NamedParser::new(&["p1", "q1"], signorini::study::parse_element))]
+    pub(crate) elements: Vec<signorini_core::mesh::ElementKind>,
+    /// QP backend every point is solved with (as for solve).
+    #[arg(long, default_value = "auto", value_parser = ChoiceParser::<BackendKind>::new())]
     pub(crate) backend: BackendKind,
+    /// Relative KKT tolerance every point must meet to count as solved.
+    #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
     pub(crate) tol: f64,
+    /// Replace an existing DIR/study.csv (without it, an existing file is refused).
+    #[arg(long)]
     pub(crate) overwrite: bool,
+    /// Output directory for study.csv and accuracy.svg (created if missing).
+    #[arg(long, default_value = "out")]
+    pub(crate) out: PathBuf,
 }
 
-pub(crate) fn study(common: &Common, args: &StudyArgs, out: &std::path::Path) -> Result<Exit> {
+pub(crate) fn study(args: &StudyArgs) -> Result<Exit> {
+    let (common, out) = (&args.common, args.out.as_path());
     let backend = args.backend;
     anyhow::ensure!(
         backend.available(),
@@ -56,12 +81,32 @@ pub(crate) fn study(common: &Common, args: &StudyArgs, out: &std::path::Path) ->
         },
     )?;
     bar.finish_and_clear();
+    print_outcome(&scene.title, &outcome)?;
+    if outcome.failed == 0 {
+        Ok(Exit::Success)
+    } else {
+        for p in outcome.points.iter().filter(|p| !p.solved()) {
+            warn(format_args!(
+                "not solved: {} hmax {}: {} {}",
+                p.combination(),
+                p.hmax,
+                p.status,
+                p.message
+            ));
+        }
+        warn(format_args!(
+            "error: study: {} of {} points not solved",
+            outcome.failed,
+            outcome.points.len()
+        ));
+        Ok(Exit::NotSolved)
+    }
+}
+
+/// Prints the study's points, skipped combinations, convergence rates and files written.
+fn print_outcome(title: &str, outcome: &StudyOutcome) -> Result<()> {
     let mut con = Console::new();
-    con.line(format_args!(
-        "{}: {} points",
-        scene.title,
-        outcome.points.len()
-    ))?;
+    con.line(format_args!("{}: {} points", title, outcome.points.len()))?;
     for s in &outcome.skipped {
         con.line(format_args!(
             "  skipped {}: does not apply ({})",
@@ -102,23 +147,5 @@ pub(crate) fn study(common: &Common, args: &StudyArgs, out: &std::path::Path) ->
         con.line(format_args!("  wrote {}", p.display()))?;
     }
     con.finish()?;
-    if outcome.failed == 0 {
-        Ok(Exit::Success)
-    } else {
-        for p in outcome.points.iter().filter(|p| !p.solved()) {
-            warn(format_args!(
-                "not solved: {} hmax {}: {} {}",
-                p.combination(),
-                p.hmax,
-                p.status,
-                p.message
-            ));
-        }
-        warn(format_args!(
-            "error: study: {} of {} points not solved",
-            outcome.failed,
-            outcome.points.len()
-        ));
-        Ok(Exit::NotSolved)
-    }
+    Ok(())
 }

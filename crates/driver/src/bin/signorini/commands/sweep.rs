@@ -4,13 +4,79 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use anyhow::Result;
+use signorini::backends::{BackendKind, ChoiceParser};
 use signorini::exit::Exit;
 use signorini::run;
 use signorini_core::qp::SolveOptions;
 
-use crate::args::{limits, parse_backends, time_limit};
+use crate::args::{
+    limits, parse_backends, parse_shard, parse_time_limit, parse_tol, time_limit, Common,
+};
 use crate::console::{warn, Console};
-use crate::SweepArgs;
+
+/// `signorini sweep SCENE …`: the options of a sweep.
+#[derive(clap::Args)]
+pub(crate) struct SweepArgs {
+    #[command(flatten)]
+    pub(crate) common: Common,
+    /// Comma-separated mesh sizes, e.g. 0.2,0.1,0.05.
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub(crate) hmax: Vec<f64>,
+    /// Comma-separated bodies whose hmax is swept (default: all).
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) bodies: Vec<String>,
+    /// Comma-separated backends [default: clarabel,osqp,dual-pgs,dual-uzawa, those compiled in].
+    #[arg(long, value_delimiter = ',', value_parser = ChoiceParser::<BackendKind>::new())]
+    pub(crate) backends: Vec<BackendKind>,
+    /// Comma-separated tolerances.
+    #[arg(long, value_delimiter = ',', default_value = "1e-9", value_parser = parse_tol)]
+    pub(crate) tol: Vec<f64>,
+    /// Runs per point (medians are reported); at least 1.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    pub(crate) repeat: u32,
+    /// Seconds one solve may take; a backend that exceeds it is skipped on finer meshes.
+    #[arg(long, value_parser = parse_time_limit)]
+    pub(crate) time_limit: Option<f64>,
+    /// Keep the points already in DIR/sweep.csv (verified to be this scene's and this grid's)
+    /// and run only the missing ones.
+    #[arg(long)]
+    pub(crate) resume: bool,
+    /// Replace an existing DIR/sweep.csv (without this or --resume, an existing file is
+    /// refused); it is replaced once the new sweep writes its first point.  Excludes --resume.
+    #[arg(long)]
+    pub(crate) overwrite: bool,
+    /// Run only shard I of N: the plan's points I, I+N, I+2N, … (numbered from 1, hmax coarse to
+    /// fine, then tolerances tightest first, then backends); join the N directories with
+    /// `signorini sweep merge`.
+    #[arg(long, value_name = "I/N", value_parser = parse_shard)]
+    pub(crate) shard: Option<signorini::sweep::shard::Shard>,
+    /// Also write each point's solution as DIR/solutions/<point>.vtu and the ParaView
+    /// collection DIR/solutions.pvd (timestep = the point's number in the plan).
+    #[arg(long)]
+    pub(crate) vtu: bool,
+    /// Output directory for sweep.csv and the plots (created if missing).
+    #[arg(long, default_value = "out")]
+    pub(crate) out: PathBuf,
+}
+
+/// The subcommands of `signorini sweep`.
+#[derive(clap::Subcommand)]
+pub(crate) enum SweepAction {
+    /// Check that the directories hold the shards 1/N … N/N of one sweep (same scene hash,
+    /// grid, backends, tolerances; each shard once, complete) and merge them into one
+    /// sweep.csv and its plots, computing the error columns over all points.
+    Merge {
+        /// The shards' output directories.
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Replace an existing OUT/sweep.csv (without it, an existing file is refused).
+        #[arg(long)]
+        overwrite: bool,
+        /// Output directory for the merged sweep.csv and plots (created if missing).
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+    },
+}
 
 pub(crate) fn sweep(args: &SweepArgs) -> Result<Exit> {
     let backends = parse_backends(&args.backends, &[])?;
