@@ -387,6 +387,19 @@ fn sections(p: &SceneParams) -> Vec<Section> {
         header: "",
         entries: vec![Entry::new("title", "\"fuzz\"".into()).optional()],
     }];
+    model_section(p, &mut out);
+    let rects = rects(p);
+    let names: Vec<String> = (0..p.bodies.len()).map(|i| format!("b{i}")).collect();
+    body_sections(p, &rects, &names, &mut out);
+    support_sections(p, &rects, &names, &mut out);
+    load_section(p, &rects, &names, &mut out);
+    contact_sections(p, &rects, &names, &mut out);
+    probe_section(p, &rects, &names, &mut out);
+    out
+}
+
+/// `[model]`: plane stress and thickness, gravity (absent when neither is drawn).
+fn model_section(p: &SceneParams, out: &mut Vec<Section>) {
     let mut model = Vec::new();
     if let Some(t) = p.plane_stress {
         model.push(Entry::new("plane", "\"stress\"".into()).optional());
@@ -406,9 +419,11 @@ fn sections(p: &SceneParams) -> Vec<Section> {
             entries: model,
         });
     }
-    let rects = rects(p);
-    let names: Vec<String> = (0..p.bodies.len()).map(|i| format!("b{i}")).collect();
-    for (i, (b, r)) in p.bodies.iter().zip(&rects).enumerate() {
+}
+
+/// One `[[body]]` per body (polygon or Gmsh file), with its `[[body.refine]]` box.
+fn body_sections(p: &SceneParams, rects: &[[f64; 4]], names: &[String], out: &mut Vec<Section>) {
+    for (i, (b, r)) in p.bodies.iter().zip(rects).enumerate() {
         let [x0, x1, y0, y1] = *r;
         let polygon = format!(
             "[{}, {}, {}, {}]",
@@ -453,7 +468,11 @@ fn sections(p: &SceneParams) -> Vec<Section> {
             });
         }
     }
-    for (i, (b, r)) in p.bodies.iter().zip(&rects).enumerate() {
+}
+
+/// `[[dirichlet]]`: the bottom body clamped, the others by their `support`.
+fn support_sections(p: &SceneParams, rects: &[[f64; 4]], names: &[String], out: &mut Vec<Section>) {
+    for (i, (b, r)) in p.bodies.iter().zip(rects).enumerate() {
         let [x0, x1, y0, y1] = *r;
         let name = format!("\"{}\"", names[i]);
         // Bottom body: clamped bottom edge.  Others: by `support`, nothing (held by contact),
@@ -483,6 +502,10 @@ fn sections(p: &SceneParams) -> Vec<Section> {
             entries: e,
         });
     }
+}
+
+/// `[[neumann]]`: the top body's top edge, a constant or a linear traction.
+fn load_section(p: &SceneParams, rects: &[[f64; 4]], names: &[String], out: &mut Vec<Section>) {
     let top = rects.len() - 1;
     let [x0, x1, y0, y1] = rects[top];
     let mut e = vec![
@@ -527,6 +550,10 @@ fn sections(p: &SceneParams) -> Vec<Section> {
         header: "[[neumann]]",
         entries: e,
     });
+}
+
+/// `[[contact]]` between consecutive bodies.
+fn contact_sections(p: &SceneParams, rects: &[[f64; 4]], names: &[String], out: &mut Vec<Section>) {
     for i in 1..rects.len() {
         let (lo, hi) = (rects[i - 1], rects[i]);
         let mut e = vec![Entry::new(
@@ -552,7 +579,12 @@ fn sections(p: &SceneParams) -> Vec<Section> {
             entries: e,
         });
     }
+}
+
+/// `[[probe]]` at the top body's centre, when drawn.
+fn probe_section(p: &SceneParams, rects: &[[f64; 4]], names: &[String], out: &mut Vec<Section>) {
     if p.probe {
+        let top = rects.len() - 1;
         let [x0, x1, y0, y1] = rects[top];
         out.push(Section {
             header: "[[probe]]",
@@ -565,7 +597,6 @@ fn sections(p: &SceneParams) -> Vec<Section> {
             ],
         });
     }
-    out
 }
 
 /// Renders sections as TOML.

@@ -280,72 +280,89 @@ fn run_stages(case: &Case, dir: &Path, found: &mut Vec<Finding>) {
         fail(found, "status-documented", format!("status {status:?}"));
     }
     if status == "solved" {
-        match serde_json::to_value(&outcome.report) {
-            Ok(v) => {
-                if let Some(bad) = first_non_finite(&v, "result") {
-                    fail(found, "solved-finite", bad);
-                }
-            }
-            Err(e) => fail(
-                found,
-                "solved-finite",
-                format!("result does not serialize: {e}"),
-            ),
-        }
-        for (b, fld) in outcome.fields.iter().enumerate() {
-            let numbers = fld
-                .displacement
-                .iter()
-                .flatten()
-                .chain(fld.stress.iter().flatten())
-                .chain(&fld.von_mises)
-                .chain(&fld.contact_pressure);
-            if let Some(x) = numbers.into_iter().find(|x| !x.is_finite()) {
-                fail(found, "solved-finite", format!("body {b}: field value {x}"));
-            }
-        }
-        let r = &outcome.report.residuals;
-        let tol = options.tol;
-        let measures = [
-            ("relative_penetration", r.relative_penetration),
-            ("stationarity", r.stationarity),
-            ("complementarity", r.complementarity),
-            ("-min_multiplier", -r.min_multiplier),
-        ];
-        for (what, v) in measures {
-            // NaN fails too.
-            if v.is_nan() || v > tol {
-                fail(
-                    found,
-                    "solved-residuals",
-                    format!("{what} = {v:e} > tol {tol:e}"),
-                );
-            }
-        }
-    }
-    if status == "solved" {
+        check_solved_finite(&outcome, found);
+        check_solved_residuals(&outcome, options.tol, found);
         if let Some(detail) = interpenetration(&scene, &outcome) {
             fail(found, "solved-no-interpenetration", detail);
         }
         if case.at_rest {
-            // Exactly zero in exact arithmetic; 1e-6 of the scene size leaves room for any
-            // backend's tolerance on a problem whose answer is x = 0.
-            let umax = outcome
-                .fields
-                .iter()
-                .flat_map(|f| f.displacement.iter())
-                .map(|d| d[0].hypot(d[1]))
-                .fold(0.0, f64::max);
-            if umax > 1e-6 * scene.size() {
-                fail(
-                    found,
-                    "unloaded-at-rest",
-                    format!("max |u| = {umax:.3e} with no load, no prescribed value, no overlap"),
-                );
-            }
+            check_at_rest(&scene, &outcome, found);
         }
     }
-    match run::write_outputs(&dir.join("out"), &scene, &outcome) {
+    check_outputs(dir, &scene, &outcome, found);
+}
+
+/// A `solved` result and its fields hold only finite numbers.
+fn check_solved_finite(outcome: &run::Outcome, found: &mut Vec<Finding>) {
+    match serde_json::to_value(&outcome.report) {
+        Ok(v) => {
+            if let Some(bad) = first_non_finite(&v, "result") {
+                fail(found, "solved-finite", bad);
+            }
+        }
+        Err(e) => fail(
+            found,
+            "solved-finite",
+            format!("result does not serialize: {e}"),
+        ),
+    }
+    for (b, fld) in outcome.fields.iter().enumerate() {
+        let numbers = fld
+            .displacement
+            .iter()
+            .flatten()
+            .chain(fld.stress.iter().flatten())
+            .chain(&fld.von_mises)
+            .chain(&fld.contact_pressure);
+        if let Some(x) = numbers.into_iter().find(|x| !x.is_finite()) {
+            fail(found, "solved-finite", format!("body {b}: field value {x}"));
+        }
+    }
+}
+
+/// A `solved` result's residuals meet the tolerance.
+fn check_solved_residuals(outcome: &run::Outcome, tol: f64, found: &mut Vec<Finding>) {
+    let r = &outcome.report.residuals;
+    let measures = [
+        ("relative_penetration", r.relative_penetration),
+        ("stationarity", r.stationarity),
+        ("complementarity", r.complementarity),
+        ("-min_multiplier", -r.min_multiplier),
+    ];
+    for (what, v) in measures {
+        // NaN fails too.
+        if v.is_nan() || v > tol {
+            fail(
+                found,
+                "solved-residuals",
+                format!("{what} = {v:e} > tol {tol:e}"),
+            );
+        }
+    }
+}
+
+/// An unloaded scene with nothing prescribed and no overlap stays at rest.
+fn check_at_rest(scene: &Scene, outcome: &run::Outcome, found: &mut Vec<Finding>) {
+    // Exactly zero in exact arithmetic; 1e-6 of the scene size leaves room for any
+    // backend's tolerance on a problem whose answer is x = 0.
+    let umax = outcome
+        .fields
+        .iter()
+        .flat_map(|f| f.displacement.iter())
+        .map(|d| d[0].hypot(d[1]))
+        .fold(0.0, f64::max);
+    if umax > 1e-6 * scene.size() {
+        fail(
+            found,
+            "unloaded-at-rest",
+            format!("max |u| = {umax:.3e} with no load, no prescribed value, no overlap"),
+        );
+    }
+}
+
+/// Every written file parses (JSON, SVG and VTU as XML).
+fn check_outputs(dir: &Path, scene: &Scene, outcome: &run::Outcome, found: &mut Vec<Finding>) {
+    match run::write_outputs(&dir.join("out"), scene, outcome) {
         Ok(paths) => {
             for p in paths {
                 let text = match std::fs::read_to_string(&p) {
