@@ -155,16 +155,29 @@ fn verbose_prints_and_solves_the_same() {
 
 #[test]
 fn updates_and_factorisations_reach_the_same_answer() {
+    updates_and_factorisations_agree(common::Units::Given);
+}
+
+/// The same chain nondimensionalised (what `solve` hands a backend since issue 19): without
+/// low-rank updates, six fresh factorisations end `inaccurate` at 1e-10 (the residual misses by
+/// a small factor: the chain's condition number ~1.6e6 leaves little room at that tolerance).
+#[test]
+#[ignore = "pdas without low-rank updates ends inaccurate at 1e-10 on the nondimensionalised 2000-node chain; open in issue 21"]
+fn updates_and_factorisations_reach_the_same_answer_in_their_own_units() {
+    updates_and_factorisations_agree(common::Units::Own);
+}
+
+fn updates_and_factorisations_agree(units: common::Units) {
     // A 1-D chain with 40 obstacle rows, most of them active: several active-set steps.
     // Both runs end on the same set with refined solves, so they agree to about
     // cond · ε ≈ (2000²) · 1e-16 ≈ 4e-10 relative; 1e-8 leaves room.
     let p = signorini_qp::examples::laplacian_with_bounds(2000, 40);
-    let (a, status_a) = solve(&p, 1e-10);
+    let (a, status_a) = common::solve_in(PdasSettings::default(), &p, 1e-10, units);
     let no_updates = PdasSettings {
         max_update_rank: 0,
         ..Default::default()
     };
-    let (b, status_b) = solve_with(no_updates, &p, 1e-10);
+    let (b, status_b) = common::solve_in(no_updates, &p, 1e-10, units);
     assert_eq!(status_a, QpStatus::Solved, "{:?}", a.message);
     assert_eq!(status_b, QpStatus::Solved, "{:?}", b.message);
     assert!(b.message.unwrap().contains(" 0 low-rank updates"));

@@ -4,7 +4,9 @@ use std::time::Duration;
 
 use super::blocks::BlockKind;
 use super::problem::{QpError, QpProblem};
-use super::status::QpStatus;
+use super::scaling::QpScaling;
+
+pub use super::solution::QpSolution;
 
 /// Settings common to every backend.  Backend-specific knobs live in the backend crates.
 #[derive(Debug, Clone)]
@@ -31,54 +33,15 @@ impl Default for SolveOptions {
     }
 }
 
-/// A backend's answer: primal x, multipliers λ ≥ 0 (one per constraint row), and how it went.
-#[derive(Debug, Clone)]
-pub struct QpSolution {
-    /// Primal solution x (length n).
-    pub x: Vec<f64>,
-    /// Multipliers λ of B x ≤ g (length m), the contact forces.
-    pub multipliers: Vec<f64>,
-    /// The backend's own verdict (to be passed through [`checked_status`](super::checked_status)).
-    pub status: QpStatus,
-    /// Iterations the backend took (its own notion of an iteration).
-    pub iterations: usize,
-    /// Wall-clock time inside the backend, including its setup and factorisations.
-    pub solve_time: Duration,
-    /// Free-form note from the backend (why it stopped, what it detected).
-    pub message: Option<String>,
-}
-
-impl QpSolution {
-    /// Never hand out NaN: an answer with a non-finite entry becomes the all-zero answer (same
-    /// lengths) with `numerical-error`, its message kept behind "non-finite answer: ".
-    pub fn finite_or_numerical_error(self) -> Self {
-        if self
-            .x
-            .iter()
-            .chain(&self.multipliers)
-            .all(|v| v.is_finite())
-        {
-            return self;
-        }
-        Self {
-            x: vec![0.0; self.x.len()],
-            multipliers: vec![0.0; self.multipliers.len()],
-            status: QpStatus::NumericalError,
-            message: Some(format!(
-                "non-finite answer: {}",
-                self.message.as_deref().unwrap_or("")
-            )),
-            ..self
-        }
-    }
-}
-
 /// A QP algorithm.
 ///
 /// A backend implements [`QpBackend::solve_valid`]; callers call [`QpBackend::solve`], which runs
-/// the checks every backend shares around it: the problem's data ([`QpProblem::validate`]), the
+/// the steps every backend shares around it: the problem's data ([`QpProblem::validate`]), the
 /// kinds of constraint block the backend solves ([`QpBackend::supports`]; any other is refused
-/// with [`QpError::UnsupportedBlock`] before it runs), then the answer's lengths and finiteness
+/// with [`QpError::UnsupportedBlock`] before it runs), the nondimensionalisation
+/// ([`QpScaling`]: a problem not yet in units of its own data is scaled for the backend and its
+/// answer brought back; one that is — every problem from the core's `ScaledQp` — goes as is,
+/// without a copy), then the answer's lengths and finiteness
 /// ([`QpSolution::finite_or_numerical_error`]).
 ///
 /// ```
@@ -112,9 +75,27 @@ pub trait QpBackend: Send {
         options: &SolveOptions,
     ) -> Result<QpSolution, QpError>;
 
-    /// Solves the problem with the shared checks around [`QpBackend::solve_valid`] (see the
+    /// Solves the problem with the shared steps around [`QpBackend::solve_valid`] (see the
     /// trait's documentation).  `Err` only when the backend cannot run at all.
     fn solve(
+        &mut self,
+        problem: &QpProblem,
+        options: &SolveOptions,
+    ) -> Result<QpSolution, QpError> {
+        let scaling = QpScaling::of(problem);
+        if scaling.is_unit() {
+            return self.solve_in_given_units(problem, options);
+        }
+        // Checked before scaling too, so that a refusal names the caller's data.
+        problem.validate()?;
+        let scaled = scaling.scale(problem);
+        let answer = self.solve_in_given_units(&scaled, options)?;
+        Ok(scaling.unscale(answer).finite_or_numerical_error())
+    }
+
+    /// [`QpBackend::solve`] without the nondimensionalisation: for a problem whose units the
+    /// caller chose on purpose (the condensed dual's inner solve, in the units of its primal).
+    fn solve_in_given_units(
         &mut self,
         problem: &QpProblem,
         options: &SolveOptions,

@@ -372,7 +372,7 @@ impl DualRun<'_> {
         primal_tol: f64,
     ) -> Result<Round, QpError> {
         let (problem, tol) = (self.problem, options.tol);
-        let answer = inner.solve(&self.condensed.dual, options)?;
+        let answer = inner.solve_in_given_units(&self.condensed.dual, options)?;
         self.iterations += answer.iterations;
         let status = primal_status(answer.status);
         let note = format!(

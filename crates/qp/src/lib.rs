@@ -37,6 +37,7 @@ mod problem;
 mod residuals;
 mod scales;
 mod scaling;
+mod solution;
 mod status;
 
 #[cfg(test)]

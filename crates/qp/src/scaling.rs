@@ -1,9 +1,9 @@
 //! Nondimensionalisation of a QP before any backend sees it.
 
-use super::backend::QpSolution;
 use super::blocks::ConstraintBlock;
 use super::ops::norm_inf;
 use super::problem::QpProblem;
+use super::solution::QpSolution;
 
 /// Scalar scaling that makes a QP dimensionless: x = `displacement` · x̂, A = `stiffness` · Â,
 /// f = `stiffness`·`displacement` · f̂, g = `displacement` · ĝ, λ = `stiffness`·`displacement` · λ̂
@@ -54,6 +54,13 @@ impl QpScaling {
             stiffness,
             displacement,
         }
+    }
+
+    /// True when both units are within 10⁻⁹ of one: the problem is in units of its own data
+    /// already (as [`QpScaling::scale`] leaves it, up to rounding), and scaling it again would
+    /// only change its last bits.
+    pub fn is_unit(&self) -> bool {
+        (self.stiffness - 1.0).abs() <= 1e-9 && (self.displacement - 1.0).abs() <= 1e-9
     }
 
     /// Turns `problem` into the dimensionless Â, f̂, B, ĝ without a copy.

@@ -482,11 +482,23 @@ fn scaling_carries_a_box_bound_like_a_multiplier() {
     assert_eq!(in_place.blocks, scaled.blocks);
 }
 
-/// A backend that answers the hand-solved Tresca spring (and anything else with zeros of the
-/// lengths it is told), supporting box rows when `boxes`.
+/// A backend that answers the hand-solved Tresca spring's optimum x = 2, λ = 1 to everything
+/// (with the lengths it is told), supporting box rows when `boxes`.  It is handed problems in
+/// their own units (`solve` scales), so it answers in the units the spring's scaling gives.
 struct Answers {
     boxes: bool,
     lengths: (usize, usize),
+}
+
+impl Answers {
+    /// The spring's optimum in the units the backend sees.
+    fn canned() -> (f64, f64) {
+        let units = QpScaling::of(&examples::tresca_spring(3.0).problem);
+        (
+            2.0 / units.displacement,
+            1.0 / (units.stiffness * units.displacement),
+        )
+    }
 }
 
 impl QpBackend for Answers {
@@ -497,9 +509,10 @@ impl QpBackend for Answers {
         kind == BlockKind::NonNegative || self.boxes
     }
     fn solve_valid(&mut self, _: &QpProblem, _: &SolveOptions) -> Result<QpSolution, QpError> {
+        let (x, lambda) = Self::canned();
         Ok(QpSolution {
-            x: vec![2.0; self.lengths.0],
-            multipliers: vec![1.0; self.lengths.1],
+            x: vec![x; self.lengths.0],
+            multipliers: vec![lambda; self.lengths.1],
             status: QpStatus::Solved,
             iterations: 1,
             solve_time: Duration::ZERO,
@@ -531,7 +544,9 @@ fn the_shared_checks_refuse_unsupported_blocks_and_answers_of_the_wrong_length()
         lengths: (1, 1),
     };
     let s = boxes.solve(&spring, &options).unwrap();
-    assert_eq!((s.x, s.multipliers), (vec![2.0], vec![1.0]));
+    // x = 2, λ = 1 back in the spring's units, to the round-off of one division and product.
+    assert!((s.x[0] - 2.0).abs() < 1e-15 && (s.multipliers[0] - 1.0).abs() < 1e-15);
+    assert_eq!((s.x.len(), s.multipliers.len()), (1, 1));
     let mut short = Answers {
         boxes: true,
         lengths: (1, 0),
@@ -596,5 +611,77 @@ fn every_status_is_listed_once_in_all() {
     };
     for (i, s) in QpStatus::ALL.into_iter().enumerate() {
         assert_eq!(position(s), i, "{s}");
+    }
+}
+
+/// Records the problem it is handed and answers a diagonal problem without contact rows
+/// exactly: xᵢ = fᵢ / Aᵢᵢ (no scaling of its own).
+struct Diagonal {
+    seen: Option<QpProblem>,
+}
+
+impl QpBackend for Diagonal {
+    fn name(&self) -> &'static str {
+        "diagonal"
+    }
+
+    fn solve_valid(
+        &mut self,
+        problem: &QpProblem,
+        _: &SolveOptions,
+    ) -> Result<QpSolution, QpError> {
+        self.seen = Some(problem.clone());
+        let x = (0..problem.dofs())
+            .map(|j| problem.load[j] / problem.stiffness.get(j, j).copied().unwrap_or(1.0))
+            .collect();
+        Ok(QpSolution {
+            x,
+            multipliers: vec![0.0; problem.rows()],
+            status: QpStatus::Solved,
+            iterations: 1,
+            solve_time: Duration::ZERO,
+            message: None,
+        })
+    }
+}
+
+/// `solve` nondimensionalises: a backend handed springs of stiffness 1e9 under loads of 1e3
+/// (SI-like units) sees a problem whose units are one — mean diagonal 1, ‖f̂‖∞ = 1 — and its
+/// answer comes back in the caller's units: x = f / k exactly (1e-6 and 2e-6, to round-off);
+/// a problem already in its own units reaches the backend unchanged, bit for bit.
+#[test]
+fn solve_scales_for_every_backend_and_leaves_a_scaled_problem_alone() {
+    let raw = springs(&[1e9, 1e9], &[1e3, 2e3], &[]);
+    let mut backend = Diagonal { seen: None };
+    let answer = backend.solve(&raw, &SolveOptions::default()).unwrap();
+    let seen = backend.seen.take().unwrap();
+    assert!(QpScaling::of(&seen).is_unit());
+    assert_eq!(seen.stiffness.get(0, 0), Some(&1.0));
+    assert!((norm_inf(&seen.load) - 1.0).abs() < 1e-15);
+    for (x, want) in answer.x.iter().zip([1e-6, 2e-6]) {
+        assert!((x - want).abs() < 1e-15 * want, "{x} vs {want}");
+    }
+    let scaled = QpScaling::of(&raw).scale(&raw);
+    backend.solve(&scaled, &SolveOptions::default()).unwrap();
+    let seen = backend.seen.take().unwrap();
+    assert_eq!(seen.stiffness.data(), scaled.stiffness.data());
+    assert_eq!(seen.load, scaled.load);
+    assert_eq!(seen.gap, scaled.gap);
+}
+
+/// Every problem [`QpScaling::scale`] makes is recognised as scaled, so `solve` passes it on
+/// without a copy: loads, overlaps or gaps alone setting the displacement unit, a stiffness
+/// spread over 12 decades.
+#[test]
+fn a_scaled_problem_is_unit() {
+    let cases = [
+        springs(&[1e-6, 1e6], &[3.0, -2.0], &[(&[(0, 1.0)], 0.5)]),
+        springs(&[2e5, 7e5], &[0.0, 0.0], &[(&[(0, 1.0)], -1e-3)]),
+        springs(&[4.0, 9.0], &[0.0, 0.0], &[(&[(1, -1.0)], 2e4)]),
+        springs(&[1e212, 1.0], &[1e-100, 0.0], &[(&[(0, 1.0)], 1.0)]),
+    ];
+    for p in cases {
+        let s = QpScaling::of(&p);
+        assert!(QpScaling::of(&s.scale(&p)).is_unit(), "{s:?}");
     }
 }

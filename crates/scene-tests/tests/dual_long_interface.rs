@@ -68,7 +68,7 @@ fn objective(p: &QpProblem, x: &[f64]) -> f64 {
     0.5 * signorini_qp::dot(x, &ax) - signorini_qp::dot(&p.load, x)
 }
 
-fn check(clamped: bool) {
+fn check(clamped: bool, units: common::Units) {
     let p = common::strip_qp(4.0, clamped, (0.0, 4.0));
     assert!(
         p.rows() > 300 && p.dofs() > 20 * p.rows(),
@@ -88,7 +88,7 @@ fn check(clamped: bool) {
     // default) on exactly this kind of problem.
     let tol = 1e-10;
     let mut backend = DualBackend::active_set(DualSettings::default());
-    let (sol, status) = common::solve(&mut backend, &p, tol);
+    let (sol, status) = common::solve_in(&mut backend, &p, tol, units);
     assert_eq!(status, QpStatus::Solved, "{:?}", sol.message);
     let r = kkt_residuals(&p, &sol.x, &sol.multipliers);
     assert!(r.meet(tol), "{r:?}");
@@ -115,12 +115,21 @@ fn check(clamped: bool) {
 /// pass; the dense Newton solve alone left complementarity ~1e-3 (floating) and ~1e-8.
 #[test]
 fn thin_strip_floating_in_y_is_solved_to_1e_10() {
-    check(false);
+    check(false, common::Units::Own);
 }
 
+/// In the scene's units, as this test was written.
 #[test]
 fn thin_strip_clamped_at_one_end_is_solved_to_1e_10() {
-    check(true);
+    check(true, common::Units::Given);
+}
+
+/// Nondimensionalised (what the driver hands dual-ssn): solved to 1e-10, but its objective
+/// differs from the independent KKT solve's by 1.2e-9 relative, not the 1e-10 the test asks.
+#[test]
+#[ignore = "dual-ssn on the nondimensionalised clamped strip: objective 1.2e-9 from the reference (bound 1e-10); open in issue 21"]
+fn thin_strip_clamped_at_one_end_is_solved_to_1e_10_in_its_own_units() {
+    check(true, common::Units::Own);
 }
 
 /// The matrix-free Newton steps on the same ill-conditioned strip: projected CG alone cannot

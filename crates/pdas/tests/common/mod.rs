@@ -22,11 +22,35 @@ pub fn qp(
 
 /// Solves with `settings` at `tol` and returns the solution with the core's checked status.
 pub fn solve_with(settings: PdasSettings, problem: &QpProblem, tol: f64) -> (QpSolution, QpStatus) {
+    solve_in(settings, problem, tol, Units::Own)
+}
+
+/// The units a test solves in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Units {
+    /// `QpBackend::solve`: nondimensionalised first.
+    Own,
+    /// `QpBackend::solve_in_given_units`: the problem as built.
+    Given,
+}
+
+/// [`solve_with`] in the chosen units.
+pub fn solve_in(
+    settings: PdasSettings,
+    problem: &QpProblem,
+    tol: f64,
+    units: Units,
+) -> (QpSolution, QpStatus) {
     let options = SolveOptions {
         tol,
         ..SolveOptions::default()
     };
-    let sol = PdasBackend::new(settings).solve(problem, &options).unwrap();
+    let mut backend = PdasBackend::new(settings);
+    let sol = match units {
+        Units::Own => backend.solve(problem, &options),
+        Units::Given => backend.solve_in_given_units(problem, &options),
+    }
+    .unwrap();
     assert!(
         sol.x.iter().chain(&sol.multipliers).all(|v| v.is_finite()),
         "non-finite answer: {:?}",

@@ -12,11 +12,34 @@ use signorini_qp::{
 
 /// Solves with `backend` at `tol` and returns the solution with the checked status.
 pub fn solve(backend: &mut dyn QpBackend, problem: &QpProblem, tol: f64) -> (QpSolution, QpStatus) {
+    solve_in(backend, problem, tol, Units::Own)
+}
+
+/// The units a test solves in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Units {
+    /// `QpBackend::solve`: nondimensionalised first (what the driver hands every backend).
+    Own,
+    /// `QpBackend::solve_in_given_units`: the problem as built, in the scene's units.
+    Given,
+}
+
+/// [`solve`] in the chosen units.
+pub fn solve_in(
+    backend: &mut dyn QpBackend,
+    problem: &QpProblem,
+    tol: f64,
+    units: Units,
+) -> (QpSolution, QpStatus) {
     let options = SolveOptions {
         tol,
         ..SolveOptions::default()
     };
-    let sol = backend.solve(problem, &options).unwrap();
+    let sol = match units {
+        Units::Own => backend.solve(problem, &options),
+        Units::Given => backend.solve_in_given_units(problem, &options),
+    }
+    .unwrap();
     let r = kkt_residuals(problem, &sol.x, &sol.multipliers);
     let status = checked_status(sol.status, &r, tol);
     (sol, status)
