@@ -3,7 +3,8 @@
 use std::time::Instant;
 
 use signorini_qp::{
-    kkt_residuals, norm_inf, QpBackend, QpError, QpProblem, QpSolution, QpStatus, SolveOptions,
+    kkt_residuals, norm_inf, BlockKind, QpBackend, QpError, QpProblem, QpSolution, QpStatus,
+    SolveOptions,
 };
 
 use crate::dual::{DualData, Outcome};
@@ -117,6 +118,15 @@ impl DualBackend {
 impl QpBackend for DualBackend {
     fn name(&self) -> &'static str {
         self.settings.method.backend_name()
+    }
+
+    /// Contact rows for every method; box rows (Tresca's tangential multipliers) for projected
+    /// Gauss–Seidel, whose projection is onto each row's interval.
+    fn supports(&self, kind: BlockKind) -> bool {
+        match kind {
+            BlockKind::NonNegative => true,
+            BlockKind::Box => self.settings.method == DualMethod::ProjectedGaussSeidel,
+        }
     }
 
     fn solve_valid(

@@ -5,8 +5,8 @@
 use std::time::{Duration, Instant};
 
 use signorini_qp::{
-    kkt_residuals_with, mat_t_vec, norm_inf, FarkasRay, KktResiduals, QpProblem, QpStatus,
-    ResidualScales, SolveOptions,
+    kkt_residuals_with, mat_t_vec, norm_inf, row_sets, FarkasRay, KktResiduals, QpProblem,
+    QpStatus, ResidualScales, RowSet, SolveOptions,
 };
 
 use crate::dual::{DualData, Outcome};
@@ -38,6 +38,9 @@ pub struct Monitor<'a> {
     early_floor: f64,
     pending_estimate: f64,
     last_multipliers: Vec<f64>,
+    /// Each row's bound when it is a box row (Tresca's tangential rows), `None` for a
+    /// one-sided contact row.
+    boxes: Vec<Option<f64>>,
     length_scale: f64,
     force_scale: f64,
     /// The fixed scales of the KKT residuals, computed once per solve.
@@ -65,6 +68,12 @@ impl<'a> Monitor<'a> {
             early_floor: f64::INFINITY,
             pending_estimate: f64::INFINITY,
             last_multipliers: vec![0.0; problem.rows()],
+            boxes: row_sets(&problem.blocks)
+                .map(|set| match set {
+                    RowSet::NonNegative => None,
+                    RowSet::Box(bound) => Some(bound),
+                })
+                .collect(),
             length_scale: f64::MIN_POSITIVE,
             force_scale: norm_inf(&problem.load).max(f64::MIN_POSITIVE),
             scales: ResidualScales::of(problem),
@@ -107,9 +116,15 @@ impl<'a> Monitor<'a> {
     pub fn estimate(&self, multipliers: &[f64], gradient: &[f64]) -> f64 {
         let mut pen = 0.0_f64;
         let mut comp = 0.0_f64;
-        for (l, w) in multipliers.iter().zip(gradient) {
-            pen = pen.max(-w);
-            comp = comp.max((l * w).abs());
+        for ((l, w), bound) in multipliers.iter().zip(gradient).zip(&self.boxes) {
+            match bound {
+                // w = −(Bx − g): a box row's complementarity s|r| − λr, no penetration.
+                Some(s) => comp = comp.max((s * w.abs() + l * w).abs()),
+                None => {
+                    pen = pen.max(-w);
+                    comp = comp.max((l * w).abs());
+                }
+            }
         }
         (pen / self.length_scale).max(comp / (self.length_scale * self.force_scale))
     }
@@ -209,10 +224,15 @@ impl<'a> Monitor<'a> {
     /// checked against B and g by [`FarkasRay`].  A growth with gᵀδ < 0 that is no
     /// certificate is remembered (see [`Monitor::explain`]) and the iteration goes on.
     fn infeasibility(&mut self, multipliers: &[f64]) -> Option<String> {
+        // A box row's multiplier is bounded: it is in no ray of B x ≤ g.
         let delta: Vec<f64> = multipliers
             .iter()
             .zip(&self.last_multipliers)
-            .map(|(l, p)| (l - p).max(0.0))
+            .zip(&self.boxes)
+            .map(|((l, p), bound)| match bound {
+                Some(_) => 0.0,
+                None => (l - p).max(0.0),
+            })
             .collect();
         let ray = FarkasRay::measure(self.problem, &delta)?;
         if ray.proves_infeasibility() {

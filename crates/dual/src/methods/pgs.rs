@@ -13,7 +13,7 @@
 
 use std::time::{Duration, Instant};
 
-use signorini_qp::{dot, mat_t_vec, QpError, QpStatus};
+use signorini_qp::{dot, mat_t_vec, row_sets, QpError, QpStatus, RowSet};
 
 use crate::dual::{DualData, Outcome};
 use crate::error::DualError;
@@ -172,6 +172,8 @@ struct Pgs {
     dual_load: Vec<f64>,
     /// The load of the inner problem (d with the augmented-Lagrangian terms).
     inner_load: Vec<f64>,
+    /// Each multiplier's interval [lo, hi]: [0, ∞) for a contact row, [−s, s] for a box row.
+    bounds: Vec<(f64, f64)>,
     /// λ.
     lambda: Vec<f64>,
     /// w = H λ − d, kept in step by the sweeps.
@@ -198,6 +200,12 @@ impl Pgs {
         let inner_load = data.inner_load(&dual_load);
         let diagonal = safe_diagonal(&hessian);
         let lambda = vec![0.0; data.rows()];
+        let bounds = row_sets(&data.problem.blocks)
+            .map(|set| match set {
+                RowSet::NonNegative => (0.0, f64::INFINITY),
+                RowSet::Box(s) => (-s, s),
+            })
+            .collect();
         let gradient = residual(&hessian, &lambda, &inner_load);
         let objective = dense_objective(&lambda, &gradient, &inner_load).0;
         Self {
@@ -206,6 +214,7 @@ impl Pgs {
             relaxation: settings.relaxation,
             dual_load,
             inner_load,
+            bounds,
             lambda,
             gradient,
             iter: 0,
@@ -236,6 +245,7 @@ impl Pgs {
             &self.hessian,
             &self.diagonal,
             self.relaxation,
+            &self.bounds,
             &mut self.lambda,
             &mut self.gradient,
         );
@@ -414,16 +424,21 @@ fn safe_diagonal(hessian: &DenseSym) -> Vec<f64> {
         .collect()
 }
 
-/// One forward sweep; `gradient` = H λ − d is kept in step.
+/// One forward sweep, each update projected onto its row's interval [lo, hi] (`max` before
+/// `min`, so that a NaN step lands on lo as `max(0)` did); `gradient` = H λ − d is kept in step.
 fn sweep(
     hessian: &DenseSym,
     diagonal: &[f64],
     omega: f64,
+    bounds: &[(f64, f64)],
     lambda: &mut [f64],
     gradient: &mut [f64],
 ) {
     for i in 0..lambda.len() {
-        let updated = (lambda[i] - omega * gradient[i] / diagonal[i]).max(0.0);
+        let (lo, hi) = bounds[i];
+        let updated = (lambda[i] - omega * gradient[i] / diagonal[i])
+            .max(lo)
+            .min(hi);
         let delta = updated - lambda[i];
         if delta != 0.0 {
             lambda[i] = updated;
