@@ -13,7 +13,9 @@
 
 use std::time::{Duration, Instant};
 
-use signorini_qp::{dot, mat_t_vec, row_sets, QpError, QpStatus, RowSet};
+use signorini_qp::{dot, mat_t_vec, QpError, QpStatus};
+
+use super::intervals;
 
 use crate::dual::{DualData, Outcome};
 use crate::error::DualError;
@@ -200,12 +202,7 @@ impl Pgs {
         let inner_load = data.inner_load(&dual_load);
         let diagonal = safe_diagonal(&hessian);
         let lambda = vec![0.0; data.rows()];
-        let bounds = row_sets(&data.problem.blocks)
-            .map(|set| match set {
-                RowSet::NonNegative => (0.0, f64::INFINITY),
-                RowSet::Box(s) => (-s, s),
-            })
-            .collect();
+        let bounds = intervals::of(data.problem);
         let gradient = residual(&hessian, &lambda, &inner_load);
         let objective = dense_objective(&lambda, &gradient, &inner_load).0;
         Self {
@@ -424,8 +421,8 @@ fn safe_diagonal(hessian: &DenseSym) -> Vec<f64> {
         .collect()
 }
 
-/// One forward sweep, each update projected onto its row's interval [lo, hi] (`max` before
-/// `min`, so that a NaN step lands on lo as `max(0)` did); `gradient` = H λ − d is kept in step.
+/// One forward sweep, each update projected onto its row's interval ([`intervals`]);
+/// `gradient` = H λ − d is kept in step.
 fn sweep(
     hessian: &DenseSym,
     diagonal: &[f64],
@@ -435,10 +432,7 @@ fn sweep(
     gradient: &mut [f64],
 ) {
     for i in 0..lambda.len() {
-        let (lo, hi) = bounds[i];
-        let updated = (lambda[i] - omega * gradient[i] / diagonal[i])
-            .max(lo)
-            .min(hi);
+        let updated = intervals::project(lambda[i] - omega * gradient[i] / diagonal[i], bounds[i]);
         let delta = updated - lambda[i];
         if delta != 0.0 {
             lambda[i] = updated;

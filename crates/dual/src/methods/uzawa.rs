@@ -4,6 +4,8 @@
 //! x = A⁻¹(f − Bᵀλ),   λ ← max(0, λ + ρ (B x − g)),   ρ = step_factor / L̂,
 //! ```
 //!
+//! (on a box row the projection is onto [−s, s] instead: [`super::intervals`]).
+//!
 //! L̂ ≥ λ_max(H) from power iteration (one solve per power step).  With acceleration the step is
 //! taken from the extrapolated point y = λₖ + βₖ(λₖ − λₖ₋₁) (FISTA, βₖ = (tₖ − 1)/tₖ₊₁) and the
 //! momentum restarts whenever (y − λₖ₊₁)ᵀ(λₖ₊₁ − λₖ) > 0 (O'Donoghue–Candès gradient
@@ -12,6 +14,7 @@
 
 use signorini_qp::{dot, mat_vec, QpStatus};
 
+use super::intervals;
 use crate::dual::{DualData, Outcome};
 use crate::error::DualError;
 use crate::hessian::power_iteration;
@@ -42,6 +45,7 @@ pub fn solve(
     let lipschitz = if lipschitz > 0.0 { lipschitz } else { 1.0 };
     let step = settings.step_factor / lipschitz;
 
+    let bounds = intervals::of(data.problem);
     let mut lambda = vec![0.0; m];
     let mut previous = lambda.clone();
     let mut free = data.base.clone();
@@ -67,7 +71,8 @@ pub fn solve(
         let next: Vec<f64> = y
             .iter()
             .zip(&gradient_y)
-            .map(|(yi, wi)| (yi - step * wi).max(0.0))
+            .zip(&bounds)
+            .map(|((yi, wi), b)| intervals::project(yi - step * wi, *b))
             .collect();
         let restart = {
             let back: Vec<f64> = y.iter().zip(&next).map(|(a, b)| a - b).collect();
