@@ -155,3 +155,126 @@ impl<'a> Effects<'a> {
         self.contact.as_ref().is_some_and(|c| c.touches(b))
     }
 }
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+    use crate::mesh::MeshLimits;
+    use crate::model::mesh_scene;
+
+    /// Two blocks, the lower one clamped; with `gravity`, g = (0, −1) and densities 2 (base)
+    /// and 0.5 (block); `extra` adds sections.
+    fn scene(gravity: bool, extra: &str) -> Scene {
+        let (model, base, block) = if gravity {
+            (
+                "[model]\ngravity = [0, -1]",
+                "density = 2.0",
+                "density = 0.5",
+            )
+        } else {
+            ("", "", "")
+        };
+        Scene::from_toml(&format!(
+            r#"
+            {model}
+            [[body]]
+            name = "base"
+            polygon = [[0, 0], [2, 0], [2, 1], [0, 1]]
+            hmax = 0.5
+            young = 1.0
+            poisson = 0.3
+            {base}
+            [[body]]
+            name = "block"
+            polygon = [[0.5, 1], [1.5, 1], [1.5, 2], [0.5, 2]]
+            hmax = 0.5
+            young = 1.0
+            poisson = 0.3
+            {block}
+            [[dirichlet]]
+            body = "base"
+            region = [0, 2, 0, 0]
+            [[dirichlet]]
+            body = "block"
+            region = [0.5, 0.5, 1, 2]
+            {extra}
+            "#
+        ))
+        .unwrap()
+    }
+
+    /// Only what the scene names is read and contributed, in assembly order: loads, supports,
+    /// contact.
+    #[test]
+    fn an_effect_contributes_only_when_the_scene_names_it() {
+        let plain_scene = scene(false, "");
+        let plain = Effects::of(&plain_scene);
+        assert!(plain.tractions.is_none() && plain.body_force.is_none());
+        assert!(plain.contact.is_none() && plain.supports.is_some());
+        let kinds: Vec<Effect> = plain.contributions().iter().map(|c| c.effect()).collect();
+        assert_eq!(kinds, [Effect::Dirichlet]);
+        let full_scene = scene(
+            true,
+            "[[neumann]]\nbody = \"block\"\nregion = [0.5, 1.5, 2, 2]\n\
+             traction = [0, -1]\n[[contact]]\nbodies = [\"block\", \"base\"]",
+        );
+        let full = Effects::of(&full_scene);
+        let kinds: Vec<Effect> = full.contributions().iter().map(|c| c.effect()).collect();
+        assert_eq!(
+            kinds,
+            [
+                Effect::Neumann,
+                Effect::Gravity,
+                Effect::Dirichlet,
+                Effect::Contact
+            ]
+        );
+        assert!(full.in_contact(0) && full.in_contact(1));
+        let after: Vec<bool> = full
+            .contributions()
+            .iter()
+            .map(|c| c.after_supports())
+            .collect();
+        assert_eq!(after, [false, false, false, true]);
+    }
+
+    /// The traction's consistent nodal forces sum to its resultant integrated analytically
+    /// (a unit downward traction on the block's top edge of length 1, thickness 1: −1), and
+    /// the body force's to ρ·area·g (base: 2 · 2 · −1 = −4; block: 0.5 · 1 · −1 = −0.5).
+    #[test]
+    fn nodal_loads_sum_to_the_analytic_resultants() {
+        let s = scene(
+            true,
+            "[[neumann]]\nbody = \"block\"\nregion = [0.5, 1.5, 2, 2]\n\
+             traction = [0, -1]",
+        );
+        let meshes = mesh_scene(&s, &MeshLimits::default()).unwrap();
+        let dofs = Dofs::new(&meshes.iter().map(|m| m.nodes.len()).collect::<Vec<_>>());
+        let effects = Effects::of(&s);
+        let mut parts = ModelParts::empty(dofs.len());
+        let on = Discretisation {
+            meshes: &meshes,
+            dofs: &dofs,
+        };
+        for c in effects.contributions() {
+            c.contribute(on, &mut parts).unwrap();
+        }
+        let body_sum = |b: usize| -> f64 {
+            dofs.body_range(b)
+                .skip(1)
+                .step_by(2)
+                .map(|d| parts.load[d])
+                .sum()
+        };
+        assert!((body_sum(1) + 1.5).abs() < 1e-14, "{}", body_sum(1));
+        assert!((body_sum(0) + 4.0).abs() < 1e-13, "{}", body_sum(0));
+        let mut analytic = vec![[0.0; 2]; 2];
+        effects
+            .tractions
+            .as_ref()
+            .unwrap()
+            .add_resultants(&meshes, &mut analytic);
+        assert!((analytic[1][1] + 1.0).abs() < 1e-14 && analytic[0] == [0.0, 0.0]);
+    }
+}
