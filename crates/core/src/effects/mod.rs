@@ -157,8 +157,9 @@ impl<'a> Effects<'a> {
 }
 
 #[cfg(test)]
-#[allow(clippy::unwrap_used)]
 mod tests {
+    #![allow(clippy::unwrap_used)] // tests may unwrap
+
     use super::*;
     use crate::mesh::MeshLimits;
     use crate::model::mesh_scene;
