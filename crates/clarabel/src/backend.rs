@@ -5,8 +5,8 @@ use std::time::{Duration, Instant};
 use clarabel::algebra::CscMatrix as ClarabelCsc;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 use signorini_qp::{
-    checked_status, csc_parts, kkt_residuals, QpBackend, QpError, QpProblem, QpScaling, QpSolution,
-    QpStatus, SolveOptions,
+    checked_status, csc_parts, kkt_residuals, AuxiliaryForm, BlockKind, KktResiduals, QpBackend,
+    QpError, QpProblem, QpScaling, QpSolution, QpStatus, SolveOptions,
 };
 
 use crate::settings::{ClarabelSettings, MIN_TOL};
@@ -50,10 +50,35 @@ impl QpBackend for ClarabelBackend {
         NAME
     }
 
+    fn supports(&self, _kind: BlockKind) -> bool {
+        // Box rows through auxiliary variables (AuxiliaryForm): every kind there is.
+        true
+    }
+
     fn solve_valid(
         &mut self,
         problem: &QpProblem,
         options: &SolveOptions,
+    ) -> Result<QpSolution, QpError> {
+        if problem.blocks.iter().any(|b| b.kind() == BlockKind::Box) {
+            let form = AuxiliaryForm::of(problem)?;
+            let judge = |s: &QpSolution| form.original_residuals(problem, &s.x, &s.multipliers);
+            let solution = self.solve_judged(&form.problem, options, &judge)?;
+            return Ok(form.recover(solution));
+        }
+        let judge = |s: &QpSolution| kkt_residuals(problem, &s.x, &s.multipliers);
+        self.solve_judged(problem, options, &judge)
+    }
+}
+
+impl ClarabelBackend {
+    /// Solves `problem` (no box rows), with clarabel's continuation judged by `judge` (the
+    /// residuals of the problem the caller asked about).
+    fn solve_judged(
+        &mut self,
+        problem: &QpProblem,
+        options: &SolveOptions,
+        judge: &dyn Fn(&QpSolution) -> KktResiduals,
     ) -> Result<QpSolution, QpError> {
         let start = Instant::now();
         let settings = self.settings.to_clarabel(options)?;
@@ -69,10 +94,8 @@ impl QpBackend for ClarabelBackend {
                 solve_with_clarabel(problem, settings)
             }
         };
-        let meets = |s: &QpSolution| {
-            let r = kkt_residuals(problem, &s.x, &s.multipliers);
-            checked_status(s.status, &r, options.tol) == QpStatus::Solved
-        };
+        let meets =
+            |s: &QpSolution| checked_status(s.status, &judge(s), options.tol) == QpStatus::Solved;
         let mut solution = run(settings.clone())?;
         let mut iterations = solution.iterations;
         // Continuation: clarabel judges convergence on its equilibrated data, the core on the
@@ -94,8 +117,7 @@ impl QpBackend for ClarabelBackend {
                 stages += 1;
                 let next = run(attempt.clone())?;
                 iterations += next.iterations;
-                let better = kkt_residuals(problem, &next.x, &next.multipliers).worst()
-                    < kkt_residuals(problem, &solution.x, &solution.multipliers).worst();
+                let better = judge(&next).worst() < judge(&solution).worst();
                 let done = meets(&next);
                 if better {
                     solution = next;

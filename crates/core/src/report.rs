@@ -9,21 +9,25 @@
 
 use crate::model::Model;
 use crate::qp::mat_vec;
-use crate::scene::Scene;
+use crate::scene::{Friction, Scene};
 use crate::solve::Solution;
 
 pub mod arc;
 pub mod balance;
 pub mod document;
 pub mod fields;
+pub mod friction;
 
 pub use arc::{interface_arc, ArcPosition};
 pub use balance::{force_balance, BodyBalance, ForceBalance};
 pub use document::{
-    AttemptReport, BackendSettings, BodyReport, ContactNodeReport, ContactReport, ProbeReport,
-    Provenance, RunReport, Timings, WarningReport,
+    AttemptReport, BackendSettings, BodyReport, ContactNodeReport, ContactReport, FrictionLaw,
+    ProbeReport, Provenance, RunReport, Timings, WarningReport,
 };
 pub use fields::{active_scale, body_fields, interpolate, is_active, BodyFields};
+pub use friction::{
+    friction_fields, tangential_nodes, ContactState, FrictionField, TangentialNode,
+};
 
 /// Builds `result.json`'s content.
 pub fn run_report(
@@ -57,6 +61,7 @@ pub fn run_report(
         probes,
         force_balance: balance.relative,
         message: solution.message.clone(),
+        coulomb: solution.coulomb,
         backend_status: solution.backend_status.as_str().to_string(),
         warnings: model
             .warnings
@@ -112,6 +117,7 @@ fn contact_reports(
 ) -> (Vec<ContactReport>, usize) {
     let largest = active_scale(model, solution);
     let bu = mat_vec(&model.constraints, &solution.displacement);
+    let tangential = tangential_nodes(model, solution, &bu, largest);
     let mut contacts = Vec::with_capacity(model.contacts.len());
     let mut row = 0;
     let mut active_total = 0;
@@ -119,6 +125,7 @@ fn contact_reports(
         let mut nodes = Vec::with_capacity(pair.rows.len());
         let mut active = 0;
         let mut normal_force = 0.0;
+        let mut tangential_force = 0.0;
         let slave_nodes: Vec<usize> = pair.rows.iter().map(|r| r.slave_node).collect();
         let arc = interface_arc(&model.meshes[pair.slave], &slave_nodes);
         for (r, place) in pair.rows.iter().zip(&arc) {
@@ -128,6 +135,8 @@ fn contact_reports(
                 active += 1;
             }
             normal_force += l;
+            let t = tangential.get(row).copied().flatten();
+            tangential_force += t.map_or(0.0, |t| t.multiplier);
             nodes.push(ContactNodeReport {
                 x: r.position[0],
                 y: r.position[1],
@@ -139,6 +148,10 @@ fn contact_reports(
                 weight: r.tributary,
                 s: place.s,
                 piece: place.piece,
+                tangential_multiplier: t.map(|t| t.multiplier),
+                tangential_traction: t.map(|t| t.multiplier / r.tributary),
+                slip: t.map(|t| t.slip),
+                state: t.map(|t| t.state),
             });
             row += 1;
         }
@@ -152,6 +165,11 @@ fn contact_reports(
             constraints: pair.rows.len(),
             active,
             normal_force,
+            friction: pair.friction.map(|f| match f {
+                Friction::Coulomb(mu) => FrictionLaw::Coulomb(mu),
+                Friction::Tresca(s) => FrictionLaw::Tresca(s),
+            }),
+            tangential_force: pair.friction.map(|_| tangential_force),
             nodes,
         });
     }

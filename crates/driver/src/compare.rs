@@ -331,6 +331,7 @@ fn bare_model(qp: &QpProblem) -> Model {
         contacts: Vec::new(),
         constraints: sprs::CsMat::zero((0, n)),
         gap: Vec::new(),
+        tangential: Vec::new(),
         floating: Vec::new(),
         kernel: Vec::new(),
         effects: Vec::new(),

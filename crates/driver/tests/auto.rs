@@ -17,7 +17,7 @@ use signorini::backends::{make_backend, BackendKind};
 use signorini::run;
 use signorini_clarabel::{ClarabelBackend, ClarabelSettings, DirectSolver};
 use signorini_core::mesh::MeshLimits;
-use signorini_core::qp::{norm_inf, QpBackend, QpStatus, SolveOptions};
+use signorini_core::qp::{norm_inf, BlockKind, QpBackend, QpStatus, SolveOptions};
 use signorini_core::solve;
 use signorini_dual::{DualBackend, DualSettings};
 
@@ -381,6 +381,7 @@ fn the_rule_orders_the_chain_from_the_features() {
         rows: 135,
         touched: 540,
         kernel: 0,
+        box_rows: 0,
     };
     let p = plan(&seed);
     assert_eq!(p.chain.first(), Some(&BackendKind::DualSsn), "{p:?}");
@@ -392,6 +393,7 @@ fn the_rule_orders_the_chain_from_the_features() {
         rows: 101,
         touched: 402,
         kernel: 0,
+        box_rows: 0,
     };
     let p = plan(&strip);
     // pdas first; dual-ssn only as the last resort (slow there, but it solved every long
@@ -410,6 +412,7 @@ fn the_rule_orders_the_chain_from_the_features() {
         rows: 1_500,
         touched: 3_000,
         kernel: 0,
+        box_rows: 0,
     };
     assert_ne!(plan(&wide).chain.first(), Some(&BackendKind::DualSsn));
     // pdas joins the chain exactly when the build lists it among its backends.
@@ -417,6 +420,21 @@ fn the_rule_orders_the_chain_from_the_features() {
         plan(&seed).chain.contains(&BackendKind::Pdas),
         BackendKind::ALL.contains(&BackendKind::Pdas)
     );
+    // Friction's box rows: only backends that solve them, dual-pgs first on a short interface,
+    // clarabel first on a long one.
+    for (features, first) in [(seed, BackendKind::DualPgs), (strip, BackendKind::Clarabel)] {
+        let frictional = Features {
+            box_rows: features.rows / 2,
+            ..features
+        };
+        let p = plan(&frictional);
+        assert_eq!(p.chain.first(), Some(&first), "{p:?}");
+        for kind in &p.chain {
+            let backend = make_backend(*kind).unwrap();
+            assert!(backend.supports(BlockKind::Box), "{p:?}: {kind:?}");
+        }
+        assert!(p.reason.contains("box rows"), "{}", p.reason);
+    }
 }
 
 /// Best time of repeated solves (at least three, more until 0.2 s are spent, at most 50; one

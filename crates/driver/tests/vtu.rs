@@ -263,6 +263,7 @@ fn awkward_values_and_names_read_back_exactly() {
             stress: &f.stress,
             von_mises: &f.von_mises,
             contact_pressure: &f.contact_pressure,
+            friction: f.friction.as_ref(),
         })
         .collect();
     assert_eq!(bodies.len(), scene.bodies.len());

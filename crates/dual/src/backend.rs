@@ -127,7 +127,10 @@ impl QpBackend for DualBackend {
     fn supports(&self, kind: BlockKind) -> bool {
         match kind {
             BlockKind::NonNegative => true,
-            BlockKind::Box => self.settings.method == DualMethod::ProjectedGaussSeidel,
+            BlockKind::Box => matches!(
+                self.settings.method,
+                DualMethod::ProjectedGaussSeidel | DualMethod::Uzawa
+            ),
         }
     }
 

@@ -6,8 +6,8 @@ use std::time::{Duration, Instant};
 
 use osqp::{CscMatrix as OsqpCsc, PolishStatus, Problem, SetupError, Status};
 use signorini_qp::{
-    csc_parts, kkt_residuals, norm_inf, QpBackend, QpError, QpProblem, QpScaling, QpSolution,
-    QpStatus, SolveOptions,
+    csc_parts, kkt_residuals, norm_inf, AuxiliaryForm, BlockKind, KktResiduals, QpBackend, QpError,
+    QpProblem, QpScaling, QpSolution, QpStatus, SolveOptions,
 };
 
 use crate::settings::{OsqpSettings, Plan};
@@ -61,10 +61,38 @@ impl QpBackend for OsqpBackend {
         NAME
     }
 
+    fn supports(&self, _kind: BlockKind) -> bool {
+        // Box rows through auxiliary variables (AuxiliaryForm): every kind there is.
+        true
+    }
+
     fn solve_valid(
         &mut self,
         problem: &QpProblem,
         options: &SolveOptions,
+    ) -> Result<QpSolution, QpError> {
+        if problem.blocks.iter().any(|b| b.kind() == BlockKind::Box) {
+            let form = AuxiliaryForm::of(problem)?;
+            let judge = |x: &[f64], mu: &[f64]| form.original_residuals(problem, x, mu);
+            let solution = self.solve_judged(&form.problem, options, &judge)?;
+            return Ok(form.recover(solution));
+        }
+        let judge = |x: &[f64], mu: &[f64]| kkt_residuals(problem, x, mu);
+        self.solve_judged(problem, options, &judge)
+    }
+}
+
+/// The residuals an answer (x, λ) of the problem handed to OSQP is judged by (those of the
+/// problem the caller asked about).
+type Judge<'a> = &'a dyn Fn(&[f64], &[f64]) -> KktResiduals;
+
+impl OsqpBackend {
+    /// Solves `problem` (no box rows); the stages stop when `judge` meets the tolerance.
+    fn solve_judged(
+        &mut self,
+        problem: &QpProblem,
+        options: &SolveOptions,
+        judge: Judge<'_>,
     ) -> Result<QpSolution, QpError> {
         let start = Instant::now();
         self.settings.validate()?;
@@ -101,7 +129,14 @@ impl QpBackend for OsqpBackend {
                     y.iter().map(|v| v / force).collect::<Vec<_>>(),
                 )
             });
-        let solution = solve_with_osqp(&scaled, &settings, &plan, warm, start)?;
+        // OSQP works on the scaled problem; its answers are judged in the caller's units.
+        let force = scaling.stiffness * scaling.displacement;
+        let in_units = |x: &[f64], mu: &[f64]| {
+            let x: Vec<f64> = x.iter().map(|v| v * scaling.displacement).collect();
+            let mu: Vec<f64> = mu.iter().map(|v| v * force).collect();
+            judge(&x, &mu)
+        };
+        let solution = solve_with_osqp(&scaled, &settings, &plan, warm, start, &in_units)?;
         let mut solution = scaling.unscale(solution);
         solution.solve_time = start.elapsed();
         if matches!(
@@ -122,6 +157,7 @@ fn solve_with_osqp(
     plan: &Plan,
     warm: Option<(Vec<f64>, Vec<f64>)>,
     start: Instant,
+    judge: Judge<'_>,
 ) -> Result<QpSolution, QpError> {
     let (n, m) = (problem.dofs(), problem.rows());
     // P = triu(A), q = −f, A_osqp = B, l = −∞, u = g.
@@ -157,7 +193,7 @@ fn solve_with_osqp(
     // osqp 0.6 asserts on a non-zero return of `osqp_solve` (a failed ρ update) and on status
     // codes it does not know; both are numerical failures of this solve, not bugs of ours.
     let outcome = catch_unwind(AssertUnwindSafe(|| {
-        run_stages(&mut solver, problem, plan, start)
+        run_stages(&mut solver, problem, plan, start, judge)
     }));
     let mut solution = outcome.unwrap_or_else(|_| {
         failed(
@@ -190,6 +226,7 @@ fn run_stages(
     problem: &QpProblem,
     plan: &Plan,
     start: Instant,
+    judge: Judge<'_>,
 ) -> QpSolution {
     let (n, m) = (problem.dofs(), problem.rows());
     let mut eps = plan.eps_start;
@@ -207,7 +244,7 @@ fn run_stages(
         let converged = matches!(result.status, QpStatus::Solved | QpStatus::Inaccurate);
         if !converged
             || eps <= plan.eps_target
-            || kkt_residuals(problem, &result.x, &result.multipliers).meet(plan.tol)
+            || judge(&result.x, &result.multipliers).meet(plan.tol)
         {
             return result;
         }

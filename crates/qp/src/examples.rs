@@ -222,8 +222,17 @@ pub fn max_diff(a: &[f64], b: &[f64]) -> f64 {
 impl Known {
     /// `None` when `x` and `multipliers` match the optimum to `tol` relative to its largest
     /// entry (λ relative to the larger of its own and, up to 1, x's scale); otherwise what differs.
+    /// An optimum x* = 0 (a sticking box row) has no largest entry: x is then measured against
+    /// the displacement unit of the problem's data ([`crate::QpScaling::of`], ‖f‖∞ / k̄), the
+    /// length every backend's tolerance refers to — an exact zero is more than an
+    /// interior-point method or a projected gradient stopped at the tolerance can give.
     pub fn mismatch(&self, x: &[f64], multipliers: &[f64], tol: f64) -> Option<String> {
-        let xs = self.x.iter().fold(1e-300_f64, |m, v| m.max(v.abs()));
+        let largest = self.x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let xs = if largest > 0.0 {
+            largest
+        } else {
+            crate::QpScaling::of(&self.problem).displacement
+        };
         let ls = self
             .multipliers
             .iter()

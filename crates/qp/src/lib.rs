@@ -28,6 +28,7 @@ pub mod examples;
 pub mod linalg;
 pub mod memory;
 
+mod auxiliary;
 mod backend;
 mod blocks;
 mod certificate;
@@ -43,6 +44,7 @@ mod status;
 #[cfg(test)]
 mod tests;
 
+pub use auxiliary::AuxiliaryForm;
 pub use backend::{QpBackend, QpSolution, SolveOptions};
 pub use blocks::{row_sets, BlockKind, ConstraintBlock, RowSet};
 pub use certificate::{FarkasRay, FARKAS_MARGIN};

@@ -1,6 +1,6 @@
 //! The QP's data: matrices, vectors and their checks.
 
-use super::blocks::{BlockKind, ConstraintBlock};
+use super::blocks::{row_sets, BlockKind, ConstraintBlock, RowSet};
 use super::ops::{dot, mat_vec};
 
 pub use super::ops::CscMatrix;
@@ -248,9 +248,21 @@ impl QpProblem {
         self.constraints.rows()
     }
 
-    /// The objective ½ xᵀ A x − fᵀ x.
+    /// The objective ½ xᵀ A x − fᵀ x, plus Σ sᵢ |(B x − g)ᵢ| over the box rows.
     pub fn objective(&self, x: &[f64]) -> f64 {
         let ax = mat_vec(&self.stiffness, x);
-        0.5 * dot(x, &ax) - dot(&self.load, x)
+        let quadratic = 0.5 * dot(x, &ax) - dot(&self.load, x);
+        if !self.blocks.iter().any(|b| b.kind() == BlockKind::Box) {
+            return quadratic;
+        }
+        let r = mat_vec(&self.constraints, x);
+        let slip: f64 = row_sets(&self.blocks)
+            .zip(r.iter().zip(&self.gap))
+            .map(|(set, (bx, g))| match set {
+                RowSet::Box(s) => s * (bx - g).abs(),
+                RowSet::NonNegative => 0.0,
+            })
+            .sum();
+        quadratic + slip
     }
 }

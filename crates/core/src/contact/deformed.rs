@@ -246,6 +246,7 @@ mod tests {
             slave: 0,
             master: 1,
             formulation,
+            friction: None,
             rows,
             conforming: false,
             candidates: 3,

@@ -4,7 +4,7 @@
 
 use crate::geometry::Point;
 use crate::mesh::gmsh::MeshGroup;
-use crate::scene::Formulation;
+use crate::scene::{Formulation, Friction};
 
 /// One body of a contact pair, as the search sees it.
 #[derive(Debug, Clone, Copy)]
@@ -33,6 +33,9 @@ pub struct Interface<'a> {
     pub slave: Option<usize>,
     /// How the pair's rows are built.
     pub formulation: Formulation,
+    /// The pair's friction law (`None`: frictionless); carried to its rows, not used by the
+    /// search.
+    pub friction: Option<Friction>,
 }
 
 impl Interface<'_> {

@@ -88,7 +88,7 @@ pub use overlap::Overlap;
 
 use crate::geometry::{self, Point};
 use crate::mesh::Mesh;
-use crate::scene::Formulation;
+use crate::scene::{Formulation, Friction};
 use overlap::{deepest, depths_inside, strictly_inside};
 use search::{Cone, SegmentIndex};
 
@@ -128,6 +128,8 @@ pub struct PairRows {
     pub master: usize,
     /// How the rows were built.
     pub formulation: Formulation,
+    /// The pair's friction law (`None`: frictionless, no tangential rows).
+    pub friction: Option<Friction>,
     /// Constraint rows, ordered by slave node.
     pub rows: Vec<ContactRow>,
     /// True when every slave node on the interface (zero initial gap) coincides with a master node.
@@ -452,6 +454,7 @@ impl PairSearch<'_, '_> {
             slave,
             master,
             formulation: self.it.formulation,
+            friction: self.it.friction,
             conforming: conforming(&built.rows),
             rows: built.rows,
             candidates: count(&sides.candidates[s]),

@@ -34,6 +34,7 @@ impl<'a> ContactEffect<'a> {
                 region: pair.region,
                 slave: pair.slave,
                 formulation: pair.formulation,
+                friction: pair.friction,
             })
             .collect();
         Self {

@@ -19,6 +19,7 @@
 //!   initial overlaps (see [`crate::contact`]) become warnings.
 
 mod error;
+mod friction;
 mod meshing;
 mod reduce;
 mod rows;
@@ -29,7 +30,7 @@ use crate::contact::PairRows;
 use crate::effects::{Discretisation, Effects, ModelParts};
 use crate::fem::{self, Dofs, Material};
 use crate::mesh::Mesh;
-use crate::qp::{CscMatrix, QpProblem};
+use crate::qp::{ConstraintBlock, CscMatrix, QpProblem};
 use crate::scene::Scene;
 use reduce::{check_finite, columns, free_index, restrict};
 use rows::{contact_matrix, row_entries};
@@ -37,6 +38,7 @@ use screen::screen_pair;
 
 pub use crate::effects::Effect;
 pub use error::ModelError;
+pub use friction::{tangent, TangentialRow};
 pub use meshing::mesh_scene;
 pub use warnings::{ModelWarning, NoRowReason};
 
@@ -62,10 +64,14 @@ pub struct Model {
     pub free: Vec<usize>,
     /// Contact rows per pair.
     pub contacts: Vec<PairRows>,
-    /// Contact matrix B on all DOFs (m × DOFs), rows in pair order.
+    /// Contact matrix B on all DOFs (m × DOFs): the normal rows in pair order, then the
+    /// tangential rows of frictional pairs (`tangential`, in the same order).
     pub constraints: CscMatrix,
-    /// Initial gaps g (length m).
+    /// Initial gaps g (length m; 0 on tangential rows).
     pub gap: Vec<f64>,
+    /// The tangential rows of the frictional pairs (empty without friction): the last
+    /// `tangential.len()` rows of B, one box block in the QP.
+    pub tangential: Vec<TangentialRow>,
     /// Rigid-body modes left free by the supports, per body (body index, count).
     pub floating: Vec<(usize, usize)>,
     /// Those modes restricted to the free DOFs (a null-space basis of the reduced stiffness).
@@ -127,7 +133,8 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError
         }
     }
     check_held(scene, &floating, &contacts, &dofs, &fixed)?;
-    let (constraints, gap) = contact_matrix(&contacts, &dofs);
+    let tangential = friction::tangential_rows(&contacts);
+    let (constraints, gap) = contact_matrix(&contacts, &tangential, &dofs);
     let mut named: Vec<Effect> = contributions.iter().map(|c| c.effect()).collect();
     named.retain(|e| *e != Effect::Contact || !gap.is_empty());
     named.sort_by_key(|e| *e as u8);
@@ -143,7 +150,9 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError
         .collect();
     let g: Vec<f64> = gap.iter().zip(&lift_g).map(|(g, l)| g - l).collect();
     check_finite(a.data(), &f, &g)?;
-    let reduced = QpProblem::try_new(a, f, b_free, g)?.with_kernel(kernel.clone())?;
+    let reduced = QpProblem::try_new(a, f, b_free, g)?
+        .with_kernel(kernel.clone())?
+        .with_blocks(constraint_blocks(gap.len(), &tangential))?;
     let fixed_dofs: Vec<usize> = (0..dofs.len()).filter(|d| fixed[*d].is_some()).collect();
     let supports = columns(&stiffness, &fixed_dofs);
     drop(stiffness);
@@ -160,12 +169,27 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError
         contacts,
         constraints,
         gap,
+        tangential,
         floating,
         kernel,
         effects: named,
         warnings,
     };
     Ok(Assembly { model, qp: reduced })
+}
+
+/// The QP's constraint blocks: the normal rows (non-negative), then the tangential rows as one
+/// box block, bounded by Tresca's fixed bound or, for Coulomb, 0 — the frictionless start of the
+/// fixed point (`crate::friction`), which sets μ λₙ from each solve.
+fn constraint_blocks(rows: usize, tangential: &[TangentialRow]) -> Vec<ConstraintBlock> {
+    let normal = rows - tangential.len();
+    let mut blocks = vec![ConstraintBlock::NonNegative { rows: normal }];
+    if !tangential.is_empty() {
+        blocks.push(ConstraintBlock::Box {
+            bounds: tangential.iter().map(|t| t.bound(0.0)).collect(),
+        });
+    }
+    blocks
 }
 
 /// Per floating body (body, count of free modes), and those modes on the free DOFs.
@@ -250,9 +274,14 @@ fn check_held(
 }
 
 impl Model {
-    /// Number of contact rows m.
+    /// Number of contact rows m (normal and tangential).
     pub fn rows(&self) -> usize {
         self.gap.len()
+    }
+
+    /// The number of normal contact rows (the first rows of B).
+    pub fn normal_rows(&self) -> usize {
+        self.gap.len() - self.tangential.len()
     }
 
     /// Index of each DOF among the free ones (`usize::MAX` for a fixed DOF).

@@ -3,10 +3,12 @@
 use schemars::JsonSchema;
 use serde::Serialize;
 
+use super::friction::ContactState;
 use crate::geometry::Point;
 use crate::model::{Effect, ModelWarning};
 use crate::qp::KktResiduals;
 use crate::scene::Formulation;
+use crate::solve::CoulombRun;
 
 /// Wall-clock time of each phase, in seconds.
 #[derive(Debug, Clone, Copy, Default, Serialize, JsonSchema)]
@@ -75,6 +77,20 @@ pub struct ContactNodeReport {
     /// The interface piece the node lies on (0-based, in the order of [`arc`](super::arc); one piece for a
     /// connected interface).
     pub piece: usize,
+    /// Frictional pairs only: the tangential force λₜ on the slave node along the row's tangent
+    /// t = (n_y, −n_x) (per unit thickness; |λₜ| ≤ the friction bound).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tangential_multiplier: Option<f64>,
+    /// Frictional pairs only: λₜ / `weight`, the tangential traction along t.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tangential_traction: Option<f64>,
+    /// Frictional pairs only: the slave node's slip relative to the master along t.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slip: Option<f64>,
+    /// Frictional pairs only: `open` (not active), `stick` or `slip` (see
+    /// [`SLIP_FRACTION`](super::friction::SLIP_FRACTION)).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub state: Option<ContactState>,
 }
 
 /// One contact pair.
@@ -94,9 +110,25 @@ pub struct ContactReport {
     pub active: usize,
     /// Sum of the multipliers: the total normal force transmitted.
     pub normal_force: f64,
+    /// Frictional pairs only: the friction law, `{"coulomb": μ}` or `{"tresca": bound}`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction: Option<FrictionLaw>,
+    /// Frictional pairs only: the sum of the tangential multipliers (along each row's tangent).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tangential_force: Option<f64>,
     /// Per slave node, one per row, in row order (the order of the slave node indices, not
     /// along the interface: sort by `piece`, then `s`, to walk along it).
     pub nodes: Vec<ContactNodeReport>,
+}
+
+/// A pair's friction law as `result.json` writes it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum FrictionLaw {
+    /// Coulomb's coefficient μ.
+    Coulomb(f64),
+    /// Tresca's slip bound (a traction).
+    Tresca(f64),
 }
 
 /// A probe's displacement.
@@ -157,6 +189,9 @@ pub struct RunReport {
     /// The backend's own verdict before the core's residual check (`status` is the program's).
     #[schemars(with = "crate::qp::QpStatus")]
     pub backend_status: String,
+    /// Coulomb friction only: what the fixed point over Tresca problems did.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub coulomb: Option<CoulombRun>,
     /// What the program noticed and worked around (empty when nothing).
     pub warnings: Vec<WarningReport>,
     /// `--backend auto` only: every backend the chain ran, in order (absent otherwise).

@@ -18,6 +18,8 @@ pub struct BodyFields {
     pub von_mises: Vec<f64>,
     /// Contact pressure per node (0 away from contact).
     pub contact_pressure: Vec<f64>,
+    /// Tangential traction, slip and state per node, when the model has friction.
+    pub friction: Option<super::friction::FrictionField>,
 }
 
 /// A row counts as active when its multiplier exceeds 10⁻⁶ of the force scale (the larger of the
@@ -60,6 +62,7 @@ pub fn body_fields(model: &Model, solution: &Solution) -> Vec<BodyFields> {
                 stress,
                 von_mises,
                 contact_pressure: vec![0.0; mesh.nodes.len()],
+                friction: None,
             }
         })
         .collect();
@@ -77,15 +80,21 @@ pub fn body_fields(model: &Model, solution: &Solution) -> Vec<BodyFields> {
             row += 1;
         }
     }
+    if let Some(friction) = super::friction::friction_fields(model, solution, scale) {
+        for (f, t) in fields.iter_mut().zip(friction) {
+            f.friction = Some(t);
+        }
+    }
     fields
 }
 
-/// The force scale of [`is_active`] for a solution: the larger of the largest multiplier and the
-/// total applied load Σ|fᵢ|.
+/// The force scale of [`is_active`] for a solution: the larger of the largest normal multiplier
+/// and the total applied load Σ|fᵢ|.
 pub fn active_scale(model: &Model, solution: &Solution) -> f64 {
     solution
         .multipliers
         .iter()
+        .take(model.normal_rows())
         .copied()
         .fold(0.0, f64::max)
         .max(model.load.iter().map(|f| f.abs()).sum())

@@ -172,6 +172,11 @@ pub struct ContactSection {
     /// `"node-to-segment"` (default) or `"mortar"`.
     #[serde(default)]
     pub formulation: Formulation,
+    /// Coulomb friction coefficient μ ≥ 0 (absent or 0: frictionless); not with `tresca`.
+    pub friction: Option<f64>,
+    /// Tresca slip bound ≥ 0, a traction (force per unit length and unit thickness; absent or
+    /// 0: frictionless); not with `friction`.
+    pub tresca: Option<f64>,
 }
 
 /// `[[probe]]`.

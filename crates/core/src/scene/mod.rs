@@ -35,7 +35,9 @@ pub use file::{
     BodySection, Component, ContactSection, DirichletSection, ModelSection, NeumannSection, Plane,
     ProbeSection, ReferenceSection, RefineSection, SceneFile,
 };
-pub use types::{Body, ContactPair, Dirichlet, Formulation, Neumann, Probe, Reference, Traction};
+pub use types::{
+    Body, ContactPair, Dirichlet, Formulation, Friction, Neumann, Probe, Reference, Traction,
+};
 pub use validate::{name_forbidden, MAX_COEFFICIENT, MIN_COEFFICIENT};
 
 use crate::geometry;

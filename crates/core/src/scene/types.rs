@@ -103,6 +103,19 @@ pub struct ContactPair {
     pub slave: Option<usize>,
     /// How the pair's rows are built.
     pub formulation: Formulation,
+    /// The friction law, `None` for a frictionless pair (no tangential rows at all).
+    pub friction: Option<Friction>,
+}
+
+/// The friction law of a contact pair (`[[contact]] friction` or `tresca`; docs/scene.md,
+/// "Friction").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Friction {
+    /// Coulomb: |λₜ| ≤ μ λₙ at each row, μ > 0 (`friction = μ`).
+    Coulomb(f64),
+    /// Tresca: |λₜ| ≤ s·ℓ at each row, s > 0 a traction (force per unit length and unit
+    /// thickness) and ℓ the row's tributary length (`tresca = s`).
+    Tresca(f64),
 }
 
 /// A point whose displacement is reported.

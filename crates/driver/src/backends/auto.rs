@@ -44,8 +44,8 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 use signorini_core::qp::{
-    checked_status, kkt_residuals, touched_dofs, QpBackend, QpError, QpProblem, QpSolution,
-    QpStatus, SolveOptions,
+    checked_status, kkt_residuals, touched_dofs, BlockKind, QpBackend, QpError, QpProblem,
+    QpSolution, QpStatus, SolveOptions,
 };
 use signorini_core::report::{AttemptReport, RunReport};
 
@@ -91,6 +91,15 @@ pub const LONG_CHAIN: [BackendKind; 4] = [
     BackendKind::DualSsn,
 ];
 
+/// The chain for problems with friction's box rows and a short interface: projected
+/// Gauss–Seidel on the condensed dual (the classic method for friction; its projection onto
+/// |λₜ| ≤ s is exact), then clarabel on the primal form with auxiliary unknowns.
+pub const FRICTION_SHORT_CHAIN: [BackendKind; 2] = [BackendKind::DualPgs, BackendKind::Clarabel];
+
+/// The chain for friction on long interfaces or large duals: clarabel (no dense m × m matrix),
+/// then OSQP, both on the primal form with auxiliary unknowns.
+pub const FRICTION_LONG_CHAIN: [BackendKind; 2] = [BackendKind::Clarabel, BackendKind::Osqp];
+
 /// The backend's name.
 pub const NAME: &str = "auto";
 
@@ -105,6 +114,8 @@ pub struct Features {
     pub touched: usize,
     /// Rigid-body modes held by contact alone (A singular).
     pub kernel: usize,
+    /// Rows with bounded multipliers (friction's tangential rows, [`BlockKind::Box`]).
+    pub box_rows: usize,
 }
 
 impl Features {
@@ -115,6 +126,12 @@ impl Features {
             rows: problem.rows(),
             touched: touched_dofs(&problem.constraints),
             kernel: problem.kernel.len(),
+            box_rows: problem
+                .blocks
+                .iter()
+                .filter(|b| b.kind() == BlockKind::Box)
+                .map(|b| b.rows())
+                .sum(),
         }
     }
 
@@ -144,7 +161,23 @@ pub fn plan(f: &Features) -> Plan {
     let ratio = f.length_ratio();
     let long = ratio > LONG_INTERFACE;
     let large = f.rows > SSN_MAX_ROWS || f.touched > SSN_MAX_TOUCHED;
-    let (chain, why) = if long {
+    let (chain, why) = if f.box_rows > 0 && (long || large) {
+        (
+            &FRICTION_LONG_CHAIN[..],
+            format!(
+                "{} box rows (friction) on a long interface or a large dual (m/√n = {ratio:.2})",
+                f.box_rows
+            ),
+        )
+    } else if f.box_rows > 0 {
+        (
+            &FRICTION_SHORT_CHAIN[..],
+            format!(
+                "{} box rows (friction) on a short interface (m/√n = {ratio:.2})",
+                f.box_rows
+            ),
+        )
+    } else if long {
         (
             &LONG_CHAIN[..],
             format!(
@@ -332,6 +365,11 @@ fn dense_dual(name: &str) -> bool {
 impl QpBackend for AutoBackend {
     fn name(&self) -> &'static str {
         NAME
+    }
+
+    /// Every kind: the rule's chains for box rows hold only backends that solve them.
+    fn supports(&self, _kind: BlockKind) -> bool {
+        true
     }
 
     fn solve_valid(

@@ -51,6 +51,9 @@ pub struct BodyField<'a> {
     pub von_mises: &'a [f64],
     /// Contact pressure per node (0 away from contact).
     pub contact_pressure: &'a [f64],
+    /// Tangential traction, slip and state per node, when the model has friction (then for
+    /// every body).
+    pub friction: Option<&'a signorini_core::report::FrictionField>,
 }
 
 impl<'a> BodyField<'a> {
@@ -72,6 +75,7 @@ impl<'a> BodyField<'a> {
                 stress: &f.stress,
                 von_mises: &f.von_mises,
                 contact_pressure: &f.contact_pressure,
+                friction: f.friction.as_ref(),
             })
             .collect()
     }
@@ -211,6 +215,16 @@ fn validate(bodies: &[BodyField]) -> Result<(), OutputError> {
         };
         check("displacement", b.displacement.len(), nodes, "nodes")?;
         check("contact_pressure", b.contact_pressure.len(), nodes, "nodes")?;
+        if let Some(f) = b.friction {
+            check(
+                "tangential_traction",
+                f.tangential_traction.len(),
+                nodes,
+                "nodes",
+            )?;
+            check("slip", f.slip.len(), nodes, "nodes")?;
+            check("contact_state", f.state.len(), nodes, "nodes")?;
+        }
         check("stress", b.stress.len(), cells, "cells")?;
         check("von_mises", b.von_mises.len(), cells, "cells")?;
         for i in 0..cells {

@@ -68,6 +68,7 @@ fn body<'a>(name: &'a str, mesh: &'a Mesh, f: &'a Fields) -> BodyField<'a> {
         stress: &f.s,
         von_mises: &f.vm,
         contact_pressure: &f.p,
+        friction: None,
     }
 }
 

@@ -280,15 +280,43 @@ fn point_data(bodies: &[BodyField]) -> Vec<Array> {
         .iter()
         .flat_map(|b| b.contact_pressure.iter().copied())
         .collect();
-    vec![
+    let mut arrays = vec![
         array("displacement", 3, 3, Values::F64(displacement)),
         array("contact_pressure", 1, 6, Values::F64(pressure)),
-        array(
-            "body_id",
-            1,
-            24,
-            Values::I32(body_ids(bodies, |b| b.mesh.nodes.len())),
-        ),
+    ];
+    arrays.extend(friction_data(bodies));
+    arrays.push(array(
+        "body_id",
+        1,
+        24,
+        Values::I32(body_ids(bodies, |b| b.mesh.nodes.len())),
+    ));
+    arrays
+}
+
+/// With friction (every body has its fields): `tangential_traction`, `slip` (Float64) and
+/// `contact_state` (Int32: 0 open or no row, 1 stick, 2 slip) per node; nothing otherwise.
+fn friction_data(bodies: &[BodyField]) -> Vec<Array> {
+    let Some(fields) = bodies
+        .iter()
+        .map(|b| b.friction)
+        .collect::<Option<Vec<_>>>()
+    else {
+        return Vec::new();
+    };
+    let traction = fields
+        .iter()
+        .flat_map(|f| f.tangential_traction.iter().copied())
+        .collect();
+    let slip = fields.iter().flat_map(|f| f.slip.iter().copied()).collect();
+    let state = fields
+        .iter()
+        .flat_map(|f| f.state.iter().copied())
+        .collect();
+    vec![
+        array("tangential_traction", 1, 6, Values::F64(traction)),
+        array("slip", 1, 6, Values::F64(slip)),
+        array("contact_state", 1, 24, Values::I32(state)),
     ]
 }
 

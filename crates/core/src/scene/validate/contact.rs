@@ -2,11 +2,11 @@
 //! boundary of both), slave and physical group (which needs a Gmsh body).
 
 use super::outlines::Outlines;
-use super::values::{check_region, plural, Names};
+use super::values::{check_finite, check_region, plural, Names};
 use crate::geometry;
 use crate::scene::draft::{DraftBody, Shape};
 use crate::scene::file::ContactSection;
-use crate::scene::types::ContactPair;
+use crate::scene::types::{ContactPair, Friction};
 use crate::scene::SceneError;
 
 /// `contact #i ("a" – "b")`, `i` from 0, with the names as the section lists them.
@@ -67,13 +67,42 @@ pub(super) fn validate_contact(
             return Err(contact_group_missing(&s, name, &[]));
         }
     }
+    let friction = friction_law(&s, c.friction, c.tresca)?;
     Ok(ContactPair {
         bodies: [a, b],
         region,
         group: c.group,
         slave,
         formulation: c.formulation,
+        friction,
     })
+}
+
+/// The pair's friction law from `friction` (Coulomb's μ) or `tresca` (a slip bound): each finite
+/// and ≥ 0, not both; 0 or absent is frictionless (`None`).
+fn friction_law(
+    s: &str,
+    coulomb: Option<f64>,
+    tresca: Option<f64>,
+) -> Result<Option<Friction>, SceneError> {
+    for (key, value) in [("friction", coulomb), ("tresca", tresca)] {
+        if let Some(v) = value {
+            check_finite(s, key, &[v])?;
+            if v < 0.0 {
+                return Err(SceneError::invalid(s, key, format!("must be ≥ 0, got {v}")));
+            }
+        }
+    }
+    match (coulomb, tresca) {
+        (Some(_), Some(_)) => Err(SceneError::invalid(
+            s,
+            "tresca",
+            "cannot be given with `friction` on one pair: choose Coulomb (`friction = μ`) or Tresca (`tresca = bound`)",
+        )),
+        (Some(mu), None) if mu > 0.0 => Ok(Some(Friction::Coulomb(mu))),
+        (None, Some(bound)) if bound > 0.0 => Ok(Some(Friction::Tresca(bound))),
+        _ => Ok(None),
+    }
 }
 
 /// The two distinct bodies a pair names.

@@ -2,14 +2,18 @@
 //! the reduced QP through a backend on the nondimensionalised problem, checked by the core's own
 //! KKT residuals.
 
+mod coulomb;
+
 use std::time::{Duration, Instant};
 
 use crate::linalg::{CholeskyPattern, FactorInfo, LinalgError, SparseCholesky};
 use crate::model::{Model, ModelError};
 use crate::qp::{
     checked_status, kkt_residuals, mat_t_vec, CscMatrix, KktResiduals, QpBackend, QpError,
-    QpProblem, QpScaling, QpStatus, SolveOptions,
+    QpProblem, QpScaling, QpSolution, QpStatus, SolveOptions,
 };
+
+pub use coulomb::{CoulombRun, MAX_OUTER};
 
 /// Name reported when no QP was needed.
 pub const DIRECT: &str = "cholesky";
@@ -58,6 +62,10 @@ pub struct Solution {
     pub solve_time: Duration,
     /// A note from the backend.
     pub message: Option<String>,
+    /// The Coulomb fixed point's account, when the model has Coulomb rows.
+    pub coulomb: Option<CoulombRun>,
+    /// The tolerance the answer was judged by (`--tol`); also the stick/slip threshold's.
+    pub tolerance: f64,
 }
 
 /// A QP in dimensionless form, together with the units that bring its answers back.  Holding
@@ -101,7 +109,6 @@ pub fn solve_scaled(
 ) -> Result<Solution, SolveError> {
     let problem = &qp.problem;
     let units = qp.scaling;
-    let energy = units.stiffness * units.displacement * units.displacement;
     if problem.rows() == 0 {
         return solve_direct(model, qp, options);
     }
@@ -118,6 +125,7 @@ pub fn solve_scaled(
                 "the displacement scale ‖f‖∞ / k̄ (k̄ = {:e}) overflows: the answer cannot be represented in the scene's units; rescale them (the backend was not run)",
                 units.stiffness
             ),
+            options.tol,
         ));
     }
     if problem.load.iter().all(|f| *f == 0.0) && problem.gap.iter().all(|g| *g >= 0.0) {
@@ -135,12 +143,43 @@ pub fn solve_scaled(
             objective: 0.0,
             solve_time: Duration::ZERO,
             message: Some("unloaded and no initial overlap: the answer is exactly zero; the backend was not run".into()),
+            coulomb: None,
+            tolerance: options.tol,
         }
         .checked_finite());
     }
+    if model
+        .tangential
+        .iter()
+        .any(|t| matches!(t.law, crate::scene::Friction::Coulomb(_)))
+    {
+        return coulomb::fixed_point(model, qp, backend, options);
+    }
     let start = Instant::now();
     let raw = backend.solve(problem, options)?;
-    let elapsed = start.elapsed();
+    Ok(finish(
+        model,
+        problem,
+        units,
+        backend.name(),
+        raw,
+        start.elapsed(),
+        options,
+    ))
+}
+
+/// The solution in the scene's units from a backend's answer `raw` to the scaled `problem`:
+/// residuals measured on `problem`, the status checked against them (see [`checked_status`]).
+fn finish(
+    model: &Model,
+    problem: &QpProblem,
+    units: QpScaling,
+    backend: &str,
+    raw: QpSolution,
+    elapsed: Duration,
+    options: &SolveOptions,
+) -> Solution {
+    let energy = units.stiffness * units.displacement * units.displacement;
     let residuals =
         kkt_residuals(problem, &raw.x, &raw.multipliers).with_length_scale(units.displacement);
     let status = checked_status(raw.status, &residuals, options.tol);
@@ -151,8 +190,8 @@ pub fn solve_scaled(
     };
     let backend_status = raw.status;
     let solution = units.unscale(raw);
-    Ok(Solution {
-        backend: backend.name().to_string(),
+    Solution {
+        backend: backend.to_string(),
         displacement: model.expand(&solution.x),
         multipliers: solution.multipliers,
         status,
@@ -162,8 +201,10 @@ pub fn solve_scaled(
         objective,
         solve_time: elapsed,
         message: solution.message,
+        coulomb: None,
+        tolerance: options.tol,
     }
-    .checked_finite())
+    .checked_finite()
 }
 
 /// The solve without contact rows: one sparse Cholesky factorisation of the scaled stiffness
@@ -196,6 +237,7 @@ fn solve_direct(
                     0,
                     start.elapsed(),
                     format!("the sparse Cholesky factorisation failed: {e}"),
+                    options.tol,
                 ));
             }
         }
@@ -216,6 +258,8 @@ fn solve_direct(
         residuals,
         solve_time: elapsed,
         message: None,
+        coulomb: None,
+        tolerance: options.tol,
     }
     .checked_finite())
 }
@@ -230,6 +274,7 @@ impl Solution {
         rows: usize,
         solve_time: Duration,
         message: String,
+        tolerance: f64,
     ) -> Self {
         Self {
             backend: backend.to_string(),
@@ -242,6 +287,8 @@ impl Solution {
             objective: f64::NAN,
             solve_time,
             message: Some(message),
+            coulomb: None,
+            tolerance,
         }
     }
 

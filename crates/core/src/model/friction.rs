@@ -1,0 +1,70 @@
+//! Tangential rows of frictional pairs (docs/scene.md, "Friction").
+//!
+//! A pair with a friction law gives, for each of its (normal) contact rows, one tangential row
+//! on the same slave node and master weights, along the row's tangent t = (n_y, −n_x) (the
+//! normal turned clockwise by a right angle: +x for a slave resting on a master below it):
+//!
+//! ```text
+//! rₜ = −t·u_X + Σₖ wₖ t·u_k − gₜ,    |λₜ| ≤ s,    s |rₜ| = λₜ rₜ
+//! ```
+//!
+//! so −rₜ is the slave node's slip along t relative to the master (measured from the reference
+//! configuration: gₜ = 0), and λₜ the tangential force the master exerts on the slave node,
+//! along t (its force on the slave is +λₜ t, as the normal row's is +λₙ n).  At a slipping node
+//! λₜ = s sign rₜ: the friction force opposes the slip.  The bound s is Tresca's traction times
+//! the row's tributary length (a fixed force), or Coulomb's μ λₙ of the node's normal row
+//! (updated by the solve's fixed point, `crate::friction`).  All tangential rows come after all
+//! normal rows in B, as one box block ([`crate::qp::ConstraintBlock::Box`]).
+
+use crate::contact::PairRows;
+use crate::geometry::Point;
+use crate::scene::Friction;
+
+/// One tangential row: which normal row it shares its node with, and its friction law.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TangentialRow {
+    /// Index of the normal row (among the normal rows of B, in pair order).
+    pub normal_row: usize,
+    /// Index of the pair in the scene.
+    pub pair: usize,
+    /// The pair's friction law.
+    pub law: Friction,
+    /// The normal row's tributary length (turns a Tresca traction into the row's force bound).
+    pub tributary: f64,
+}
+
+impl TangentialRow {
+    /// The bound s of the row's multiplier, given its normal row's multiplier λₙ (used by
+    /// Coulomb only; a negative round-off λₙ counts as 0).
+    pub fn bound(&self, normal_multiplier: f64) -> f64 {
+        match self.law {
+            Friction::Coulomb(mu) => mu * normal_multiplier.max(0.0),
+            Friction::Tresca(traction) => traction * self.tributary,
+        }
+    }
+}
+
+/// The tangent of a row with unit normal `n`: n turned clockwise by a right angle.
+pub fn tangent(n: Point) -> Point {
+    [n[1], -n[0]]
+}
+
+/// The tangential rows of `contacts`' frictional pairs, in the order of their normal rows.
+pub(super) fn tangential_rows(contacts: &[PairRows]) -> Vec<TangentialRow> {
+    let mut rows = Vec::new();
+    let mut normal_row = 0;
+    for pair in contacts {
+        for r in &pair.rows {
+            if let Some(law) = pair.friction {
+                rows.push(TangentialRow {
+                    normal_row,
+                    pair: pair.pair,
+                    law,
+                    tributary: r.tributary,
+                });
+            }
+            normal_row += 1;
+        }
+    }
+    rows
+}

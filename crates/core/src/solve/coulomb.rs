@@ -1,0 +1,182 @@
+//! Coulomb friction by a fixed point over Tresca problems (docs/scene.md, "Friction").
+//!
+//! Coulomb's bound μ λₙ depends on the normal multiplier, so the contact problem is no longer a
+//! QP.  Each outer iteration k solves the Tresca QP whose Coulomb rows have the bounds
+//! sᵏ = μ max(0, λₙᵏ⁻¹) of the previous iterate, through any backend that solves box rows, and
+//! stops when the answer meets the tolerance *with its own bounds* μ max(0, λₙᵏ): then it
+//! satisfies Coulomb's conditions, measured by the same residuals as every answer.  The first
+//! iterate has every Coulomb row bounded by the whole load ‖f‖₁ (in the scaled problem's force
+//! unit, at least 1): nearly every node sticks, so a body that only friction holds sideways is
+//! held from the start (a frictionless start would let it slide away, an unbounded problem).
+//!
+//! The map λₙᵏ⁻¹ ↦ λₙᵏ contracts for small μ (the coupling of normal and tangential forces is
+//! of order μ), so the iterates converge linearly; [`CoulombRun`] reports the outer iterations
+//! and the last ratio of successive changes.  A run that has not converged after [`MAX_OUTER`]
+//! iterations ends `max-iterations`; one whose inner solve fails ends with that solve's status.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use super::{finish, ScaledQp, Solution, SolveError};
+use crate::model::Model;
+use crate::qp::{
+    checked_status, kkt_residuals, ConstraintBlock, QpBackend, QpProblem, QpStatus, SolveOptions,
+};
+use crate::scene::Friction;
+
+/// The outer iterations allowed (each is one full solve).
+pub const MAX_OUTER: usize = 100;
+
+/// What the Coulomb fixed point did.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
+pub struct CoulombRun {
+    /// Outer iterations (Tresca solves) run.
+    pub outer_iterations: usize,
+    /// The last change of the Coulomb bounds, max |sᵏ⁺¹ − sᵏ| / max sᵏ⁺¹.
+    pub last_change: f64,
+    /// The ratio of the last two changes (an estimate of the map's contraction; `None` before
+    /// two changes were measured, and then absent from result.json).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contraction: Option<f64>,
+    /// Whether the answer met the tolerance with its own bounds.
+    pub converged: bool,
+}
+
+/// One Coulomb row of the QP: its index in the box block, its normal row, μ.
+struct CoulombRow {
+    slot: usize,
+    normal_row: usize,
+    mu: f64,
+}
+
+/// The fixed point (see the module docs) on the scaled QP `qp` of `model`.
+pub(super) fn fixed_point(
+    model: &Model,
+    qp: &ScaledQp,
+    backend: &mut dyn QpBackend,
+    options: &SolveOptions,
+) -> Result<Solution, SolveError> {
+    let start = Instant::now();
+    let rows: Vec<CoulombRow> = model
+        .tangential
+        .iter()
+        .enumerate()
+        .filter_map(|(slot, t)| match t.law {
+            Friction::Coulomb(mu) => Some(CoulombRow {
+                slot,
+                normal_row: t.normal_row,
+                mu,
+            }),
+            Friction::Tresca(_) => None,
+        })
+        .collect();
+    let mut problem = qp.problem.clone();
+    let first = problem.load.iter().map(|f| f.abs()).sum::<f64>().max(1.0);
+    let mut bounds: Vec<f64> = vec![first; rows.len()];
+    set_bounds(&mut problem, &rows, &bounds);
+    let mut iterations = 0;
+    let mut changes: Vec<f64> = Vec::new();
+    let mut outer = 0;
+    let (raw, converged) = loop {
+        outer += 1;
+        let mut raw = backend.solve(&problem, options)?;
+        iterations += raw.iterations;
+        let next: Vec<f64> = rows
+            .iter()
+            .map(|r| {
+                r.mu * raw
+                    .multipliers
+                    .get(r.normal_row)
+                    .copied()
+                    .unwrap_or(0.0)
+                    .max(0.0)
+            })
+            .collect();
+        let scale = next.iter().fold(0.0_f64, |m, s| m.max(*s));
+        let change = bounds
+            .iter()
+            .zip(&next)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0_f64, f64::max)
+            / scale.max(f64::MIN_POSITIVE);
+        changes.push(change);
+        // Judged with its own bounds μ max(0, λₙ): Coulomb's conditions exactly.
+        set_bounds(&mut problem, &rows, &next);
+        // An inaccurate inner answer may still meet the tolerance once judged with the next
+        // bounds, or lead to one that does; any other verdict ends the fixed point.
+        if !matches!(raw.status, QpStatus::Solved | QpStatus::Inaccurate) {
+            break (raw, false);
+        }
+        let residuals = kkt_residuals(&problem, &raw.x, &raw.multipliers);
+        if checked_status(raw.status, &residuals, options.tol) == QpStatus::Solved {
+            break (raw, true);
+        }
+        if outer >= MAX_OUTER || options.time_limit.is_some_and(|t| start.elapsed() >= t) {
+            raw.status = if outer >= MAX_OUTER {
+                QpStatus::MaxIterations
+            } else {
+                QpStatus::TimeLimit
+            };
+            break (raw, false);
+        }
+        // The next solve drops the bounds of normal forces at round-off level (at most tol of
+        // the largest: an interior-point method leaves 1e-10 on open rows), which would give
+        // nearly free tangential rows; the check above keeps the exact bounds.
+        bounds = next
+            .iter()
+            .map(|&s| if s > options.tol * scale { s } else { 0.0 })
+            .collect();
+        set_bounds(&mut problem, &rows, &bounds);
+    };
+    let run = CoulombRun {
+        outer_iterations: outer,
+        last_change: changes.last().copied().unwrap_or(0.0),
+        contraction: (changes.len() >= 2)
+            .then(|| changes[changes.len() - 1] / changes[changes.len() - 2]),
+        converged,
+    };
+    let mut raw = raw;
+    raw.iterations = iterations;
+    let note = format!(
+        "Coulomb fixed point: {} outer iteration(s){}, last change of the bounds {:.2e}{}",
+        run.outer_iterations,
+        if converged {
+            ", converged"
+        } else {
+            ", not converged"
+        },
+        run.last_change,
+        run.contraction
+            .map(|c| format!(", contraction {c:.3}"))
+            .unwrap_or_default()
+    );
+    raw.message = Some(match raw.message.take() {
+        Some(m) => format!("{note}; last solve: {m}"),
+        None => note,
+    });
+    let mut solution = finish(
+        model,
+        &problem,
+        qp.scaling,
+        backend.name(),
+        raw,
+        start.elapsed(),
+        options,
+    );
+    solution.coulomb = Some(run);
+    Ok(solution)
+}
+
+/// Sets the bounds of the Coulomb rows (the rest of the box block keeps Tresca's).
+fn set_bounds(problem: &mut QpProblem, rows: &[CoulombRow], bounds: &[f64]) {
+    if let Some(ConstraintBlock::Box { bounds: block }) = problem
+        .blocks
+        .iter_mut()
+        .find(|b| matches!(b, ConstraintBlock::Box { .. }))
+    {
+        for (r, s) in rows.iter().zip(bounds) {
+            block[r.slot] = *s;
+        }
+    }
+}

@@ -1,0 +1,314 @@
+//! Friction from the command line (issue 20): Coulomb and Tresca pairs solved by every backend
+//! that solves box rows, checked against statics that hold exactly in the small-displacement
+//! model — full slip on a flat base (tangential force μN), sticking below the threshold, the
+//! NAFEMS-type incline F/G = (tan α + μ)/(1 − μ tan α) — and refusals of bad friction keys.
+
+// Test code: a failed unwrap is a failed test.
+#![allow(clippy::unwrap_used)]
+
+mod common;
+
+use std::path::Path;
+
+use common::{json, signorini, succeeded};
+use serde_json::Value;
+
+/// The backends that solve box rows (dual-ssn and pdas refuse them today).
+const BACKENDS: [&str; 5] = ["auto", "clarabel", "osqp", "dual-pgs", "dual-uzawa"];
+
+/// KKT tolerance of the runs.  The statics below hold exactly for the discrete model, so the
+/// force ratios are as accurate as the answers: within ~10 × tol of the loads (the residuals are
+/// relative to the force scale, the ratios divide two forces of that scale).
+const TOL: &str = "1e-10";
+
+/// A base [0, 4] × [0, 1] clamped at the bottom and a block [1, 2] × [1, 2] on it (non-matching
+/// meshes: h 0.25 and 0.2), pressed by a uniform traction p = 1e-3 on its top (N = 1e-3); `extra`
+/// adds the drag and `contact` the pair's keys.
+fn flat(contact: &str, extra: &str) -> String {
+    format!(
+        r#"title = "block on a flat base"
+[[body]]
+name = "base"
+polygon = [[0, 0], [4, 0], [4, 1], [0, 1]]
+hmax = 0.25
+young = 1.0
+poisson = 0.3
+[[body]]
+name = "block"
+polygon = [[1, 1], [2, 1], [2, 2], [1, 2]]
+hmax = 0.2
+young = 1.0
+poisson = 0.3
+[[dirichlet]]
+body = "base"
+region = [0, 4, 0, 0]
+{extra}
+[[contact]]
+bodies = ["block", "base"]
+region = [0.9, 2.1, 0.99, 1.01]
+{contact}
+"#
+    )
+}
+
+/// The block's left side pushed 0.01 along x (its y free): far beyond the elastic shear of the
+/// block (strains ~1e-3), so every contact node slides.
+const DRAGGED: &str = r#"[[dirichlet]]
+body = "block"
+region = [1, 1, 1.01, 2]
+value = [0.01, 0]
+components = ["x"]
+[[neumann]]
+body = "block"
+region = [1, 2, 2, 2]
+traction = [0, -1e-3]"#;
+
+fn solve(dir: &Path, scene: &str, backend: &str) -> Value {
+    std::fs::write(dir.join("scene.toml"), scene).unwrap();
+    let out = dir.join(format!("out-{backend}"));
+    let o = signorini(
+        &[
+            "solve",
+            "scene.toml",
+            "--backend",
+            backend,
+            "--tol",
+            TOL,
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        dir,
+    );
+    succeeded(&o);
+    json(&out.join("result.json"))
+}
+
+fn body<'a>(r: &'a Value, name: &str) -> &'a Value {
+    r["bodies"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|b| b["name"] == name)
+        .unwrap()
+}
+
+fn states(pair: &Value) -> Vec<String> {
+    pair["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n["state"].as_str().unwrap().to_string())
+        .collect()
+}
+
+#[test]
+fn a_dragged_block_slides_with_tangential_force_mu_n_on_every_backend_and_formulation() {
+    let dir = tempfile::tempdir().unwrap();
+    for formulation in ["node-to-segment", "mortar"] {
+        for mu in [0.1, 0.3] {
+            let scene = flat(
+                &format!("friction = {mu}\nformulation = \"{formulation}\""),
+                DRAGGED,
+            );
+            for backend in BACKENDS {
+                let r = solve(dir.path(), &scene, backend);
+                let what = format!("{formulation}, μ = {mu}, {backend}");
+                assert_eq!(r["status"], "solved", "{what}");
+                let pair = &r["contacts"][0];
+                let n = pair["normal_force"].as_f64().unwrap();
+                let t = pair["tangential_force"].as_f64().unwrap();
+                // N = p × 1 = 1e-3 (the block's vertical balance); |T| = μN at full slip.
+                assert!((n - 1e-3).abs() < 1e-11, "{what}: N = {n}");
+                assert!(
+                    (t.abs() - mu * n).abs() < 1e-8 * n,
+                    "{what}: T = {t}, N = {n}"
+                );
+                assert!(states(pair).iter().all(|s| s == "slip"), "{what}: {pair}");
+                // The push needed is the friction force: the block's x reaction is μN.
+                let push = body(&r, "block")["reaction"][0].as_f64().unwrap();
+                assert!(
+                    (push - mu * 1e-3).abs() < 1e-8 * 1e-3,
+                    "{what}: push {push}"
+                );
+                assert_eq!(pair["friction"]["coulomb"], mu, "{what}");
+                assert!(r["coulomb"]["converged"].as_bool().unwrap(), "{what}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_block_held_sideways_by_friction_alone_sticks_below_the_threshold() {
+    // Floating block (no support at all) pressed by P = 1e-3 and dragged by Q = 1e-4 on its
+    // top, μ = 1: Q/P = 0.1 ≪ μ, so every node sticks and the friction carries Q exactly.
+    let dir = tempfile::tempdir().unwrap();
+    let load = "[[neumann]]\nbody = \"block\"\nregion = [1, 2, 2, 2]\ntraction = [1e-4, -1e-3]";
+    for (contact, law) in [("friction = 1.0", "coulomb"), ("tresca = 0.5", "tresca")] {
+        let scene = flat(contact, load);
+        for backend in BACKENDS {
+            let r = solve(dir.path(), &scene, backend);
+            let what = format!("{contact}, {backend}");
+            assert_eq!(r["status"], "solved", "{what}");
+            let pair = &r["contacts"][0];
+            let t = pair["tangential_force"].as_f64().unwrap();
+            assert!((t.abs() - 1e-4).abs() < 1e-8 * 1e-3, "{what}: T = {t}");
+            assert!(states(pair).iter().all(|s| s == "stick"), "{what}: {pair}");
+            assert!(pair["friction"][law].is_number(), "{what}");
+        }
+    }
+}
+
+#[test]
+fn tresca_bounds_the_tangential_traction_at_every_sliding_node() {
+    // Tresca s = 2e-4 (a traction): with the block dragged, every node slides at |λₜ| = s ×
+    // its tributary length, so the tangential traction is ±s everywhere and T = s × 1.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = flat("tresca = 2e-4", DRAGGED);
+    let mut answers = Vec::new();
+    for backend in BACKENDS {
+        let r = solve(dir.path(), &scene, backend);
+        assert_eq!(r["status"], "solved", "{backend}");
+        let pair = &r["contacts"][0];
+        for node in pair["nodes"].as_array().unwrap() {
+            let q = node["tangential_traction"].as_f64().unwrap();
+            assert!((q.abs() - 2e-4).abs() < 1e-8 * 1e-3, "{backend}: {node}");
+            assert_eq!(node["state"], "slip", "{backend}: {node}");
+        }
+        let t = pair["tangential_force"].as_f64().unwrap();
+        assert!((t.abs() - 2e-4).abs() < 1e-8 * 1e-3, "{backend}: T = {t}");
+        assert!(r.get("coulomb").is_none(), "Tresca needs no fixed point");
+        answers.push((backend, r));
+    }
+    // Every backend's displacements agree (the Tresca problem is one convex QP with a unique
+    // answer): the block's largest displacement to 1e-6 relative.
+    let reference = body(&answers[0].1, "block")["max_displacement"]
+        .as_f64()
+        .unwrap();
+    for (backend, r) in &answers {
+        let d = body(r, "block")["max_displacement"].as_f64().unwrap();
+        assert!(
+            (d - reference).abs() < 1e-6 * reference,
+            "{backend}: {d} vs {reference}"
+        );
+    }
+}
+
+/// The NAFEMS-type frictional patch test on an incline: a base whose top rises with slope
+/// tan α = 0.1, a block on it (non-matching meshes) pressed by a vertical traction (G) and
+/// pushed horizontally at its left side until it slides up the slope.
+fn incline(mu: f64, formulation: &str) -> String {
+    format!(
+        r#"title = "incline"
+[[body]]
+name = "base"
+polygon = [[0, 0], [4, 0], [4, 1.4], [0, 1.0]]
+hmax = 0.25
+young = 1.0
+poisson = 0.3
+[[body]]
+name = "block"
+polygon = [[1, 1.1], [2, 1.2], [2, 2.2], [1, 2.1]]
+hmax = 0.15
+young = 1.0
+poisson = 0.3
+[[dirichlet]]
+body = "base"
+region = [0, 4, 0, 0]
+[[dirichlet]]
+body = "block"
+region = [1, 1, 1.11, 2.1]
+value = [0.01, 0]
+components = ["x"]
+[[neumann]]
+body = "block"
+region = [1, 2, 2.1, 2.2]
+traction = [0, -1e-3]
+[[contact]]
+bodies = ["block", "base"]
+region = [0.9, 2.1, 1.05, 1.25]
+formulation = "{formulation}"
+{friction}
+"#,
+        friction = if mu > 0.0 {
+            format!("friction = {mu}")
+        } else {
+            String::new()
+        }
+    )
+}
+
+#[test]
+fn pushing_a_block_up_an_incline_takes_f_over_g_as_the_statics_of_sliding_say() {
+    let dir = tempfile::tempdir().unwrap();
+    let tan = 0.1_f64;
+    for formulation in ["node-to-segment", "mortar"] {
+        for mu in [0.0, 0.1, 0.2, 0.3] {
+            // Sliding up the slope: F = N sin α + μ N cos α, G = N cos α − μ N sin α
+            // (0.412371 at μ = 0.3, the NAFEMS value).
+            let expected = (tan + mu) / (1.0 - mu * tan);
+            let r = solve(dir.path(), &incline(mu, formulation), "auto");
+            let what = format!("{formulation}, μ = {mu}");
+            assert_eq!(r["status"], "solved", "{what}");
+            let block = body(&r, "block");
+            let f = block["reaction"][0].as_f64().unwrap();
+            let g = -block["applied"][1].as_f64().unwrap();
+            // The issue asks for 0.1 % (published codes reach 0.05 %); the discrete statics are
+            // exact, so the ratio is held to 1e-7 (solver tolerance × the slope's leverage).
+            assert!(
+                (f / g - expected).abs() < 1e-7 * expected.max(0.1),
+                "{what}: F/G = {}, expected {expected}",
+                f / g
+            );
+            if mu > 0.0 {
+                let pair = &r["contacts"][0];
+                assert!(
+                    states(pair).iter().all(|s| s != "stick"),
+                    "{what}: every node in contact slides: {pair}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn zero_friction_is_the_frictionless_pair_and_bad_friction_keys_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = solve(dir.path(), &flat("", DRAGGED), "auto");
+    for zero in ["friction = 0", "tresca = 0.0"] {
+        let r = solve(dir.path(), &flat(zero, DRAGGED), "auto");
+        assert_eq!(
+            r["constraints"], plain["constraints"],
+            "{zero}: no tangential rows"
+        );
+        assert!(r["contacts"][0].get("friction").is_none(), "{zero}");
+        assert!(
+            r["contacts"][0]["nodes"][0].get("state").is_none(),
+            "{zero}"
+        );
+        assert_eq!(
+            r["contacts"][0]["normal_force"],
+            plain["contacts"][0]["normal_force"]
+        );
+    }
+    for (keys, named) in [
+        ("friction = -0.1", "friction"),
+        ("tresca = -1e-3", "tresca"),
+        ("friction = nan", "friction"),
+        ("tresca = inf", "tresca"),
+        ("friction = 0.3\ntresca = 1e-3", "tresca"),
+    ] {
+        std::fs::write(dir.path().join("bad.toml"), flat(keys, DRAGGED)).unwrap();
+        let out = dir.path().join("bad-out");
+        let o = signorini(
+            &["solve", "bad.toml", "--out", out.to_str().unwrap()],
+            dir.path(),
+        );
+        assert_eq!(o.status.code(), Some(1), "{keys}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains(named) && err.contains("contact #1"),
+            "{keys}: {err}"
+        );
+        assert!(!out.exists(), "{keys}: nothing written");
+    }
+}
