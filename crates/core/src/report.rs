@@ -2,8 +2,9 @@
 //! the `result.json` of `docs/scene.md`.
 //!
 //! * [`document`]: the types `result.json` is written from ([`RunReport`] and its parts);
-//! * [`fields`]: the nodal and element fields of each body (displacements, stresses, pressures),
-//!   interpolation at probes, and the one threshold of active contact ([`is_active`]);
+//! * [`fields`]: the nodal and element fields of each body (displacements, stresses, pressures,
+//!   friction), interpolation at probes; [`active`]: the one threshold of active contact
+//!   ([`is_active`]); [`friction`]: tangential figures and stick/slip states;
 //! * [`arc`]: positions along an interface; [`balance`]: the force balance of each body;
 //! * [`run_report`] (here) puts them together.
 
@@ -12,19 +13,21 @@ use crate::qp::mat_vec;
 use crate::scene::{Friction, Scene};
 use crate::solve::Solution;
 
+pub mod active;
 pub mod arc;
 pub mod balance;
 pub mod document;
 pub mod fields;
 pub mod friction;
 
+pub use active::{active_scale, is_active};
 pub use arc::{interface_arc, ArcPosition};
 pub use balance::{force_balance, BodyBalance, ForceBalance};
 pub use document::{
     AttemptReport, BackendSettings, BodyReport, ContactNodeReport, ContactReport, FrictionLaw,
     ProbeReport, Provenance, RunReport, Timings, WarningReport,
 };
-pub use fields::{active_scale, body_fields, interpolate, is_active, BodyFields};
+pub use fields::{body_fields, interpolate, BodyFields};
 pub use friction::{
     friction_fields, tangential_nodes, ContactState, FrictionField, TangentialNode,
 };

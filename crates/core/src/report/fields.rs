@@ -1,6 +1,7 @@
 //! The fields of each body after a solve — displacements, stresses, von Mises, contact
-//! pressures — their interpolation at a point (probes), and the threshold of active contact.
+//! pressures, friction fields — and their interpolation at a point (probes).
 
+use super::active::{active_scale, is_active};
 use crate::fem::{self, element};
 use crate::geometry::Point;
 use crate::mesh::Mesh;
@@ -20,12 +21,6 @@ pub struct BodyFields {
     pub contact_pressure: Vec<f64>,
     /// Tangential traction, slip and state per node, when the model has friction.
     pub friction: Option<super::friction::FrictionField>,
-}
-
-/// A row counts as active when its multiplier exceeds 10⁻⁶ of the force scale (the larger of the
-/// largest multiplier and the total applied load), so round-off multipliers never count.
-pub fn is_active(multiplier: f64, force_scale: f64) -> bool {
-    multiplier > 1e-6 * force_scale && multiplier > 0.0
 }
 
 /// Displacement at `point` of a mesh by interpolation (`None` if the point is in no cell).
@@ -86,16 +81,4 @@ pub fn body_fields(model: &Model, solution: &Solution) -> Vec<BodyFields> {
         }
     }
     fields
-}
-
-/// The force scale of [`is_active`] for a solution: the larger of the largest normal multiplier
-/// and the total applied load Σ|fᵢ|.
-pub fn active_scale(model: &Model, solution: &Solution) -> f64 {
-    solution
-        .multipliers
-        .iter()
-        .take(model.normal_rows())
-        .copied()
-        .fold(0.0, f64::max)
-        .max(model.load.iter().map(|f| f.abs()).sum())
 }

@@ -4,7 +4,7 @@
 use schemars::JsonSchema;
 use serde::Serialize;
 
-use super::fields::is_active;
+use super::active::is_active;
 use crate::model::Model;
 use crate::solve::Solution;
 
