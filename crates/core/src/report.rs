@@ -65,6 +65,7 @@ pub fn run_report(
         force_balance: balance.relative,
         message: solution.message.clone(),
         coulomb: solution.coulomb,
+        steps: solution.steps.clone(),
         backend_status: solution.backend_status.as_str().to_string(),
         warnings: model
             .warnings

@@ -332,6 +332,7 @@ fn bare_model(qp: &QpProblem) -> Model {
         constraints: sprs::CsMat::zero((0, n)),
         gap: Vec::new(),
         tangential: Vec::new(),
+        path: None,
         floating: Vec::new(),
         kernel: Vec::new(),
         effects: Vec::new(),

@@ -312,3 +312,112 @@ fn zero_friction_is_the_frictionless_pair_and_bad_friction_keys_are_refused() {
         assert!(!out.exists(), "{keys}: nothing written");
     }
 }
+
+/// The dragged block with named loads (`press`, `push`) and the given `[[step]]` tables.
+fn dragged_with_steps(contact: &str, steps: &str) -> String {
+    let named = DRAGGED
+        .replace(
+            "[[dirichlet]]\nbody = \"block\"",
+            "[[dirichlet]]\nname = \"push\"\nbody = \"block\"",
+        )
+        .replace(
+            "[[neumann]]\nbody = \"block\"",
+            "[[neumann]]\nname = \"press\"\nbody = \"block\"",
+        );
+    format!("{}\n{steps}", flat(contact, &named))
+}
+
+#[test]
+fn coulomb_friction_remembers_the_direction_of_the_last_slide() {
+    // Pushed 0.01 to the right, then back to 0.005: the block last slid to the left, so the
+    // friction force points right and the push that holds it is −μN.  Solved in one step at
+    // 0.005 from the reference, the block slides right and the push is +μN.  Statics are exact
+    // at full slip: |F| = μN either way, only the history sets the sign.
+    let dir = tempfile::tempdir().unwrap();
+    let mu = 0.3;
+    let there_and_back = dragged_with_steps(
+        "friction = 0.3",
+        "[[step]]\nloads = { press = 1.0, push = 1.0 }\nincrements = 2\n\
+         [[step]]\nloads = { press = 1.0, push = 0.5 }\nincrements = 2",
+    );
+    let straight = dragged_with_steps(
+        "friction = 0.3",
+        "[[step]]\nloads = { press = 1.0, push = 0.5 }",
+    );
+    for (scene, sign) in [(there_and_back, -1.0), (straight, 1.0)] {
+        for backend in ["auto", "clarabel"] {
+            let r = solve(dir.path(), &scene, backend);
+            assert_eq!(r["status"], "solved", "{backend}");
+            let push = body(&r, "block")["reaction"][0].as_f64().unwrap();
+            assert!(
+                (push - sign * mu * 1e-3).abs() < 1e-8 * 1e-3,
+                "{backend}: push {push}, expected {}",
+                sign * mu * 1e-3
+            );
+            let steps = r["steps"].as_array().map_or(0, Vec::len);
+            assert_eq!(steps, if sign < 0.0 { 4 } else { 0 }, "{backend}");
+            assert!(
+                states(&r["contacts"][0]).iter().all(|s| s == "slip"),
+                "{backend}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_frictionless_load_path_ends_where_the_single_step_solve_is() {
+    // Without friction the answer depends only on the final loads: pressing first, then
+    // pushing (the push's prescribed value ramped through 0, 0.5, 1) must end at the one-step
+    // answer, to the solver's tolerance.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dragged_with_steps(
+        "",
+        "[[step]]\nloads = { press = 1.0 }\nincrements = 2\n\
+         [[step]]\nloads = { press = 1.0, push = 1.0 }\nincrements = 2",
+    );
+    let r = solve(dir.path(), &path, "auto");
+    let one = solve(dir.path(), &flat("", DRAGGED), "auto");
+    assert_eq!(r["status"], "solved");
+    assert_eq!(r["steps"].as_array().unwrap().len(), 4);
+    for name in ["block", "base"] {
+        let (a, b) = (body(&r, name), body(&one, name));
+        for key in ["max_displacement", "max_von_mises"] {
+            let (x, y) = (a[key].as_f64().unwrap(), b[key].as_f64().unwrap());
+            assert!((x - y).abs() < 1e-7 * y.abs(), "{name} {key}: {x} vs {y}");
+        }
+    }
+}
+
+#[test]
+fn load_paths_with_bad_names_or_increments_are_refused_naming_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    for (steps, named) in [
+        ("[[step]]\nloads = { pres = 1.0 }", "pres"),
+        (
+            "[[step]]\nloads = { press = 1.0 }\nincrements = 0",
+            "increments",
+        ),
+        ("[[step]]\nloads = { press = inf }", "loads"),
+    ] {
+        let scene = dragged_with_steps("friction = 0.3", steps);
+        std::fs::write(dir.path().join("bad.toml"), &scene).unwrap();
+        let out = dir.path().join("bad-out");
+        let o = signorini(
+            &["solve", "bad.toml", "--out", out.to_str().unwrap()],
+            dir.path(),
+        );
+        assert_eq!(o.status.code(), Some(1), "{steps}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains("step #1") && err.contains(named),
+            "{steps}: {err}"
+        );
+        assert!(!out.exists());
+    }
+    let twice = dragged_with_steps("", "").replace("name = \"press\"", "name = \"push\"");
+    std::fs::write(dir.path().join("twice.toml"), twice).unwrap();
+    let o = signorini(&["solve", "twice.toml", "--out", "x"], dir.path());
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("\"push\" is used twice"), "{err}");
+}

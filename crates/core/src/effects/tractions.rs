@@ -10,6 +10,8 @@ use crate::scene::{Scene, Traction};
 /// One traction.
 #[derive(Debug, Clone)]
 pub struct Load<'a> {
+    /// Its name, for the load path (`[[step]]`).
+    pub name: Option<&'a str>,
     /// Body index.
     pub body: usize,
     /// Body name (for messages).
@@ -42,6 +44,7 @@ impl<'a> Tractions<'a> {
             .map(|n| {
                 let body = &scene.bodies[n.body];
                 Load {
+                    name: n.name.as_deref(),
                     body: n.body,
                     body_name: &body.name,
                     selection: Selection::of(n.group.as_deref(), n.region, body),

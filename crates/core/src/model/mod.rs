@@ -21,6 +21,7 @@
 mod error;
 mod friction;
 mod meshing;
+mod path;
 mod reduce;
 mod rows;
 mod screen;
@@ -40,6 +41,7 @@ pub use crate::effects::Effect;
 pub use error::ModelError;
 pub use friction::{tangent, TangentialRow};
 pub use meshing::mesh_scene;
+pub use path::{increments, Increment, LoadGroup, LoadPath};
 pub use warnings::{ModelWarning, NoRowReason};
 
 /// The assembled model of a scene.
@@ -72,6 +74,9 @@ pub struct Model {
     /// The tangential rows of the frictional pairs (empty without friction): the last
     /// `tangential.len()` rows of B, one box block in the QP.
     pub tangential: Vec<TangentialRow>,
+    /// The load path of a scene with `[[step]]` (`None`: one step at full load); the model's
+    /// `load` and `fixed` values are those of its last increment.
+    pub path: Option<LoadPath>,
     /// Rigid-body modes left free by the supports, per body (body index, count).
     pub floating: Vec<(usize, usize)>,
     /// Those modes restricted to the free DOFs (a null-space basis of the reduced stiffness).
@@ -119,7 +124,15 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError
     for c in contributions.iter().filter(|c| !c.after_supports()) {
         c.contribute(on, &mut parts)?;
     }
-    let fixed = parts.prescribed();
+    let path = LoadPath::of(scene, &effects, on, &parts.fixed)?;
+    let mut fixed = parts.prescribed();
+    if let Some(path) = &path {
+        // Assembled at the path's end: the report describes the last increment.
+        let values = path.prescribed_at(path.final_factors());
+        for (f, v) in fixed.iter_mut().flatten().zip(values) {
+            *f = v;
+        }
+    }
     let free: Vec<usize> = (0..dofs.len()).filter(|d| fixed[*d].is_none()).collect();
     let (floating, kernel) = free_modes(scene, &effects, &meshes, &dofs, &fixed, &free)?;
     for c in contributions.iter().filter(|c| c.after_supports()) {
@@ -142,7 +155,10 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError
     let free_index = free_index(&free, dofs.len());
     let (a, lift_f) = restrict(&stiffness, &fixed, &free_index, true);
     let (b_free, lift_g) = restrict(&constraints, &fixed, &free_index, false);
-    let load = parts.load;
+    let load = match &path {
+        Some(path) => path.load_at(path.final_factors()),
+        None => parts.load,
+    };
     let f: Vec<f64> = free
         .iter()
         .zip(&lift_f)
@@ -170,6 +186,7 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError
         constraints,
         gap,
         tangential,
+        path,
         floating,
         kernel,
         effects: named,

@@ -8,7 +8,7 @@ use crate::geometry::Point;
 use crate::model::{Effect, ModelWarning};
 use crate::qp::KktResiduals;
 use crate::scene::Formulation;
-use crate::solve::CoulombRun;
+use crate::solve::{CoulombRun, StepRecord};
 
 /// Wall-clock time of each phase, in seconds.
 #[derive(Debug, Clone, Copy, Default, Serialize, JsonSchema)]
@@ -189,7 +189,12 @@ pub struct RunReport {
     /// The backend's own verdict before the core's residual check (`status` is the program's).
     #[schemars(with = "crate::qp::QpStatus")]
     pub backend_status: String,
-    /// Coulomb friction only: what the fixed point over Tresca problems did.
+    /// With `[[step]]` only: every increment of the load path, in order (the fields above are
+    /// the last's).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub steps: Vec<StepRecord>,
+    /// Coulomb friction only: what the fixed point over Tresca problems did (of the last
+    /// increment).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub coulomb: Option<CoulombRun>,
     /// What the program noticed and worked around (empty when nothing).

@@ -30,7 +30,8 @@ pub const SLIP_FRACTION: f64 = 1e-6;
 pub struct TangentialNode {
     /// λₜ: the tangential force on the slave node along the row's tangent t.
     pub multiplier: f64,
-    /// The slip of the slave node relative to the master along t, gₜ − (B u)ₜ.
+    /// The slip of the slave node relative to the master along t since the reference
+    /// configuration, gₜ − (B u)ₜ (the state looks at the last increment's share).
     pub slip: f64,
     /// Its state.
     pub state: ContactState,
@@ -44,6 +45,11 @@ pub fn tangential_nodes(
     force_scale: f64,
 ) -> Vec<Option<TangentialNode>> {
     let tolerance = solution.tolerance;
+    // The last increment's slip decides the state (the whole slip with one increment).
+    let before = solution
+        .previous
+        .as_ref()
+        .map(|u| crate::qp::mat_vec(&model.constraints, u));
     let normal = model.normal_rows();
     let mut out = vec![None; normal];
     let motion = body_motion(model, &solution.displacement);
@@ -53,6 +59,7 @@ pub fn tangential_nodes(
         let row = normal + k;
         let multiplier = solution.multipliers.get(row).copied().unwrap_or(f64::NAN);
         let slip = model.gap[row] - bu[row];
+        let step_slip = before.as_ref().map_or(slip, |b| b[row] - bu[row]);
         let lambda_n = solution
             .multipliers
             .get(t.normal_row)
@@ -63,7 +70,7 @@ pub fn tangential_nodes(
             .unwrap_or(0.0);
         let state = if !is_active(lambda_n, force_scale) {
             ContactState::Open
-        } else if slip.abs() > SLIP_FRACTION.max(100.0 * tolerance) * u {
+        } else if step_slip.abs() > SLIP_FRACTION.max(100.0 * tolerance) * u {
             ContactState::Slip
         } else {
             ContactState::Stick

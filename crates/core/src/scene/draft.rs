@@ -4,7 +4,7 @@
 //! [`Scene`](super::Scene).
 
 use super::file::Plane;
-use super::types::{ContactPair, Probe, Reference, Traction};
+use super::types::{ContactPair, LoadStep, Probe, Reference, Traction};
 use crate::geometry::Point;
 use crate::mesh::{ElementKind, Refinement};
 
@@ -31,6 +31,10 @@ pub(super) struct Draft {
     pub probes: Vec<Probe>,
     /// The analytic answer, if the scene states one.
     pub reference: Option<Reference>,
+    /// The named supports and loads (`[[dirichlet]]` names in order, then `[[neumann]]`'s).
+    pub load_names: Vec<String>,
+    /// The load path (empty: one step, full load).
+    pub steps: Vec<LoadStep>,
 }
 
 impl Draft {
@@ -101,6 +105,8 @@ pub(super) enum Place {
 /// A validated `[[dirichlet]]` section.
 #[derive(Debug)]
 pub(super) struct DraftDirichlet {
+    /// Name, for the load path.
+    pub name: Option<String>,
     /// Body index.
     pub body: usize,
     /// Its box or group.
@@ -114,6 +120,8 @@ pub(super) struct DraftDirichlet {
 /// A validated `[[neumann]]` section.
 #[derive(Debug)]
 pub(super) struct DraftNeumann {
+    /// Name, for the load path.
+    pub name: Option<String>,
     /// Body index.
     pub body: usize,
     /// Its box or group.

@@ -70,6 +70,22 @@ pub struct SceneFile {
     pub probe: Vec<ProbeSection>,
     /// `[reference]`: the scene's analytic answer, for accuracy studies.
     pub reference: Option<ReferenceSection>,
+    /// `[[step]]` tables: the quasi-static load path (none: one step, full load).
+    #[serde(default)]
+    pub step: Vec<StepSection>,
+}
+
+/// `[[step]]`: the factors of the named loads at the step's end, reached in `increments` equal
+/// increments from the previous step's.
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StepSection {
+    /// Factor per named `[[neumann]]` or `[[dirichlet]]` (`name`); a named load not listed has
+    /// factor 0 in this step; unnamed loads have factor 1 throughout.
+    #[serde(default)]
+    pub loads: std::collections::BTreeMap<String, f64>,
+    /// Number of equal increments (≥ 1, default 1).
+    pub increments: Option<i64>,
 }
 
 /// `[model]`.
@@ -124,6 +140,8 @@ pub struct RefineSection {
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DirichletSection {
+    /// Optional name, for `[[step]] loads` (unique among supports and loads).
+    pub name: Option<String>,
     /// Body name.
     pub body: String,
     /// Box `[x1, x2, y1, y2]` (or `group`).
@@ -140,6 +158,8 @@ pub struct DirichletSection {
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NeumannSection {
+    /// Optional name, for `[[step]] loads` (unique among supports and loads).
+    pub name: Option<String>,
     /// Body name.
     pub body: String,
     /// Box `[x1, x2, y1, y2]` (or `group`).

@@ -36,7 +36,8 @@ pub use file::{
     ProbeSection, ReferenceSection, RefineSection, SceneFile,
 };
 pub use types::{
-    Body, ContactPair, Dirichlet, Formulation, Friction, Neumann, Probe, Reference, Traction,
+    Body, ContactPair, Dirichlet, Formulation, Friction, LoadStep, Neumann, Probe, Reference,
+    Traction,
 };
 pub use validate::{name_forbidden, MAX_COEFFICIENT, MIN_COEFFICIENT};
 
@@ -67,6 +68,10 @@ pub struct Scene {
     pub probes: Vec<Probe>,
     /// The analytic answer, if the scene states one.
     pub reference: Option<Reference>,
+    /// The named supports and loads (`[[dirichlet]]` names in order, then `[[neumann]]`'s).
+    pub load_names: Vec<String>,
+    /// The load path (`[[step]]`; empty: one step, full load).
+    pub steps: Vec<LoadStep>,
 }
 
 impl Scene {

@@ -42,6 +42,8 @@ impl Body {
 /// A prescribed displacement on the boundary nodes in a box.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Dirichlet {
+    /// Name, for the load path (`[[step]]`).
+    pub name: Option<String>,
     /// Body index.
     pub body: usize,
     /// Box `[x1, x2, y1, y2]`; with `group`, the bounding box of the group's nodes.
@@ -79,6 +81,8 @@ impl Traction {
 /// A traction on the boundary edges in a box.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Neumann {
+    /// Name, for the load path (`[[step]]`).
+    pub name: Option<String>,
     /// Body index.
     pub body: usize,
     /// Box `[x1, x2, y1, y2]`; with `group`, the bounding box of the group's nodes.
@@ -87,6 +91,16 @@ pub struct Neumann {
     pub group: Option<String>,
     /// The traction field (force per unit length and unit thickness).
     pub traction: Traction,
+}
+
+/// One `[[step]]` of the load path.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadStep {
+    /// Factor of each named load at the step's end, in the order of
+    /// [`crate::scene::Scene::load_names`] (0 for a name the step does not list).
+    pub factors: Vec<f64>,
+    /// Equal increments from the previous step's factors (≥ 1).
+    pub increments: usize,
 }
 
 /// A pair of bodies that may touch.

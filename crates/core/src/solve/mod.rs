@@ -3,6 +3,7 @@
 //! KKT residuals.
 
 mod coulomb;
+mod path;
 
 use std::time::{Duration, Instant};
 
@@ -14,6 +15,7 @@ use crate::qp::{
 };
 
 pub use coulomb::{CoulombRun, MAX_OUTER};
+pub use path::StepRecord;
 
 /// Name reported when no QP was needed.
 pub const DIRECT: &str = "cholesky";
@@ -66,6 +68,11 @@ pub struct Solution {
     pub coulomb: Option<CoulombRun>,
     /// The tolerance the answer was judged by (`--tol`); also the stick/slip threshold's.
     pub tolerance: f64,
+    /// With a load path (`[[step]]`): every increment run, in order (the answer is the last's).
+    pub steps: Vec<StepRecord>,
+    /// With a load path: the full displacement of the increment before the last (the
+    /// reference of the last increment's slip), `None` for the first or only one.
+    pub previous: Option<Vec<f64>>,
 }
 
 /// A QP in dimensionless form, together with the units that bring its answers back.  Holding
@@ -101,7 +108,24 @@ pub fn solve_model(
 /// Solves the scaled QP of the model (built once, solved many times).  Residuals are computed on
 /// the scaled data: the dimensionless ones are unit-free, the penetration is brought back to
 /// length units.
+///
+/// A model with a load path (`[[step]]`) is solved increment by increment
+/// ([`StepRecord`]s in the answer); `qp` is then the QP of the last increment, whose A, B and
+/// scaling every increment shares.
 pub fn solve_scaled(
+    model: &Model,
+    qp: &ScaledQp,
+    backend: &mut dyn QpBackend,
+    options: &SolveOptions,
+) -> Result<Solution, SolveError> {
+    match &model.path {
+        Some(path) if path.increments.len() > 1 => path::along(model, path, qp, backend, options),
+        _ => solve_one(model, qp, backend, options),
+    }
+}
+
+/// One solve of the scaled QP `qp` (a direct solve, a QP, or Coulomb's fixed point).
+fn solve_one(
     model: &Model,
     qp: &ScaledQp,
     backend: &mut dyn QpBackend,
@@ -145,6 +169,8 @@ pub fn solve_scaled(
             message: Some("unloaded and no initial overlap: the answer is exactly zero; the backend was not run".into()),
             coulomb: None,
             tolerance: options.tol,
+            steps: Vec::new(),
+            previous: None,
         }
         .checked_finite());
     }
@@ -203,6 +229,8 @@ fn finish(
         message: solution.message,
         coulomb: None,
         tolerance: options.tol,
+        steps: Vec::new(),
+        previous: None,
     }
     .checked_finite()
 }
@@ -260,6 +288,8 @@ fn solve_direct(
         message: None,
         coulomb: None,
         tolerance: options.tol,
+        steps: Vec::new(),
+        previous: None,
     }
     .checked_finite())
 }
@@ -289,6 +319,8 @@ impl Solution {
             message: Some(message),
             coulomb: None,
             tolerance,
+            steps: Vec::new(),
+            previous: None,
         }
     }
 

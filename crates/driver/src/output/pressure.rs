@@ -18,13 +18,22 @@
 //!   [10⁻³, 10⁵) are plotted divided by a power of ten, which the axis label states
 //!   ("× 1e6"), so that no axis spans extreme magnitudes.
 //!
+//! * A **frictional** pair (its report has `friction`) adds, in the same units, its tangential
+//!   traction q = λₜ / weight (`tangential_traction`, signed along the rows' tangent) as a dashed
+//!   line with square markers, the friction bound ±μp (Coulomb, from each node's pressure) or ±s
+//!   (Tresca) as thin grey dashed lines, and shades the slip zones: the intervals of `s` between
+//!   consecutive nodes whose `state` is `slip` (a lone slipping node gets a band half-way to its
+//!   neighbours).  The y axis then spans the negative tractions too.
+//!
 //! `solve` writes the file with its other outputs exactly when the model has at least one
 //! contact row ([`render_pressure_svg`] returns `None` otherwise).
 
 use plotters::prelude::*;
 
 use plotters::coord::types::RangedCoordf64;
-use signorini_core::report::{ContactNodeReport, ContactReport, RunReport};
+use signorini_core::report::{
+    ContactNodeReport, ContactReport, ContactState, FrictionLaw, RunReport,
+};
 use signorini_core::scene::Formulation;
 
 use super::chart_style::{
@@ -61,7 +70,22 @@ struct PairCurve {
     active: Vec<(f64, f64)>,
     /// Inactive nodes.
     inactive: Vec<(f64, f64)>,
+    /// Frictional pairs: the tangential traction and its bounds.
+    friction: Option<FrictionCurve>,
 }
+
+/// A frictional pair's tangential traction, bounds and slip zones (in plotted units).
+struct FrictionCurve {
+    /// The tangential traction at every finite node, along the interface (per piece).
+    traction: Vec<Vec<(f64, f64)>>,
+    /// The bound at each node (μp or s), drawn at ±.
+    bound: Vec<Vec<(f64, f64)>>,
+    /// The s-intervals where nodes slip.
+    slip_zones: Vec<(f64, f64)>,
+}
+
+/// Legend text of the slip-zone shading.
+pub const SLIP_LABEL: &str = "shaded: slip zone (state = slip)";
 
 /// The legend text of pair `k` (0-based index among the report's pairs).
 pub fn pair_label(k: usize, c: &ContactReport) -> String {
@@ -122,18 +146,19 @@ fn finite(n: &ContactNodeReport) -> bool {
 /// The curve of pair `k` (its finite nodes, scaled by `sx` and `sy`): the runs of consecutive
 /// active nodes of one interface piece, the active and the inactive markers.
 fn pair_curve(k: usize, c: &ContactReport, sx: f64, sy: f64) -> PairCurve {
-    let mut nodes: Vec<_> = c.nodes.iter().filter(|n| finite(n)).collect();
-    nodes.sort_by(|a, b| a.piece.cmp(&b.piece).then(a.s.total_cmp(&b.s)));
+    let mut sorted: Vec<_> = c.nodes.iter().filter(|n| finite(n)).collect();
+    sorted.sort_by(|a, b| a.piece.cmp(&b.piece).then(a.s.total_cmp(&b.s)));
     let mut curve = PairCurve {
         label: xml_sanitize(&pair_label(k, c)),
         colour: PALETTE[k % PALETTE.len()],
         runs: Vec::new(),
         active: Vec::new(),
         inactive: Vec::new(),
+        friction: None,
     };
     let mut run: Vec<(f64, f64)> = Vec::new();
     let mut piece = None;
-    for n in nodes {
+    for n in sorted.iter().copied() {
         let p = (n.s / sx, n.pressure / sy);
         if piece != Some(n.piece) || !n.active {
             if run.len() > 1 {
@@ -152,7 +177,57 @@ fn pair_curve(k: usize, c: &ContactReport, sx: f64, sy: f64) -> PairCurve {
     if run.len() > 1 {
         curve.runs.push(run);
     }
+    curve.friction = friction_curve(c, &sorted, sx, sy);
     curve
+}
+
+/// The pair's tangential traction, its bound and its slip zones, when the pair has friction.
+fn friction_curve(
+    c: &ContactReport,
+    nodes: &[&ContactNodeReport],
+    sx: f64,
+    sy: f64,
+) -> Option<FrictionCurve> {
+    let law = c.friction?;
+    let mut curve = FrictionCurve {
+        traction: Vec::new(),
+        bound: Vec::new(),
+        slip_zones: Vec::new(),
+    };
+    let mut piece = None;
+    let with_q: Vec<(&ContactNodeReport, f64)> = nodes
+        .iter()
+        .filter_map(|n| Some((*n, n.tangential_traction.filter(|q| q.is_finite())?)))
+        .collect();
+    for (k, &(n, q)) in with_q.iter().enumerate() {
+        if piece != Some(n.piece) {
+            curve.traction.push(Vec::new());
+            curve.bound.push(Vec::new());
+            piece = Some(n.piece);
+        }
+        let bound = match law {
+            FrictionLaw::Coulomb(mu) => mu * n.pressure.max(0.0),
+            FrictionLaw::Tresca(s) => s,
+        };
+        if let (Some(t), Some(b)) = (curve.traction.last_mut(), curve.bound.last_mut()) {
+            t.push((n.s / sx, q / sy));
+            b.push((n.s / sx, bound / sy));
+        }
+        if n.state == Some(ContactState::Slip) {
+            // Half-way to the neighbours on the same piece (or the node itself at an end).
+            let half = |j: Option<usize>| {
+                j.and_then(|j| with_q.get(j))
+                    .filter(|(m, _)| m.piece == n.piece)
+                    .map_or(n.s, |(m, _)| 0.5 * (m.s + n.s))
+            };
+            let (lo, hi) = (half(k.checked_sub(1)), half(Some(k + 1)));
+            match curve.slip_zones.last_mut() {
+                Some(zone) if zone.1 >= lo / sx => zone.1 = hi / sx,
+                _ => curve.slip_zones.push((lo / sx, hi / sx)),
+            }
+        }
+    }
+    Some(curve)
 }
 
 /// The pressure chart's coordinates.
@@ -215,6 +290,104 @@ fn draw_series<'a, 'b: 'a>(
     Ok(())
 }
 
+/// The tangential tractions and ± bounds of every frictional pair's finite nodes (for the
+/// axes' scale and range).
+fn friction_values(report: &RunReport) -> Vec<f64> {
+    let mut values = Vec::new();
+    for c in &report.contacts {
+        let Some(law) = c.friction else { continue };
+        for n in c.nodes.iter().filter(|n| finite(n)) {
+            if let Some(q) = n.tangential_traction.filter(|q| q.is_finite()) {
+                let bound = match law {
+                    FrictionLaw::Coulomb(mu) => mu * n.pressure.max(0.0),
+                    FrictionLaw::Tresca(s) => s,
+                };
+                values.extend([q, bound, -bound]);
+            }
+        }
+    }
+    values
+}
+
+/// Light fill of the slip zones.
+const SLIP_SHADE: RGBColor = RGBColor(255, 236, 200);
+
+/// Draws the frictional pairs' slip zones (under everything), their tangential tractions
+/// (dashed, triangles) and ± bounds (thin grey dashes), with their legend entries.
+fn draw_friction<'a, 'b: 'a>(
+    chart: &mut Chart<'a, 'b>,
+    curves: &[PairCurve],
+    yr: (f64, f64),
+) -> Result<(), OutputError> {
+    let frictional: Vec<(&PairCurve, &FrictionCurve)> = curves
+        .iter()
+        .filter_map(|c| Some((c, c.friction.as_ref()?)))
+        .collect();
+    if frictional.is_empty() {
+        return Ok(());
+    }
+    let zones: Vec<(f64, f64)> = frictional
+        .iter()
+        .flat_map(|(_, f)| f.slip_zones.iter().copied())
+        .collect();
+    if !zones.is_empty() {
+        chart
+            .draw_series(
+                zones
+                    .iter()
+                    .map(|&(lo, hi)| Rectangle::new([(lo, yr.0), (hi, yr.1)], SLIP_SHADE.filled())),
+            )
+            .map_err(plot_err)?
+            .label(SLIP_LABEL)
+            .legend(|(x, y)| Rectangle::new([(x, y - 5), (x + 24, y + 5)], SLIP_SHADE.filled()));
+    }
+    let grey = GREY.stroke_width(1);
+    for (_, f) in &frictional {
+        for run in &f.bound {
+            for sign in [1.0, -1.0] {
+                chart
+                    .draw_series(DashedLineSeries::new(
+                        run.iter().map(|&(x, b)| (x, sign * b)),
+                        4,
+                        4,
+                        grey,
+                    ))
+                    .map_err(plot_err)?;
+            }
+        }
+    }
+    chart
+        .draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
+        .map_err(plot_err)?
+        .label("± friction bound (μp or Tresca's s)")
+        .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], grey));
+    for (c, f) in &frictional {
+        let colour = c.colour;
+        let style = colour.stroke_width(2);
+        for run in &f.traction {
+            chart
+                .draw_series(DashedLineSeries::new(run.iter().copied(), 8, 5, style))
+                .map_err(plot_err)?;
+            chart
+                .draw_series(
+                    run.iter()
+                        .map(|&p| TriangleMarker::new(p, MARKER + 1, colour.filled())),
+                )
+                .map_err(plot_err)?;
+        }
+        chart
+            .draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
+            .map_err(plot_err)?
+            .label(format!("{}: tangential traction q", c.label))
+            .legend(move |(x, y)| {
+                EmptyElement::at((x, y))
+                    + PathElement::new([(0, 0), (24, 0)], style)
+                    + TriangleMarker::new((12, 0), MARKER + 1, colour.filled())
+            });
+    }
+    Ok(())
+}
+
 /// Renders `pressure.svg` for the report's contact pairs; `None` when the report has no contact
 /// row (then no file is written).  `title` is the scene's title (any text: it is sanitised, and
 /// plotters escapes `& < > " '`).
@@ -232,7 +405,12 @@ pub fn render_pressure_svg(title: &str, report: &RunReport) -> Result<Option<Str
     };
     let left_out = report.contacts.iter().flat_map(|c| c.nodes.iter()).count() - points().count();
     let (sx, ex) = scale(points().map(|n| n.s));
-    let (sy, ey) = scale(points().map(|n| n.pressure));
+    let tangential = friction_values(report);
+    let (sy, ey) = scale(
+        points()
+            .map(|n| n.pressure)
+            .chain(tangential.iter().copied()),
+    );
 
     let curves: Vec<PairCurve> = report
         .contacts
@@ -243,20 +421,46 @@ pub fn render_pressure_svg(title: &str, report: &RunReport) -> Result<Option<Str
         .collect();
 
     let xr = range(points().map(|n| n.s / sx));
-    let yr = range(points().map(|n| n.pressure / sy));
+    let yr = range(
+        points()
+            .map(|n| n.pressure)
+            .chain(tangential.iter().copied())
+            .map(|v| v / sy),
+    );
     let any_inactive = curves.iter().any(|c| !c.inactive.is_empty());
     let note =
         (left_out > 0).then(|| format!("{left_out} node(s) with a non-finite value left out"));
-    let rows = curves.len() + usize::from(any_inactive) + usize::from(note.is_some());
+    let frictional = curves.iter().filter(|c| c.friction.is_some()).count();
+    let any_slip = curves
+        .iter()
+        .filter_map(|c| c.friction.as_ref())
+        .any(|f| !f.slip_zones.is_empty());
+    let rows = curves.len()
+        + usize::from(any_inactive)
+        + usize::from(note.is_some())
+        + if frictional > 0 { frictional + 1 } else { 0 }
+        + usize::from(any_slip);
 
-    let heading = if title.is_empty() {
-        "contact pressure along the slave interface".to_string()
+    let what = if frictional > 0 {
+        "contact pressure and friction"
     } else {
-        format!("contact pressure: {}", xml_sanitize(title))
+        "contact pressure"
+    };
+    let heading = if title.is_empty() {
+        format!("{what} along the slave interface")
+    } else {
+        format!("{what}: {}", xml_sanitize(title))
     };
     let (heading, heading_font) = fit_heading(heading, SIZE.0);
     let x_desc = with_scale("s: arc length along the slave interface", ex);
-    let y_desc = with_scale("contact pressure p = λ / weight", ey);
+    let y_desc = with_scale(
+        if frictional > 0 {
+            "p = λ / weight; tangential traction q = λ_t / weight"
+        } else {
+            "contact pressure p = λ / weight"
+        },
+        ey,
+    );
 
     let mut buf = String::new();
     {
@@ -293,6 +497,7 @@ pub fn render_pressure_svg(title: &str, report: &RunReport) -> Result<Option<Str
             .draw()
             .map_err(plot_err)?;
 
+        draw_friction(&mut chart, &curves, yr)?;
         draw_series(&mut chart, &curves, any_inactive, note.as_deref())?;
         draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
         root.present().map_err(plot_err)?;

@@ -55,6 +55,8 @@ pub(super) fn import(draft: Draft, base: Option<&Path>) -> Result<Scene, SceneEr
         contacts: draft.contacts,
         probes: draft.probes,
         reference: draft.reference,
+        load_names: draft.load_names,
+        steps: draft.steps,
     })
 }
 
@@ -74,6 +76,7 @@ fn import_dirichlet(
             check_dirichlet_boundary(&s, &region, d.body, outlines)?;
         }
         dirichlet.push(Dirichlet {
+            name: d.name.clone(),
             body: d.body,
             region,
             group,
@@ -105,6 +108,7 @@ fn import_neumann(
             check_neumann_boundary(&s, &region, n.body, outlines)?;
         }
         neumann.push(Neumann {
+            name: n.name.clone(),
             body: n.body,
             region,
             group,

@@ -50,6 +50,7 @@ pub(super) fn validate_neumann(
         check_neumann_boundary(&s, region, body, outlines)?;
     }
     Ok(DraftNeumann {
+        name: n.name,
         body,
         place,
         traction,

@@ -11,7 +11,8 @@
 //! here, section by section, when the TOML gives every outline, and in the import otherwise.
 //!
 //! One file per section kind: [`bodies`] (`[model]`, `[[body]]`), [`supports`]
-//! (`[[dirichlet]]`), [`loads`] (`[[neumann]]`), [`contact`], [`probes`], [`reference`], and
+//! (`[[dirichlet]]`), [`loads`] (`[[neumann]]`), [`steps`] (names and `[[step]]`), [`contact`],
+//! [`probes`], [`reference`], and
 //! [`held`] (every body held); [`place`] (box or group), [`values`] (shared checks) and
 //! [`outlines`] serve them.
 
@@ -23,6 +24,7 @@ pub(super) mod outlines;
 pub(super) mod place;
 pub(super) mod probes;
 pub(super) mod reference;
+pub(super) mod steps;
 pub(super) mod supports;
 pub(super) mod values;
 
@@ -84,6 +86,8 @@ pub(super) fn validate(file: SceneFile) -> Result<Draft, SceneError> {
         .enumerate()
         .map(|(i, n)| loads::validate_neumann(i, n, &bodies, outlines))
         .collect::<Result<Vec<_>, _>>()?;
+    let load_names = steps::load_names(&dirichlet, &neumann, |k| &bodies[k].name)?;
+    let steps = steps::validate_steps(file.step, &load_names)?;
     let mut contacts = Vec::with_capacity(file.contact.len());
     for (i, c) in file.contact.into_iter().enumerate() {
         let pair = contact::validate_contact(i, c, &bodies, &contacts, outlines)?;
@@ -111,6 +115,8 @@ pub(super) fn validate(file: SceneFile) -> Result<Draft, SceneError> {
         contacts,
         probes,
         reference,
+        load_names,
+        steps,
     })
 }
 

@@ -37,6 +37,7 @@ pub(super) fn validate_dirichlet(
         check_dirichlet_boundary(&s, region, body, outlines)?;
     }
     Ok(DraftDirichlet {
+        name: d.name,
         body,
         place,
         value,

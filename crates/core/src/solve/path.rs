@@ -1,0 +1,133 @@
+//! Solving along a load path (`[[step]]`; docs/scene.md, "Load steps"): one solve per
+//! increment, each on the QP of its own loads and prescribed values, the tangential rows'
+//! slip measured from the previous increment's converged state (friction is history-dependent).
+//!
+//! An increment's QP shares A, B, the blocks and the scaling of the last increment's (the one
+//! assembled); only f̃ = f_F − K_FD u_D and g̃ = g − B_D u_D change, computed from the model's
+//! support columns and contact matrix.  A tangential row's gap is B_t u_prev, so that its value
+//! B_t u − g_t is the slip of this increment.  The path stops at the first increment whose
+//! answer is not `solved`: its status is the run's, and later increments are not run.
+
+use std::time::Duration;
+
+use serde::Serialize;
+
+use super::{solve_one, ScaledQp, Solution, SolveError};
+use crate::model::{Increment, LoadPath, Model};
+use crate::qp::{mat_vec, QpBackend, QpStatus, SolveOptions};
+
+/// What one increment did (`result.json`'s `steps`).
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
+pub struct StepRecord {
+    /// The step (1-based).
+    pub step: usize,
+    /// The increment within the step (1-based).
+    pub increment: usize,
+    /// Its status.
+    #[schemars(with = "crate::qp::QpStatus")]
+    pub status: String,
+    /// Backend iterations (summed over Coulomb's outer iterations).
+    pub iterations: usize,
+    /// Coulomb's outer iterations, when the model has Coulomb rows.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub outer_iterations: Option<usize>,
+}
+
+/// Solves every increment of `path` in order (see the module docs).
+pub(super) fn along(
+    model: &Model,
+    path: &LoadPath,
+    qp: &ScaledQp,
+    backend: &mut dyn QpBackend,
+    options: &SolveOptions,
+) -> Result<Solution, SolveError> {
+    let mut records = Vec::with_capacity(path.increments.len());
+    let mut previous: Option<Vec<f64>> = None;
+    let mut elapsed = Duration::ZERO;
+    let mut iterations = 0;
+    let count = path.increments.len();
+    for (k, increment) in path.increments.iter().enumerate() {
+        let prescribed = path.prescribed_at(&increment.factors);
+        let step_qp = increment_qp(model, path, qp, increment, &prescribed, previous.as_deref());
+        let mut solution = solve_one(model, &step_qp, backend, options)?;
+        for (&d, &v) in model.fixed_dofs.iter().zip(&prescribed) {
+            solution.displacement[d] = v;
+        }
+        elapsed += solution.solve_time;
+        iterations += solution.iterations;
+        records.push(StepRecord {
+            step: increment.step,
+            increment: increment.increment,
+            status: solution.status.as_str().to_string(),
+            iterations: solution.iterations,
+            outer_iterations: solution.coulomb.map(|c| c.outer_iterations),
+        });
+        let last = k + 1 == count;
+        if last || solution.status != QpStatus::Solved {
+            if !last {
+                let note = format!(
+                    "load path stopped at step {} increment {} of {count} increments: {}",
+                    increment.step, increment.increment, solution.status
+                );
+                solution.message = Some(match solution.message.take() {
+                    Some(m) => format!("{note}; {m}"),
+                    None => note,
+                });
+            }
+            solution.solve_time = elapsed;
+            solution.iterations = iterations;
+            solution.steps = records;
+            solution.previous = previous;
+            return Ok(solution);
+        }
+        previous = Some(solution.displacement);
+    }
+    // No increment at all cannot happen (a path has at least one step of ≥ 1 increment).
+    solve_one(model, qp, backend, options)
+}
+
+/// The scaled QP of one increment: the last increment's with f̃ and g̃ of this one.
+fn increment_qp(
+    model: &Model,
+    path: &LoadPath,
+    qp: &ScaledQp,
+    increment: &Increment,
+    prescribed: &[f64],
+    previous: Option<&[f64]>,
+) -> ScaledQp {
+    let units = qp.scaling;
+    let force = units.stiffness * units.displacement;
+    let dofs = model.dofs.len();
+    let load = path.load_at(&increment.factors);
+    // K_FD u_D on every DOF (the support columns times the prescribed values).
+    let lift = mat_vec(&model.supports, prescribed);
+    let mut u_d = vec![0.0; dofs];
+    for (&d, &v) in model.fixed_dofs.iter().zip(prescribed) {
+        u_d[d] = v;
+    }
+    let b_d = mat_vec(&model.constraints, &u_d);
+    let normal = model.normal_rows();
+    let slip_from = previous.map(|u| mat_vec(&model.constraints, u));
+    let gap: Vec<f64> = (0..model.rows())
+        .map(|i| {
+            let g = if i < normal {
+                model.gap[i]
+            } else {
+                slip_from.as_ref().map_or(0.0, |bu| bu[i])
+            };
+            (g - b_d[i]) / units.displacement
+        })
+        .collect();
+    let f: Vec<f64> = model
+        .free
+        .iter()
+        .map(|&d| (load[d] - lift[d]) / force)
+        .collect();
+    let mut problem = qp.problem.clone();
+    problem.load = f;
+    problem.gap = gap;
+    ScaledQp {
+        problem,
+        scaling: units,
+    }
+}
