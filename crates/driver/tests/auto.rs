@@ -423,10 +423,13 @@ fn the_rule_orders_the_chain_from_the_features() {
     // Friction's box rows: only backends that solve them, dual-pgs first on a short interface,
     // clarabel first on a long one.
     for (features, first) in [(seed, BackendKind::DualPgs), (strip, BackendKind::Clarabel)] {
+        // One tangential row per normal row: twice the rows, the same interface.
         let frictional = Features {
-            box_rows: features.rows / 2,
+            rows: 2 * features.rows,
+            box_rows: features.rows,
             ..features
         };
+        assert_eq!(frictional.length_ratio(), features.length_ratio());
         let p = plan(&frictional);
         assert_eq!(p.chain.first(), Some(&first), "{p:?}");
         for kind in &p.chain {

@@ -114,7 +114,7 @@ fn the_hard_suite_passes_through_the_library() {
         BackendKind::Pdas,
     ];
     let report = suite::run(&repo("fixtures/hard"), &settings(&backends), |_| {}).unwrap();
-    assert_eq!(report.cases.len(), 18);
+    assert_eq!(report.cases.len(), 24);
     assert!(
         report.regressions().is_empty(),
         "{}",

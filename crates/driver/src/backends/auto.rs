@@ -135,9 +135,10 @@ impl Features {
         }
     }
 
-    /// m / √n (see [`LONG_INTERFACE`]).
+    /// m / √n (see [`LONG_INTERFACE`]), m counting the normal rows only: friction's
+    /// tangential rows double the rows of the same interface, not its length.
     pub fn length_ratio(&self) -> f64 {
-        self.rows as f64 / (self.dofs.max(1) as f64).sqrt()
+        (self.rows - self.box_rows.min(self.rows)) as f64 / (self.dofs.max(1) as f64).sqrt()
     }
 }
 
