@@ -421,8 +421,8 @@ fn the_rule_orders_the_chain_from_the_features() {
         BackendKind::ALL.contains(&BackendKind::Pdas)
     );
     // Friction's box rows: only backends that solve them, dual-pgs first on a short interface,
-    // clarabel first on a long one.
-    for (features, first) in [(seed, BackendKind::DualPgs), (strip, BackendKind::Clarabel)] {
+    // pdas first on a long one.
+    for (features, first) in [(seed, BackendKind::DualPgs), (strip, BackendKind::Pdas)] {
         // One tangential row per normal row: twice the rows, the same interface.
         let frictional = Features {
             rows: 2 * features.rows,

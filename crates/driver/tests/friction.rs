@@ -13,8 +13,8 @@ use std::path::Path;
 use common::{json, signorini, succeeded};
 use serde_json::Value;
 
-/// The backends that solve box rows (dual-ssn and pdas refuse them today).
-const BACKENDS: [&str; 5] = ["auto", "clarabel", "osqp", "dual-pgs", "dual-uzawa"];
+/// The backends that solve box rows (dual-ssn refuses them today).
+const BACKENDS: [&str; 6] = ["auto", "clarabel", "osqp", "dual-pgs", "dual-uzawa", "pdas"];
 
 /// KKT tolerance of the runs.  The statics below hold exactly for the discrete model, so the
 /// force ratios are as accurate as the answers: within ~10 × tol of the loads (the residuals are
@@ -420,4 +420,40 @@ fn load_paths_with_bad_names_or_increments_are_refused_naming_the_key() {
     assert_eq!(o.status.code(), Some(1));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("\"push\" is used twice"), "{err}");
+}
+
+#[test]
+fn the_frictional_hard_fixtures_carry_their_exact_tangential_forces() {
+    // (fixture, |tangential force| from statics, every node's state): full slip gives μN (N the
+    // pressure times the block's width 1), sticking carries the sideways load exactly.
+    let cases = [
+        ("friction-slide", 0.3 * 1e-3, "slip"),
+        ("friction-mu-range", 0.01 * 1e-3, "slip"),
+        ("friction-tresca-mortar", 2e-4, "slip"),
+        ("friction-si", 0.2 * 1e6, "slip"),
+        ("friction-stick", 1e-4, "stick"),
+        ("friction-mu-high", 1e-4, "stick"),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for (name, force, state) in cases {
+        let scene =
+            std::fs::read_to_string(common::repo(&format!("fixtures/hard/{name}.toml"))).unwrap();
+        for backend in ["auto", "pdas"] {
+            let r = solve(dir.path(), &scene, backend);
+            assert_eq!(r["status"], "solved", "{name} {backend}");
+            let pair = &r["contacts"][0];
+            let t = pair["tangential_force"].as_f64().unwrap();
+            // 1e-8 of the normal force: the tolerance 1e-10 of the run, with margin.
+            let n = pair["normal_force"].as_f64().unwrap();
+            assert!(
+                (t.abs() - force).abs() < 1e-8 * n,
+                "{name} {backend}: T = {t}"
+            );
+            assert!(
+                states(pair).iter().all(|s| s == state),
+                "{name} {backend}: {:?}",
+                states(pair)
+            );
+        }
+    }
 }

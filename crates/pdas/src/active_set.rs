@@ -14,8 +14,8 @@
 use std::time::{Duration, Instant};
 
 use signorini_qp::{
-    kkt_residuals_with, mat_vec, FarkasRay, KktResiduals, QpProblem, QpStatus, ResidualScales,
-    SolveOptions,
+    kkt_residuals_with, mat_vec, row_sets, FarkasRay, KktResiduals, QpProblem, QpStatus,
+    ResidualScales, RowSet, SolveOptions,
 };
 
 use crate::error::PdasError;
@@ -120,6 +120,10 @@ pub struct ActiveSet<'p> {
     analysis: Duration,
     /// Total time in numeric factorisations.
     factor_time: Duration,
+    /// Per row, the bound s of a box row (friction's tangential rows), `None` for a one-sided
+    /// row.  A box row is *active* when it sticks (B x = g on it) and inactive when it slips,
+    /// with λ fixed at ±s.
+    bounds: Vec<Option<f64>>,
 }
 
 /// A set's solution measured against the KKT conditions (see [`ActiveSet::measure`]).
@@ -188,6 +192,12 @@ impl<'p> ActiveSet<'p> {
             updates: 0,
             analysis: start.elapsed(),
             factor_time: Duration::ZERO,
+            bounds: row_sets(&problem.blocks)
+                .map(|set| match set {
+                    RowSet::Box(s) => Some(s),
+                    RowSet::NonNegative => None,
+                })
+                .collect(),
         })
     }
 
@@ -275,15 +285,68 @@ impl<'p> ActiveSet<'p> {
 
     /// F_{k+1} = { i : λᵢ + c (Bx − g)ᵢ > 0 }.
     fn next_set(&self, solution: &SetSolution) -> Vec<bool> {
+        self.next_state(solution).0
+    }
+
+    /// The next set and, per row, the sign of a slipping box row's fixed multiplier (0
+    /// otherwise): with vᵢ = λᵢ + c (Bx − g)ᵢ, a one-sided row is active when vᵢ > 0; a box
+    /// row of bound sᵢ sticks (active) when |vᵢ| ≤ sᵢ and slips with λᵢ = sᵢ sign vᵢ otherwise
+    /// — the semismooth Newton step on λ = P_[−s, s](λ + c r) (Hüeber, Stadler and Wohlmuth).
+    fn next_state(&self, solution: &SetSolution) -> (Vec<bool>, Vec<f64>) {
         let p = self.problem;
         let c = self.settings.penalty * self.stiffness;
         let bx = mat_vec(&p.constraints, &solution.x);
-        solution
+        let mut signs = vec![0.0; p.rows()];
+        let active = solution
             .multipliers
             .iter()
             .zip(&bx)
             .zip(&p.gap)
-            .map(|((l, b), g)| l + c * (b - g) > 0.0)
+            .zip(&self.bounds)
+            .zip(signs.iter_mut())
+            .map(|((((l, b), g), bound), sign)| {
+                let v = l + c * (b - g);
+                match bound {
+                    None => v > 0.0,
+                    Some(s) if v.abs() <= *s => true,
+                    Some(_) => {
+                        *sign = v.signum();
+                        false
+                    }
+                }
+            })
+            .collect();
+        (active, signs)
+    }
+
+    /// Whether the problem has box rows (then the sets carry signs and the interior-point
+    /// continuation, which knows one-sided rows only, is not used).
+    fn has_box(&self) -> bool {
+        self.bounds.iter().any(Option::is_some)
+    }
+
+    /// The fixed multipliers of the inactive rows of a set: ±s on slipping box rows, else 0.
+    fn fixed(&self, active: &[bool], signs: &[f64]) -> Vec<f64> {
+        active
+            .iter()
+            .zip(signs)
+            .zip(&self.bounds)
+            .map(|((&on, sign), bound)| match bound {
+                Some(s) if !on => sign * s,
+                _ => 0.0,
+            })
+            .collect()
+    }
+
+    /// λ projected onto each row's multiplier set: [0, ∞) or [−s, s].
+    fn clamp(&self, multipliers: &[f64]) -> Vec<f64> {
+        multipliers
+            .iter()
+            .zip(&self.bounds)
+            .map(|(l, bound)| match bound {
+                Some(s) => l.clamp(-s, *s),
+                None => l.max(0.0),
+            })
             .collect()
     }
 
@@ -329,7 +392,7 @@ impl<'p> ActiveSet<'p> {
         next: &[bool],
         iteration: usize,
     ) -> Measured {
-        let clamped: Vec<f64> = multipliers.iter().map(|l| l.max(0.0)).collect();
+        let clamped = self.clamp(multipliers);
         let residuals = kkt_residuals_with(self.problem, &self.scales, &x, &clamped);
         let worst = residuals.worst();
         let changes = next.iter().zip(set).filter(|(a, b)| a != b).count();
@@ -383,9 +446,17 @@ impl<'p> ActiveSet<'p> {
         correction: &[f64],
     ) -> Option<(QpStatus, String)> {
         let p = self.problem;
-        let rays = [correction, multipliers];
+        // Box rows hold no infeasibility (any r is allowed on them): the ray lives on the
+        // one-sided rows.
+        let one_sided = |y: &[f64]| -> Vec<f64> {
+            y.iter()
+                .zip(&self.bounds)
+                .map(|(v, b)| if b.is_some() { 0.0 } else { *v })
+                .collect()
+        };
+        let rays = [one_sided(correction), one_sided(multipliers)];
         if let Some(ray) = rays
-            .into_iter()
+            .iter()
             .filter_map(|y| primal_ray(p, y))
             .find(FarkasRay::proves_infeasibility)
         {
@@ -396,6 +467,11 @@ impl<'p> ActiveSet<'p> {
                     ray.describe()
                 ),
             ));
+        }
+        // A rigid motion against friction is bounded by the slip work Σ s |B r|, which
+        // `pushed_away` does not weigh: no dual certificate with box rows.
+        if self.has_box() {
+            return None;
         }
         let r = rigid_part(&p.kernel, x)?;
         pushed_away(p, &r).map(|work| {

@@ -2,7 +2,7 @@
 
 use std::time::Instant;
 
-use signorini_qp::{QpBackend, QpError, QpProblem, QpSolution, QpStatus, SolveOptions};
+use signorini_qp::{BlockKind, QpBackend, QpError, QpProblem, QpSolution, QpStatus, SolveOptions};
 
 use crate::active_set::{ActiveSet, Outcome, SetupError};
 use crate::kernel::{check_kernel, unrestrained_mode};
@@ -74,6 +74,11 @@ impl PdasBackend {
 impl QpBackend for PdasBackend {
     fn name(&self) -> &'static str {
         "pdas"
+    }
+
+    /// One-sided rows and friction's box rows (sticking rows active, slipping rows at ±s).
+    fn supports(&self, _kind: BlockKind) -> bool {
+        true
     }
 
     fn solve_valid(

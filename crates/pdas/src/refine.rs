@@ -2,7 +2,7 @@
 //! refinement against the unregularised KKT system:
 //!
 //! ```text
-//! r_x = f − A x − B_Fᵀ λ_F,   r_λ = g_F − B_F x,   (λᵢ = 0 off F)
+//! r_x = f − A x − Bᵀ λ,   r_λ = g_F − B_F x,   (λᵢ fixed off F: 0, or ±sᵢ on a slipping box row)
 //! [Δx; Δλ] = K⁻¹ [r_x; r_λ],  x += Δx,  λ_F += Δλ_F
 //! ```
 //!
@@ -65,17 +65,22 @@ pub struct Limits {
     pub deadline: Option<Instant>,
 }
 
-/// Solves K z = [f; g_F] with the current factor, without refinement.
+/// Solves K z = [f − B_Iᵀ λ_I; g_F] with the current factor, without refinement: λ_I the
+/// fixed multipliers of the inactive rows (`fixed`: 0 on a one-sided row, ±s on a slipping
+/// box row; `None`: all 0), which K's zeroed rows leave to the right-hand side.
 pub fn first_solve(
     problem: &QpProblem,
     active: &[bool],
+    fixed: Option<&[f64]>,
     solver: &mut SetSolver<'_>,
 ) -> SetSolution {
     let n = problem.dofs();
+    let known = fixed.map(|l| signorini_qp::mat_t_vec(&problem.constraints, l));
     let mut z: Vec<f64> = problem
         .load
         .iter()
-        .copied()
+        .enumerate()
+        .map(|(j, f)| known.as_ref().map_or(*f, |k| f - k[j]))
         .chain(
             problem
                 .gap
@@ -86,6 +91,13 @@ pub fn first_solve(
         .collect();
     solver.solve_in_place(&mut z);
     clear_inactive(&mut z[n..], active);
+    if let Some(fixed) = fixed {
+        for ((l, &on), v) in z[n..].iter_mut().zip(active).zip(fixed) {
+            if !on {
+                *l = *v;
+            }
+        }
+    }
     let multipliers = z.split_off(n);
     SetSolution {
         x: z,

@@ -305,7 +305,7 @@ impl ActiveSet<'_> {
             factor: &mut self.factor,
             update: None,
         };
-        let mut solution = first_solve(p, set, &mut solver);
+        let mut solution = first_solve(p, set, None, &mut solver);
         refine(p, &self.scales, set, &mut solver, &mut solution, &limits);
         self.refinement_steps += solution.steps;
         let next = self.next_set(&solution);

@@ -24,8 +24,10 @@ const MIN_PLAIN_STEPS: usize = 6;
 struct Plain {
     /// The current set F_k.
     active: Vec<bool>,
-    /// The sets stepped from so far (one that comes back is a cycle).
-    seen: HashSet<Vec<bool>>,
+    /// Per row, the sign of a slipping box row's fixed multiplier ±s (0 on other rows).
+    signs: Vec<f64>,
+    /// The sets stepped from so far, with their signs (one that comes back is a cycle).
+    seen: HashSet<Vec<i8>>,
     /// The best iterate so far.
     best: Best,
     /// The set whose numeric factor is held, once there is one.
@@ -46,6 +48,7 @@ impl Plain {
     /// The state before the first step: set `active`, a zero iterate as the best so far.
     fn new(problem: &QpProblem, active: Vec<bool>, max_iter: usize) -> Self {
         Self {
+            signs: vec![0.0; active.len()],
             active,
             seen: HashSet::new(),
             best: Best::zero(problem),
@@ -135,7 +138,7 @@ impl ActiveSet<'_> {
                 ))
             }
         };
-        let (solution, next) = self.solve_set(state, &set_solve);
+        let (solution, next, signs) = self.solve_set(state, &set_solve);
         if !solution.is_finite() {
             if set_solve.update.is_some() {
                 state.force_factor = true;
@@ -151,7 +154,7 @@ impl ActiveSet<'_> {
                 ),
             ));
         }
-        self.decide(state, solution, next, &set_solve)
+        self.decide(state, solution, (next, signs), &set_solve)
     }
 
     /// Makes the current set solvable: a low-rank update of the factored set's factor when
@@ -196,15 +199,22 @@ impl ActiveSet<'_> {
 
     /// Solves the current set (timing the solve of a fresh factor), refines the solution when
     /// the set predicts itself, and returns it with the set it predicts.
-    fn solve_set(&mut self, state: &mut Plain, set_solve: &SetSolve) -> (SetSolution, Vec<bool>) {
+    fn solve_set(
+        &mut self,
+        state: &mut Plain,
+        set_solve: &SetSolve,
+    ) -> (SetSolution, Vec<bool>, Vec<f64>) {
         let p = self.problem;
         let limits = self.limits();
+        let fixed = self
+            .has_box()
+            .then(|| self.fixed(&state.active, &state.signs));
         let mut solver = SetSolver {
             factor: &mut self.factor,
             update: set_solve.update.as_ref(),
         };
         let clock = Instant::now();
-        let mut solution = first_solve(p, &state.active, &mut solver);
+        let mut solution = first_solve(p, &state.active, fixed.as_deref(), &mut solver);
         if set_solve.fresh {
             state.timing.solve = clock.elapsed();
             if state.timing.column.is_zero() {
@@ -212,8 +222,8 @@ impl ActiveSet<'_> {
                 state.timing.column = state.timing.solve / 2;
             }
         }
-        let mut next = self.next_set(&solution);
-        if next == state.active {
+        let (mut next, mut signs) = self.next_state(&solution);
+        if next == state.active && signs == state.signs {
             let mut solver = SetSolver {
                 factor: &mut self.factor,
                 update: set_solve.update.as_ref(),
@@ -227,9 +237,9 @@ impl ActiveSet<'_> {
                 &limits,
             );
             self.refinement_steps += solution.steps;
-            next = self.next_set(&solution);
+            (next, signs) = self.next_state(&solution);
         }
-        (solution, next)
+        (solution, next, signs)
     }
 
     /// Judges the step's solution: accepts it, asks for the set again on a fresh factor,
@@ -238,12 +248,20 @@ impl ActiveSet<'_> {
         &mut self,
         state: &mut Plain,
         mut solution: SetSolution,
-        next: Vec<bool>,
+        (next, signs): (Vec<bool>, Vec<f64>),
         set_solve: &SetSolve,
     ) -> Flow {
         let iteration = state.iteration;
         let x = std::mem::take(&mut solution.x);
-        let measured = self.measure(x, &solution.multipliers, &state.active, &next, iteration);
+        let mut measured = self.measure(x, &solution.multipliers, &state.active, &next, iteration);
+        // A slipping box row that turns round changes the set too.
+        measured.changes += next
+            .iter()
+            .zip(&state.active)
+            .zip(signs.iter().zip(&state.signs))
+            .filter(|((a, b), (s, t))| a == b && !**a && s != t)
+            .count();
+        let key = codes(&next, &signs);
         if self.options.verbose {
             log_step(iteration, &state.active, set_solve, &solution, &measured);
         }
@@ -257,7 +275,7 @@ impl ActiveSet<'_> {
         // An answer is accepted on a set that reproduces itself (or at the end of a cycle or
         // of the budget): residuals that meet the tolerance while rows still want to change
         // can hide a penetration that a soft row's length scale makes look small.
-        let settled = stalled || state.seen.contains(&next) || iteration == state.max_iter;
+        let settled = stalled || state.seen.contains(&key) || iteration == state.max_iter;
         if residuals.meet(self.options.tol) && settled {
             let message = format!("{} active rows", count(&state.active));
             return Flow::Done(self.finish(candidate, QpStatus::Solved, iteration, message));
@@ -267,7 +285,7 @@ impl ActiveSet<'_> {
             state.force_factor = true;
             return Flow::Next;
         }
-        let cycling = !stalled && state.seen.contains(&next);
+        let cycling = !stalled && state.seen.contains(&key);
         if cycling && set_solve.update.is_some() {
             // As for a settled set: judge a cycle only on a factorised set.
             state.force_factor = true;
@@ -286,7 +304,7 @@ impl ActiveSet<'_> {
             changes,
             cycling,
         };
-        self.move_on(state, solution, next, step)
+        self.move_on(state, solution, (next, signs), step)
     }
 
     /// After a step that is neither accepted nor certified: keeps the best iterate, stops on
@@ -296,7 +314,7 @@ impl ActiveSet<'_> {
         &mut self,
         state: &mut Plain,
         solution: SetSolution,
-        next: Vec<bool>,
+        (next, signs): (Vec<bool>, Vec<f64>),
         step: Judged,
     ) -> Flow {
         let p = self.problem;
@@ -337,17 +355,48 @@ impl ActiveSet<'_> {
                 message,
             ));
         }
+        if restart.is_some() && self.has_box() {
+            let message = format!(
+                "the active sets cycle (best KKT residuals {:.1e}); the interior-point continuation knows one-sided rows only, not friction's box rows",
+                state.best.worst
+            );
+            return Flow::Done(self.finish(
+                state.best.take(),
+                QpStatus::Inaccurate,
+                iteration,
+                message,
+            ));
+        }
         if let Some((x, multipliers)) = restart {
             // A set came back, or the changes stopped falling: plain active-set steps are
             // not converging here; continue with the globalised iteration from this point.
             return Flow::Handover { x, multipliers };
         }
         state.changes_history.push(step.changes);
-        state
-            .seen
-            .insert(std::mem::replace(&mut state.active, next));
+        state.seen.insert(codes(&state.active, &state.signs));
+        state.active = next;
+        state.signs = signs;
         Flow::Next
     }
+}
+
+/// A set with its signs as one key: 1 active, 0 inactive, ±2 slipping box rows.
+fn codes(active: &[bool], signs: &[f64]) -> Vec<i8> {
+    active
+        .iter()
+        .zip(signs)
+        .map(|(&on, s)| {
+            if on {
+                1
+            } else if *s > 0.0 {
+                2
+            } else if *s < 0.0 {
+                -2
+            } else {
+                0
+            }
+        })
+        .collect()
 }
 
 /// A step's solution, measured and neither accepted nor certified.
