@@ -63,9 +63,9 @@ fn every_fixture_satisfies_the_scene_schema() {
         assert!(here > 0, "no fixture in {sub}");
         checked += here;
     }
-    // fixtures/README.md lists 19 seed, 18 hard, 3 accuracy and 1 gmsh scenes today; fewer would mean
+    // fixtures/README.md lists 19 seed, 24 hard, 3 accuracy and 1 gmsh scenes today; fewer would mean
     // the loop missed some.
-    assert!(checked >= 41, "{checked}");
+    assert!(checked >= 47, "{checked}");
 }
 
 /// The schema refuses what the scene parser refuses: a misspelt key (every table has
@@ -317,8 +317,8 @@ fn every_expectation_satisfies_its_schema() {
             }
         }
     }
-    // One per seed (19), hard (18) and gmsh (1) scene.
-    assert_eq!(checked, 38);
+    // One per seed (19), hard (24) and gmsh (1) scene.
+    assert_eq!(checked, 44);
     let bad = serde_json::json!({"status": "solved", "rtol": {"objetive": 1e-3}});
     assert!(!errors(&validator, &bad).is_empty());
     let bad = serde_json::json!({"status": "perhaps"});
@@ -390,4 +390,31 @@ fn suite_json_satisfies_its_schema() {
         .unwrap();
     case["runs"][0]["verdict"] = serde_json::json!("maybe");
     assert!(!errors(&schema("suite"), &bad).is_empty());
+}
+
+/// A frictional result (Coulomb, a load path) satisfies the result schema with its new fields
+/// (tangential figures, states, `coulomb`, `steps`), and the schema refuses a state that does
+/// not exist.
+#[test]
+fn frictional_results_satisfy_the_result_schema() {
+    let validator = schema("result");
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(fixtures().join("hard/friction-slide.toml"))
+        .unwrap()
+        .replace(
+            "[[neumann]]\nbody = \"block\"",
+            "[[neumann]]\nname = \"press\"\nbody = \"block\"",
+        );
+    let text = format!("{text}\n[[step]]\nloads = {{ press = 1.0 }}\nincrements = 2\n");
+    std::fs::write(dir.path().join("scene.toml"), &text).unwrap();
+    let r = solve(dir.path(), &["scene.toml"]);
+    let errs = errors(&validator, &r);
+    assert!(errs.is_empty(), "{errs:?}");
+    assert_eq!(r["steps"].as_array().unwrap().len(), 2);
+    assert!(r["coulomb"]["outer_iterations"].as_u64().unwrap() >= 1);
+    let node = &r["contacts"][0]["nodes"][0];
+    assert!(node["state"].is_string() && node["tangential_traction"].is_number());
+    let mut bad = r.clone();
+    bad["contacts"][0]["nodes"][0]["state"] = "sliding".into();
+    assert!(!errors(&validator, &bad).is_empty());
 }

@@ -348,3 +348,67 @@ fn solve_vtu_flag() {
     );
     assert!(!tmp.path().join("x").exists());
 }
+
+/// A frictional scene's VTU adds `tangential_traction`, `slip` (Float64) and `contact_state`
+/// (Int32) after `contact_pressure`, read back by vtkio: at each slave node with a row, the
+/// traction and state of result.json's contact node at that position (every node of the
+/// fixture slides: code 2), and zero / 0 at every other node.
+#[test]
+fn friction_fields_read_back_beside_result_json() {
+    let (scene, outcome) = solved(Some(&fixture("hard/friction-slide.toml")));
+    let tmp = tempfile::tempdir().unwrap();
+    run::write_outputs_with(tmp.path(), &scene, &outcome, VtuFormat::Binary).unwrap();
+    let grid = read(&tmp.path().join("solution.vtu"));
+    let names: Vec<&str> = grid.point_data.iter().map(|a| a.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "displacement",
+            "contact_pressure",
+            "tangential_traction",
+            "slip",
+            "contact_state",
+            "body_id"
+        ]
+    );
+    let take = |name: &str| {
+        grid.point_data
+            .iter()
+            .find(|a| a.name == name)
+            .unwrap()
+            .data
+            .clone()
+    };
+    let traction = take("tangential_traction").into_vec::<f64>().unwrap();
+    let state = take("contact_state").into_vec::<i32>().unwrap();
+    let points: Vec<[f64; 2]> = grid.points.chunks(3).map(|p| [p[0], p[1]]).collect();
+    let pair = &outcome.report.contacts[0];
+    assert!(!pair.nodes.is_empty());
+    // The slave body's nodes come after the bodies before it in the file.
+    let slave = scene
+        .bodies
+        .iter()
+        .position(|b| b.name == pair.slave)
+        .unwrap();
+    let first: usize = outcome.model.meshes[..slave]
+        .iter()
+        .map(|m| m.nodes.len())
+        .sum();
+    let mut with_row = std::collections::HashSet::new();
+    for node in &pair.nodes {
+        let k = (first..first + outcome.model.meshes[slave].nodes.len())
+            .find(|&k| points[k] == [node.x, node.y])
+            .unwrap();
+        with_row.insert(k);
+        assert_eq!(traction[k], node.tangential_traction.unwrap(), "{node:?}");
+        assert_eq!(state[k], 2, "{node:?}");
+    }
+    for k in (0..points.len()).filter(|k| !with_row.contains(k)) {
+        assert_eq!((traction[k], state[k]), (0.0, 0), "node {k}");
+    }
+    // And pressure.svg draws the friction.
+    let svg = std::fs::read_to_string(tmp.path().join("pressure.svg")).unwrap();
+    assert!(svg.contains("contact pressure and friction"));
+    assert!(svg.contains("tangential traction q"));
+    assert!(svg.contains("slip zone"));
+}

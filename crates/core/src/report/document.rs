@@ -166,7 +166,7 @@ pub struct RunReport {
     pub active_constraints: usize,
     /// Backend iterations.
     pub iterations: usize,
-    /// ½uᵀAu − fᵀu on the free DOFs.
+    /// ½uᵀAu − fᵀu on the free DOFs (with friction plus Σ sᵢ |rᵢ| over the tangential rows).
     pub objective: f64,
     /// Core-computed KKT residuals.
     pub residuals: KktResiduals,
