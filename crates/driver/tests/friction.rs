@@ -13,8 +13,16 @@ use std::path::Path;
 use common::{json, signorini, succeeded};
 use serde_json::Value;
 
-/// The backends that solve box rows (dual-ssn refuses them today).
-const BACKENDS: [&str; 6] = ["auto", "clarabel", "osqp", "dual-pgs", "dual-uzawa", "pdas"];
+/// Every backend: each solves box rows.
+const BACKENDS: [&str; 7] = [
+    "auto",
+    "clarabel",
+    "osqp",
+    "dual-pgs",
+    "dual-uzawa",
+    "pdas",
+    "dual-ssn",
+];
 
 /// KKT tolerance of the runs.  The statics below hold exactly for the discrete model, so the
 /// force ratios are as accurate as the answers: within ~10 × tol of the loads (the residuals are
@@ -438,7 +446,7 @@ fn the_frictional_hard_fixtures_carry_their_exact_tangential_forces() {
     for (name, force, state) in cases {
         let scene =
             std::fs::read_to_string(common::repo(&format!("fixtures/hard/{name}.toml"))).unwrap();
-        for backend in ["auto", "pdas"] {
+        for backend in ["auto", "pdas", "dual-ssn"] {
             let r = solve(dir.path(), &scene, backend);
             assert_eq!(r["status"], "solved", "{name} {backend}");
             let pair = &r["contacts"][0];

@@ -127,10 +127,7 @@ impl QpBackend for DualBackend {
     fn supports(&self, kind: BlockKind) -> bool {
         match kind {
             BlockKind::NonNegative => true,
-            BlockKind::Box => matches!(
-                self.settings.method,
-                DualMethod::ProjectedGaussSeidel | DualMethod::Uzawa
-            ),
+            BlockKind::Box => true,
         }
     }
 

@@ -1,6 +1,6 @@
 //! dual-pgs on box rows (Tresca's tangential multipliers, |λ| ≤ s): a block pressed and
 //! dragged on a rigid base, answered by hand, and a coupled chain checked against every
-//! stick/slip/contact pattern solved directly; dual-uzawa the same.  dual-ssn refuses box rows.
+//! stick/slip/contact pattern solved directly; dual-uzawa and dual-ssn the same.
 
 // Test code: a failed unwrap is a failed test.
 #![allow(clippy::unwrap_used)]
@@ -8,8 +8,7 @@
 use signorini_dual::{DualBackend, DualSettings};
 use signorini_qp::examples::qp_from_triplets;
 use signorini_qp::{
-    checked_status, kkt_residuals, ConstraintBlock, QpBackend, QpError, QpProblem, QpStatus,
-    SolveOptions,
+    checked_status, kkt_residuals, ConstraintBlock, QpBackend, QpProblem, QpStatus, SolveOptions,
 };
 
 const TOL: f64 = 1e-10;
@@ -23,6 +22,7 @@ fn projected(problem: &QpProblem) -> Vec<(Vec<f64>, Vec<f64>)> {
     [
         DualBackend::pgs(DualSettings::default()),
         DualBackend::uzawa(DualSettings::default()),
+        DualBackend::active_set(DualSettings::default()),
     ]
     .into_iter()
     .map(|mut backend| {
@@ -216,17 +216,6 @@ fn a_coupled_chain_matches_the_pattern_that_satisfies_every_condition() {
                 (got - want).abs() < 1e-8,
                 "{x:?} {lambda:?} vs {x_ref:?} {l_ref:?}"
             );
-        }
-    }
-}
-
-/// dual-ssn (whose active sets know no box yet) refuses box rows, naming them.
-#[test]
-fn the_active_set_dual_refuses_box_rows() {
-    for mut backend in [DualBackend::active_set(DualSettings::default())] {
-        match backend.solve(&pressed_block(2.5), &SolveOptions::default()) {
-            Err(e @ QpError::UnsupportedBlock { .. }) => assert!(e.to_string().contains("box")),
-            other => panic!("{}: expected a refusal, got {other:?}", backend.name()),
         }
     }
 }

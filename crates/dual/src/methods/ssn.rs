@@ -53,7 +53,11 @@ pub fn solve(
     monitor: &mut Monitor<'_>,
 ) -> Result<Outcome, DualError> {
     data.penalty = 0.0;
-    if let Some(message) = data.modes.farkas_direction() {
+    // A rigid motion against friction is bounded by the slip work, which the direction test
+    // does not weigh: no early certificate with box rows.
+    let has_box = signorini_qp::row_sets(&data.problem.blocks)
+        .any(|s| matches!(s, signorini_qp::RowSet::Box(_)));
+    if let Some(message) = data.modes.farkas_direction().filter(|_| !has_box) {
         return Ok(stopped(data, QpStatus::DualInfeasible, message));
     }
     let newton = Newton::new(data, settings, monitor)?;
@@ -69,7 +73,7 @@ pub fn solve(
                 message,
             ));
         }
-        state.seen.insert(state.active.clone());
+        state.seen.insert(codes(&state.active, &state.fixed));
         let Some(step) = newton.step(data, monitor, &state) else {
             return Ok(newton.singular(data, &state));
         };
@@ -90,14 +94,20 @@ struct Newton {
     diagonal: Vec<f64>,
     /// How the steps are solved, for the message.
     mode: &'static str,
+    /// Per row, the bound s of a box row (friction's tangential rows), `None` for a one-sided
+    /// row: a box row sticks (active) or slips with λ fixed at ±s (inactive).
+    bounds: Vec<Option<f64>>,
 }
 
 /// The iteration's state, carried from one step to the next.
 struct State {
     /// The current set F.
     active: Vec<bool>,
-    /// The sets stepped from so far (one that comes back is a cycle).
-    seen: HashSet<Vec<bool>>,
+    /// The multipliers of the inactive rows: 0, or ±s on a slipping box row.
+    fixed: Vec<f64>,
+    /// The sets stepped from so far, with their fixed multipliers' signs (one that comes back
+    /// is a cycle).
+    seen: HashSet<Vec<i8>>,
     /// λ of the last step.
     lambda: Vec<f64>,
     /// Active-set steps counted so far.
@@ -123,10 +133,16 @@ impl State {
         let active = if data.floating() {
             vec![true; m]
         } else {
-            newton.load.iter().map(|d| *d > 0.0).collect()
+            newton
+                .load
+                .iter()
+                .zip(&newton.bounds)
+                .map(|(d, b)| b.is_some() || *d > 0.0)
+                .collect()
         };
         Self {
             active,
+            fixed: vec![0.0; m],
             seen: HashSet::new(),
             lambda: vec![0.0; m],
             iter: 0,
@@ -166,6 +182,10 @@ impl Newton {
             Some(h) => (0..m).map(|i| h.diag(i).max(f64::MIN_POSITIVE)).collect(),
             None => lumped_compliance(data),
         };
+        let bounds = crate::methods::intervals::of(data.problem)
+            .into_iter()
+            .map(|(lo, _)| (lo < 0.0).then_some(-lo))
+            .collect();
         let mode = if hessian.is_some() {
             "dense Newton steps"
         } else {
@@ -176,6 +196,7 @@ impl Newton {
             load,
             diagonal,
             mode,
+            bounds,
         })
     }
 
@@ -187,17 +208,20 @@ impl Newton {
         match &self.hessian {
             Some(h) if state.dense_phase => {
                 let block = DenseBlock::factor(h, &data.modes, &state.active);
-                dense_step(h, &block, data, &self.load)
+                dense_step(h, &block, data, &self.load, &state.fixed)
             }
             Some(h) => {
                 let block = DenseBlock::factor(h, &data.modes, &state.active);
+                // The slipping rows' known forces H_FI λ_I on the right-hand side.
+                let known = h.mul(&state.fixed);
+                let load: Vec<f64> = self.load.iter().zip(&known).map(|(d, k)| d - k).collect();
                 refined_step(
                     data,
                     &block.rows,
                     &|r, e| block.solve(r, e),
-                    &self.load,
+                    &load,
                     monitor,
-                    state.accurate,
+                    (state.accurate, &state.fixed),
                 )
             }
             None => MatrixFreeBlock::new(data, &state.active, &self.diagonal, &out_of_time)
@@ -208,7 +232,7 @@ impl Newton {
                         &|r, e| block.solve(r, e),
                         &self.load,
                         monitor,
-                        state.accurate,
+                        (state.accurate, &state.fixed),
                     )
                 }),
         }
@@ -244,10 +268,24 @@ impl Newton {
             state.iter += 1;
         }
         state.redo = false;
+        // vᵢ = λᵢ − νᵢ / Hᵢᵢ = λᵢ + (B x − g)ᵢ / Hᵢᵢ: a one-sided row is active when vᵢ > 0; a
+        // box row sticks when |vᵢ| ≤ sᵢ and slips at sᵢ sign vᵢ otherwise (the semismooth
+        // Newton step of λ = P_[−s, s](λ + c r)).
+        let mut next_fixed = vec![0.0; data.rows()];
         let next_active: Vec<bool> = (0..data.rows())
-            .map(|i| state.lambda[i] - step.gradient[i] / self.diagonal[i] > 0.0)
+            .map(|i| {
+                let v = state.lambda[i] - step.gradient[i] / self.diagonal[i];
+                match self.bounds[i] {
+                    None => v > 0.0,
+                    Some(s) if v.abs() <= s => true,
+                    Some(s) => {
+                        next_fixed[i] = s * v.signum();
+                        false
+                    }
+                }
+            })
             .collect();
-        if next_active == state.active {
+        if next_active == state.active && next_fixed == state.fixed {
             let refined = (step.residual, step.refinements);
             return self.settled(data, monitor, state, step.x, refined);
         }
@@ -256,8 +294,8 @@ impl Newton {
                 return Some(outcome);
             }
         }
-        if state.seen.contains(&next_active) {
-            let lambda_clipped = state.lambda.iter().map(|l| l.max(0.0)).collect();
+        if state.seen.contains(&codes(&next_active, &next_fixed)) {
+            let lambda_clipped = self.clamp(&state.lambda);
             return Some(finish_at_limit(
                 data,
                 monitor,
@@ -268,7 +306,25 @@ impl Newton {
             ));
         }
         state.active = next_active;
+        state.fixed = next_fixed;
         None
+    }
+
+    /// λ projected onto each row's set: [0, ∞), or [−s, s] on a box row.
+    fn clamp(&self, lambda: &[f64]) -> Vec<f64> {
+        lambda
+            .iter()
+            .zip(&self.bounds)
+            .map(|(l, b)| match b {
+                Some(s) => l.clamp(-s, *s),
+                None => l.max(0.0),
+            })
+            .collect()
+    }
+
+    /// Whether λ lies outside some row's set.
+    fn outside(&self, lambda: &[f64]) -> bool {
+        self.clamp(lambda) != lambda
     }
 
     /// The set reproduced itself.  Settled on the dense steps: solve it again against the
@@ -290,7 +346,7 @@ impl Newton {
             return None;
         }
         if !state.accurate {
-            let solved = !state.lambda.iter().any(|l| *l < 0.0)
+            let solved = !self.outside(&state.lambda)
                 && matches!(
                     monitor.check(data, state.iter, &state.lambda, &x),
                     Next::Stop(QpStatus::Solved, _)
@@ -315,8 +371,8 @@ impl Newton {
         (residual, corrections): (f64, usize),
     ) -> Outcome {
         let iter = state.iter;
-        let clipped = state.lambda.iter().any(|l| *l < 0.0);
-        let lambda_clipped: Vec<f64> = state.lambda.iter().map(|l| l.max(0.0)).collect();
+        let clipped = self.outside(&state.lambda);
+        let lambda_clipped = self.clamp(&state.lambda);
         let x = if clipped {
             data.primal_at(&lambda_clipped, &data.multiplier)
         } else {
@@ -352,7 +408,8 @@ impl Newton {
         state: &mut State,
         next_active: &[bool],
     ) -> Option<Outcome> {
-        let (checked, worst) = checked_iterate(data, monitor, state.iter, &state.lambda);
+        let (checked, worst) =
+            checked_iterate(data, monitor, state.iter, &self.clamp(&state.lambda));
         if checked.status == QpStatus::Solved {
             return Some(Outcome {
                 message: format!(
@@ -380,6 +437,20 @@ impl Newton {
             state.iter, self.mode, state.refinements
         )
     }
+}
+
+/// A set with its fixed multipliers' signs as one key: 1 active, 0 inactive, ±2 slipping.
+fn codes(active: &[bool], fixed: &[f64]) -> Vec<i8> {
+    active
+        .iter()
+        .zip(fixed)
+        .map(|(&on, f)| match (on, f.partial_cmp(&0.0)) {
+            (true, _) => 1,
+            (false, Some(std::cmp::Ordering::Greater)) => 2,
+            (false, Some(std::cmp::Ordering::Less)) => -2,
+            _ => 0,
+        })
+        .collect()
 }
 
 /// Steps without progress after which a set that still moves is given up: [`Stall`].
@@ -419,7 +490,7 @@ impl Stall {
     }
 }
 
-/// The iterate λ (clipped at zero) as an answer, `solved` when its KKT residuals meet the
+/// The iterate λ (already projected onto its rows' sets) as an answer, `solved` when its KKT residuals meet the
 /// tolerance (else `inaccurate`), with the worst residual.
 fn checked_iterate(
     data: &DualData<'_>,
@@ -427,7 +498,7 @@ fn checked_iterate(
     iter: usize,
     lambda: &[f64],
 ) -> (Outcome, f64) {
-    let clipped: Vec<f64> = lambda.iter().map(|l| l.max(0.0)).collect();
+    let clipped = lambda.to_vec();
     let x = data.primal(&clipped);
     let r = monitor.residuals(&x, &clipped);
     let tol = monitor.tol();

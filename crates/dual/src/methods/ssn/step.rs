@@ -22,15 +22,20 @@ const CONTRACTION: f64 = 0.5;
 
 /// The unrefined dense Newton step: (λ_F, μ) from the factored block, and the gradient
 /// H λ − d + Gᵀ μ from the dense H (x is left empty: the step only decides the next set).
+/// `fixed` holds the multipliers of the inactive rows (0, or ±s on a slipping box row): they
+/// move H_FI λ_I and G_I λ_I to the right-hand side.
 pub(super) fn dense_step(
     hessian: &DenseSym,
     block: &DenseBlock,
     data: &DualData<'_>,
     load: &[f64],
+    fixed: &[f64],
 ) -> Option<Step> {
-    let rhs: Vec<f64> = block.rows.iter().map(|&i| load[i]).collect();
-    let (lambda_f, mu) = block.solve(&rhs, &data.modes.load)?;
-    let mut lambda = vec![0.0; data.rows()];
+    let known = hessian.mul(fixed);
+    let rhs: Vec<f64> = block.rows.iter().map(|&i| load[i] - known[i]).collect();
+    let kernel_rhs = kernel_rhs(data, fixed);
+    let (lambda_f, mu) = block.solve(&rhs, &kernel_rhs)?;
+    let mut lambda = fixed.to_vec();
     for (&i, l) in block.rows.iter().zip(&lambda_f) {
         lambda[i] = *l;
     }
@@ -50,10 +55,19 @@ pub(super) fn dense_step(
     })
 }
 
+/// e − G λ_I: the kernel equations' right-hand side with the fixed multipliers moved over.
+fn kernel_rhs(data: &DualData<'_>, fixed: &[f64]) -> Vec<f64> {
+    data.modes
+        .equality_residual(fixed)
+        .iter()
+        .map(|r| -r)
+        .collect()
+}
+
 /// One Newton step, refined.
 #[derive(Debug)]
 pub(super) struct Step {
-    /// λ (zero off the active rows).
+    /// λ (off the active rows: 0, or ±s on a slipping box row).
     pub lambda: Vec<f64>,
     /// μ, the multipliers of the rigid-mode equations.
     pub mu: Vec<f64>,
@@ -119,7 +133,7 @@ pub(super) fn refined_step(
     solve: &NewtonSolve<'_>,
     load: &[f64],
     monitor: &Monitor<'_>,
-    accurate: bool,
+    (accurate, fixed): (bool, &[f64]),
 ) -> Option<Step> {
     let corrections = if accurate {
         ACCURATE_SOLVE_CORRECTIONS
@@ -127,9 +141,11 @@ pub(super) fn refined_step(
         0
     };
     let rows = rows.to_vec();
+    // The first solve leaves out H_FI λ_I (not formed without H); the first correction, against
+    // the primal residual at λ with its fixed part, brings it in exactly.
     let rhs: Vec<f64> = rows.iter().map(|&i| load[i]).collect();
-    let (lambda_f, mut mu) = solve(&rhs, &data.modes.load)?;
-    let mut lambda = vec![0.0; data.rows()];
+    let (lambda_f, mut mu) = solve(&rhs, &kernel_rhs(data, fixed))?;
+    let mut lambda = fixed.to_vec();
     for (&i, l) in rows.iter().zip(&lambda_f) {
         lambda[i] = *l;
     }
