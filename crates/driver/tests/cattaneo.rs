@@ -196,3 +196,32 @@ fn proportional_loading_below_mu_gives_no_slip_at_all() {
     let list = nodes(&r["contacts"][0]);
     assert!(list.iter().all(|n| n.1 != "slip"), "{list:?}");
 }
+
+#[test]
+fn a_coulomb_run_whose_bounds_repeat_stops_at_once() {
+    // Found on this scene: dual-ssn's inner solves settled `inaccurate` with Coulomb bounds that
+    // reproduced themselves exactly, and the fixed point repeated the same solve until the time
+    // limit (36 outer iterations in 20 s).  Whatever dual-ssn's inner verdict, the run must end
+    // in a few outer iterations per increment, never at the time limit.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("scene.toml"), scene(PRESS_THEN_SHIFT)).unwrap();
+    let o = signorini(
+        &[
+            "solve",
+            "scene.toml",
+            "--backend",
+            "dual-ssn",
+            "--time-limit",
+            "60",
+            "--out",
+            "out",
+        ],
+        dir.path(),
+    );
+    let r = json(&dir.path().join("out/result.json"));
+    assert_ne!(r["status"], "time-limit", "exit {:?}", o.status);
+    for step in r["steps"].as_array().unwrap() {
+        let outer = step["outer_iterations"].as_u64().unwrap();
+        assert!(outer <= 12, "{step}");
+    }
+}

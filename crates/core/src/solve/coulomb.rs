@@ -12,7 +12,9 @@
 //! The map λₙᵏ⁻¹ ↦ λₙᵏ contracts for small μ (the coupling of normal and tangential forces is
 //! of order μ), so the iterates converge linearly; [`CoulombRun`] reports the outer iterations
 //! and the last ratio of successive changes.  A run that has not converged after [`MAX_OUTER`]
-//! iterations ends `max-iterations`; one whose inner solve fails ends with that solve's status.
+//! iterations ends `max-iterations`; one whose inner solve fails ends with that solve's status;
+//! one whose bounds reproduce themselves exactly while the answer misses the tolerance ends
+//! `inaccurate` at once (the next solve would repeat this one).
 
 use std::time::Instant;
 
@@ -111,6 +113,12 @@ pub(super) fn fixed_point(
         let residuals = kkt_residuals(&problem, &raw.x, &raw.multipliers);
         if checked_status(raw.status, &residuals, options.tol) == QpStatus::Solved {
             break (raw, true);
+        }
+        if change == 0.0 {
+            // The bounds reproduce themselves: the next solve would be this one again, and its
+            // answer misses the tolerance — the inner solve's inaccuracy, not the fixed point's.
+            raw.status = QpStatus::Inaccurate;
+            break (raw, false);
         }
         if outer >= MAX_OUTER || options.time_limit.is_some_and(|t| start.elapsed() >= t) {
             raw.status = if outer >= MAX_OUTER {
