@@ -120,15 +120,11 @@ impl QpBackend for DualBackend {
         self.settings.method.backend_name()
     }
 
-    /// Contact rows for every method; box rows (Tresca's tangential multipliers) for projected
-    /// Gauss–Seidel, whose projection is onto each row's interval.  (Uzawa projects the same
-    /// way, but is not yet held to the conformance suite's sticking spring: it stops within
-    /// the KKT tolerance at x = −2.9e-10 where the suite compares with x = 0 exactly.)
-    fn supports(&self, kind: BlockKind) -> bool {
-        match kind {
-            BlockKind::NonNegative => true,
-            BlockKind::Box => true,
-        }
+    /// Contact rows and box rows (friction's tangential multipliers) for every method: PGS and
+    /// Uzawa project onto each row's interval, the active-set method gives a box row three
+    /// states (stick, slip at ±s).
+    fn supports(&self, _kind: BlockKind) -> bool {
+        true
     }
 
     fn solve_valid(

@@ -19,7 +19,8 @@
 //! * **`dual-pgs`** — projected Gauss–Seidel on the dense H, formed by condensation (multi-RHS
 //!   solves H = B (A⁻¹ Bᵀ), or the Schur complement of A on the touched DOFs):
 //!   `λᵢ ← max(0, λᵢ − ω (Hλ − d)ᵢ / Hᵢᵢ)`; on a box row (Tresca's tangential multipliers,
-//!   |λᵢ| ≤ sᵢ) the projection is onto [−sᵢ, sᵢ]; the other dual methods refuse box rows.
+//!   |λᵢ| ≤ sᵢ) the projection is onto [−sᵢ, sᵢ], as in dual-uzawa; dual-ssn gives a box row
+//!   three states (stick, or slip with λᵢ fixed at ±sᵢ).
 //! * **`dual-uzawa`** — projected gradient with one solve per step and no H:
 //!   `x = A⁻¹(f − Bᵀλ)`, `λ ← max(0, λ + ρ (Bx − g))`, ρ = 1/L̂ with L̂ ≥ λ_max(H) from power
 //!   iteration; by default accelerated (FISTA with gradient restart).

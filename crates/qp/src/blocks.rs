@@ -16,7 +16,8 @@
 //! (rᵢ ≠ 0) with λᵢ = sᵢ sign rᵢ at the bound: one complementarity measure for both.  A second-order
 //! cone (3-D Coulomb) would be one more variant with its own rows and measures.
 //!
-//! Today's contact problems are one non-negative block; a backend declares the kinds it solves
+//! A frictionless contact problem is one non-negative block; friction adds its tangential rows
+//! as one box block after it.  A backend declares the kinds it solves
 //! ([`crate::QpBackend::supports`]) and is refused a problem with any other
 //! ([`crate::QpError::UnsupportedBlock`]) before it runs.
 
