@@ -10,7 +10,7 @@
 
 use crate::model::Model;
 use crate::qp::mat_vec;
-use crate::scene::{Friction, Scene};
+use crate::scene::Scene;
 use crate::solve::Solution;
 
 pub mod active;
@@ -24,8 +24,8 @@ pub use active::{active_scale, is_active};
 pub use arc::{interface_arc, ArcPosition};
 pub use balance::{force_balance, BodyBalance, ForceBalance};
 pub use document::{
-    AttemptReport, BackendSettings, BodyReport, ContactNodeReport, ContactReport, FrictionLaw,
-    ProbeReport, Provenance, RunReport, Timings, WarningReport,
+    AttemptReport, BackendSettings, BodyReport, ContactNodeReport, ContactReport, ProbeReport,
+    Provenance, RunReport, Timings, WarningReport,
 };
 pub use fields::{body_fields, interpolate, BodyFields};
 pub use friction::{
@@ -169,10 +169,7 @@ fn contact_reports(
             constraints: pair.rows.len(),
             active,
             normal_force,
-            friction: pair.friction.map(|f| match f {
-                Friction::Coulomb(mu) => FrictionLaw::Coulomb(mu),
-                Friction::Tresca(s) => FrictionLaw::Tresca(s),
-            }),
+            friction: pair.friction,
             tangential_force: pair.friction.map(|_| tangential_force),
             nodes,
         });

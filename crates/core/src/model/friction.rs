@@ -37,10 +37,7 @@ impl TangentialRow {
     /// The bound s of the row's multiplier, given its normal row's multiplier λₙ (used by
     /// Coulomb only; a negative round-off λₙ counts as 0).
     pub fn bound(&self, normal_multiplier: f64) -> f64 {
-        match self.law {
-            Friction::Coulomb(mu) => mu * normal_multiplier.max(0.0),
-            Friction::Tresca(traction) => traction * self.tributary,
-        }
+        self.law.bound(normal_multiplier, self.tributary)
     }
 }
 

@@ -7,7 +7,7 @@ use super::friction::ContactState;
 use crate::geometry::Point;
 use crate::model::{Effect, ModelWarning};
 use crate::qp::KktResiduals;
-use crate::scene::Formulation;
+use crate::scene::{Formulation, Friction};
 use crate::solve::{CoulombRun, StepRecord};
 
 /// Wall-clock time of each phase, in seconds.
@@ -112,23 +112,13 @@ pub struct ContactReport {
     pub normal_force: f64,
     /// Frictional pairs only: the friction law, `{"coulomb": μ}` or `{"tresca": bound}`.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub friction: Option<FrictionLaw>,
+    pub friction: Option<Friction>,
     /// Frictional pairs only: the sum of the tangential multipliers (along each row's tangent).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tangential_force: Option<f64>,
     /// Per slave node, one per row, in row order (the order of the slave node indices, not
     /// along the interface: sort by `piece`, then `s`, to walk along it).
     pub nodes: Vec<ContactNodeReport>,
-}
-
-/// A pair's friction law as `result.json` writes it.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
-#[serde(rename_all = "kebab-case")]
-pub enum FrictionLaw {
-    /// Coulomb's coefficient μ.
-    Coulomb(f64),
-    /// Tresca's slip bound (a traction).
-    Tresca(f64),
 }
 
 /// A probe's displacement.

@@ -122,14 +122,28 @@ pub struct ContactPair {
 }
 
 /// The friction law of a contact pair (`[[contact]] friction` or `tresca`; docs/scene.md,
-/// "Friction").
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// "Friction"); result.json writes it as `{"coulomb": μ}` or `{"tresca": s}`.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
 pub enum Friction {
     /// Coulomb: |λₜ| ≤ μ λₙ at each row, μ > 0 (`friction = μ`).
     Coulomb(f64),
     /// Tresca: |λₜ| ≤ s·ℓ at each row, s > 0 a traction (force per unit length and unit
     /// thickness) and ℓ the row's tributary length (`tresca = s`).
     Tresca(f64),
+}
+
+impl Friction {
+    /// The bound s of a node's tangential multiplier, given its normal multiplier `normal` and
+    /// the length `length` that turns a traction into a force (a row's tributary length): μ
+    /// max(0, normal) or Tresca's traction × length.  With a pressure and length 1, the bound
+    /// of the tangential traction.
+    pub fn bound(self, normal: f64, length: f64) -> f64 {
+        match self {
+            Friction::Coulomb(mu) => mu * normal.max(0.0),
+            Friction::Tresca(traction) => traction * length,
+        }
+    }
 }
 
 /// A point whose displacement is reported.

@@ -31,9 +31,7 @@
 use plotters::prelude::*;
 
 use plotters::coord::types::RangedCoordf64;
-use signorini_core::report::{
-    ContactNodeReport, ContactReport, ContactState, FrictionLaw, RunReport,
-};
+use signorini_core::report::{ContactNodeReport, ContactReport, ContactState, RunReport};
 use signorini_core::scene::Formulation;
 
 use super::chart_style::{
@@ -205,10 +203,7 @@ fn friction_curve(
             curve.bound.push(Vec::new());
             piece = Some(n.piece);
         }
-        let bound = match law {
-            FrictionLaw::Coulomb(mu) => mu * n.pressure.max(0.0),
-            FrictionLaw::Tresca(s) => s,
-        };
+        let bound = law.bound(n.pressure, 1.0);
         if let (Some(t), Some(b)) = (curve.traction.last_mut(), curve.bound.last_mut()) {
             t.push((n.s / sx, q / sy));
             b.push((n.s / sx, bound / sy));
@@ -298,10 +293,7 @@ fn friction_values(report: &RunReport) -> Vec<f64> {
         let Some(law) = c.friction else { continue };
         for n in c.nodes.iter().filter(|n| finite(n)) {
             if let Some(q) = n.tangential_traction.filter(|q| q.is_finite()) {
-                let bound = match law {
-                    FrictionLaw::Coulomb(mu) => mu * n.pressure.max(0.0),
-                    FrictionLaw::Tresca(s) => s,
-                };
+                let bound = law.bound(n.pressure, 1.0);
                 values.extend([q, bound, -bound]);
             }
         }
