@@ -1,6 +1,8 @@
 //! dual-pgs on box rows (Tresca's tangential multipliers, |λ| ≤ s): a block pressed and
 //! dragged on a rigid base, answered by hand, and a coupled chain checked against every
-//! stick/slip/contact pattern solved directly; dual-uzawa and dual-ssn the same.
+//! stick/slip/contact pattern solved directly; dual-uzawa and dual-ssn the same.  Both again
+//! with a zero bound (Coulomb's tangential rows where the normal force vanishes): the row's
+//! multiplier is 0 and its slip free.
 
 // Test code: a failed unwrap is a failed test.
 #![allow(clippy::unwrap_used)]
@@ -41,10 +43,10 @@ fn projected(problem: &QpProblem) -> Vec<(Vec<f64>, Vec<f64>)> {
 }
 
 /// DOFs (u_n, u_t) of a block 0.1 above a rigid base: normal stiffness 4, tangential 2; pressed
-/// by P = 3 (row −u_n ≤ 0.1), dragged by Q with the slip bound s = 1 (box row u_t).  (The gap
+/// by P = 3 (row −u_n ≤ 0.1), dragged by Q with the slip bound `s` (box row u_t).  (The gap
 /// makes the block move: a row whose bodies do not move at all has no length to measure a
 /// penetration against — docs/scene.md, the residuals.)
-fn pressed_block(q: f64) -> QpProblem {
+fn pressed_block(q: f64, s: f64) -> QpProblem {
     qp_from_triplets(
         2,
         &[(0, 0, 4.0), (1, 1, 2.0)],
@@ -56,7 +58,7 @@ fn pressed_block(q: f64) -> QpProblem {
     .unwrap()
     .with_blocks(vec![
         ConstraintBlock::NonNegative { rows: 1 },
-        ConstraintBlock::Box { bounds: vec![1.0] },
+        ConstraintBlock::Box { bounds: vec![s] },
     ])
     .unwrap()
 }
@@ -65,20 +67,25 @@ fn pressed_block(q: f64) -> QpProblem {
 /// the bound the block sticks
 /// (u_t = 0, λ_t = Q), above it slides (u_t = (Q − s·sign Q)/2, λ_t = s·sign Q).  Tolerance:
 /// the KKT tolerance 1e-10 on data of size one, with a factor 10 for the dual's round-off.
+/// With s = 0 the block slides under any Q: u_t = Q/2, λ_t = 0 (dual-ssn took a zero-bound
+/// row for a one-sided one, u_t ≤ 0: stuck under Q > 0 with λ_t = Q, |λ_t| beyond its bound —
+/// the Cattaneo path's `inaccurate` Coulomb solves).
 #[test]
 fn a_pressed_block_sticks_below_the_bound_and_slides_above_it() {
-    for (q, ut, lt) in [
-        (0.4, 0.0, 0.4),
-        (-0.9, 0.0, -0.9),
-        (2.5, 0.75, 1.0),
-        (-4.0, -1.5, -1.0),
+    for (q, s, ut, lt) in [
+        (0.4, 1.0, 0.0, 0.4),
+        (-0.9, 1.0, 0.0, -0.9),
+        (2.5, 1.0, 0.75, 1.0),
+        (-4.0, 1.0, -1.5, -1.0),
+        (0.4, 0.0, 0.2, 0.0),
+        (-0.9, 0.0, -0.45, 0.0),
     ] {
-        for (x, lambda) in projected(&pressed_block(q)) {
+        for (x, lambda) in projected(&pressed_block(q, s)) {
             let want = [(x[0], -0.1), (x[1], ut), (lambda[0], 2.6), (lambda[1], lt)];
             for (got, expected) in want {
                 assert!(
                     (got - expected).abs() < 1e-9,
-                    "Q = {q}: {got} vs {expected}"
+                    "Q = {q}, s = {s}: {got} vs {expected}"
                 );
             }
         }
@@ -117,9 +124,21 @@ fn solve3(mut m: [[f64; 3]; 3], mut r: [f64; 3]) -> [f64; 3] {
 /// pattern that satisfies every KKT condition is kept.
 #[test]
 fn a_coupled_chain_matches_the_pattern_that_satisfies_every_condition() {
+    coupled_chain([0.5, 2.0]);
+}
+
+/// The same chain with x₀'s bound 0: the load 1.5 drags x₀ forward, free of friction (λ₀ᵗ =
+/// 0), next to a box row that sticks or slips at its own bound.
+#[test]
+fn a_coupled_chain_with_a_zero_bound_matches_the_pattern_that_satisfies_every_condition() {
+    coupled_chain([0.0, 2.0]);
+}
+
+/// The chain above with box `bounds` on (x₀, x₂), against the enumerated patterns.
+fn coupled_chain(bounds: [f64; 2]) {
     let a = [[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 2.0]];
     let f = [1.5, -2.0, 0.8];
-    let (bounds, floor) = ([0.5, 2.0], -0.3);
+    let floor = -0.3;
     let problem = qp_from_triplets(
         3,
         &[

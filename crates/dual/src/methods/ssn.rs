@@ -31,6 +31,7 @@ use std::collections::HashSet;
 
 use signorini_qp::QpStatus;
 
+use super::intervals;
 use super::newton::{lumped_compliance, DenseBlock, MatrixFreeBlock};
 use crate::dual::{DualData, Outcome};
 use crate::error::DualError;
@@ -95,8 +96,11 @@ struct Newton {
     /// How the steps are solved, for the message.
     mode: &'static str,
     /// Per row, the bound s of a box row (friction's tangential rows), `None` for a one-sided
-    /// row: a box row sticks (active) or slips with λ fixed at ±s (inactive).
+    /// row: a box row sticks (active) or slips with λ fixed at ±s (inactive); a zero-bound
+    /// row always slips with λ = 0.
     bounds: Vec<Option<f64>>,
+    /// Per row, the interval of λ ([`intervals::of`]): what the answer is projected onto.
+    sets: Vec<(f64, f64)>,
 }
 
 /// The iteration's state, carried from one step to the next.
@@ -127,19 +131,19 @@ struct State {
 }
 
 impl State {
-    /// The first set: every row for a floating body, else the rows with dᵢ > 0.
+    /// The first set: every row for a floating body, else the rows with dᵢ > 0 and the box
+    /// rows (stuck); never a zero-bound box row (its λ is 0 whatever the set).
     fn start(data: &DualData<'_>, newton: &Newton) -> Self {
         let m = data.rows();
-        let active = if data.floating() {
-            vec![true; m]
-        } else {
-            newton
-                .load
-                .iter()
-                .zip(&newton.bounds)
-                .map(|(d, b)| b.is_some() || *d > 0.0)
-                .collect()
-        };
+        let active = newton
+            .load
+            .iter()
+            .zip(&newton.bounds)
+            .map(|(d, b)| match b {
+                Some(s) => *s > 0.0,
+                None => data.floating() || *d > 0.0,
+            })
+            .collect();
         Self {
             active,
             fixed: vec![0.0; m],
@@ -182,10 +186,8 @@ impl Newton {
             Some(h) => (0..m).map(|i| h.diag(i).max(f64::MIN_POSITIVE)).collect(),
             None => lumped_compliance(data),
         };
-        let bounds = crate::methods::intervals::of(data.problem)
-            .into_iter()
-            .map(|(lo, _)| (lo < 0.0).then_some(-lo))
-            .collect();
+        let bounds = intervals::box_bounds(data.problem);
+        let sets = intervals::of(data.problem);
         let mode = if hessian.is_some() {
             "dense Newton steps"
         } else {
@@ -197,6 +199,7 @@ impl Newton {
             diagonal,
             mode,
             bounds,
+            sets,
         })
     }
 
@@ -277,6 +280,8 @@ impl Newton {
                 let v = state.lambda[i] - step.gradient[i] / self.diagonal[i];
                 match self.bounds[i] {
                     None => v > 0.0,
+                    // A zero bound: λ = 0, never stuck (a stuck row's λ is unconstrained).
+                    Some(0.0) => false,
                     Some(s) if v.abs() <= s => true,
                     Some(s) => {
                         next_fixed[i] = s * v.signum();
@@ -310,16 +315,10 @@ impl Newton {
         None
     }
 
-    /// λ projected onto each row's set: [0, ∞), or [−s, s] on a box row.
+    /// λ projected onto each row's set: [0, ∞), or [−s, s] on a box row ([`intervals::project`],
+    /// the projected methods' own).
     fn clamp(&self, lambda: &[f64]) -> Vec<f64> {
-        lambda
-            .iter()
-            .zip(&self.bounds)
-            .map(|(l, b)| match b {
-                Some(s) => l.clamp(-s, *s),
-                None => l.max(0.0),
-            })
-            .collect()
+        intervals::project_all(lambda, &self.sets)
     }
 
     /// Whether λ lies outside some row's set.
