@@ -200,9 +200,10 @@ fn proportional_loading_below_mu_gives_no_slip_at_all() {
 #[test]
 fn a_coulomb_run_whose_bounds_repeat_stops_at_once() {
     // Found on this scene: dual-ssn's inner solves settled `inaccurate` with Coulomb bounds that
-    // reproduced themselves exactly, and the fixed point repeated the same solve until the time
-    // limit (36 outer iterations in 20 s).  Whatever dual-ssn's inner verdict, the run must end
-    // in a few outer iterations per increment, never at the time limit.
+    // reproduced themselves exactly (its zero-bound rows were taken for one-sided rows, since
+    // fixed: crates/dual/tests/box_rows.rs), and the fixed point repeated the same solve until
+    // the time limit (36 outer iterations in 20 s).  Whatever dual-ssn's inner verdict, the run
+    // must end in a few outer iterations per increment, never at the time limit.
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("scene.toml"), scene(PRESS_THEN_SHIFT)).unwrap();
     let o = signorini(
@@ -223,5 +224,64 @@ fn a_coulomb_run_whose_bounds_repeat_stops_at_once() {
     for step in r["steps"].as_array().unwrap() {
         let outer = step["outer_iterations"].as_u64().unwrap();
         assert!(outer <= 12, "{step}");
+    }
+}
+
+/// Solves `scene` with `backend` and `--coulomb method` at tol 1e-10; returns result.json.
+fn run_with(scene: &str, backend: &str, method: &str) -> Value {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("scene.toml"), scene).unwrap();
+    succeeded(&signorini(
+        &[
+            "solve",
+            "scene.toml",
+            "--backend",
+            backend,
+            "--coulomb",
+            method,
+            "--tol",
+            "1e-10",
+            "--out",
+            "out",
+        ],
+        dir.path(),
+    ));
+    json(&dir.path().join("out/result.json"))
+}
+
+#[test]
+fn coulomb_by_semismooth_newton_and_by_the_fixed_point_agree() {
+    // Two different methods for the same conditions (pdas's Newton with λₜ = ±μλₙ inside its
+    // active sets; the fixed point over Tresca problems, through pdas and through dual-ssn, two
+    // direct methods) on the partial-slip path, where the answer is unique for μ = 0.3 (the
+    // fixed point's map contracts): every node's state and tractions must agree.  Measured:
+    // dual-ssn and pdas agree to 1e-12 of the largest traction; 1e-7 of p₀ leaves room.  (Not
+    // dual-pgs: at the same --tol its stick tractions differ by 1.3e-7 p₀ — the residuals'
+    // force scale here is the lifting of the prescribed displacement, far above the contact
+    // forces, so --tol does not bound a stick node's λₜ that tightly.)
+    let scene = scene(PRESS_THEN_SHIFT);
+    let newton = run_with(&scene, "pdas", "newton");
+    assert_eq!(newton["coulomb"]["method"], "newton");
+    assert!(newton["coulomb"]["converged"].as_bool().unwrap());
+    let reference = nodes(&newton["contacts"][0]);
+    let p0 = theory(&newton["contacts"][0]).1;
+    for backend in ["pdas", "dual-ssn"] {
+        let fixed = run_with(&scene, backend, "fixed-point");
+        assert_eq!(fixed["coulomb"]["method"], "fixed-point", "{backend}");
+        let other = nodes(&fixed["contacts"][0]);
+        assert_eq!(other.len(), reference.len(), "{backend}");
+        for (a, b) in reference.iter().zip(&other) {
+            assert_eq!(a.1, b.1, "{backend}: state at x = {}", a.0);
+            assert!(
+                (a.2 - b.2).abs() < 1e-7 * p0,
+                "{backend}: q at x = {}: {a:?} {b:?}",
+                a.0
+            );
+            assert!(
+                (a.3 - b.3).abs() < 1e-7 * p0,
+                "{backend}: p at x = {}: {a:?} {b:?}",
+                a.0
+            );
+        }
     }
 }

@@ -467,3 +467,55 @@ fn the_frictional_hard_fixtures_carry_their_exact_tangential_forces() {
         }
     }
 }
+
+#[test]
+fn newton_is_refused_by_a_backend_without_it_and_the_fixed_point_is_not() {
+    // `--coulomb newton` asks for a backend's own method: dual-pgs has none and says so (no
+    // silent fixed point), nothing is written; `--coulomb fixed-point` runs through it.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("scene.toml"),
+        flat("friction = 0.3", DRAGGED),
+    )
+    .unwrap();
+    let refused = signorini(
+        &[
+            "solve",
+            "scene.toml",
+            "--backend",
+            "dual-pgs",
+            "--coulomb",
+            "newton",
+            "--out",
+            "refused",
+        ],
+        dir.path(),
+    );
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(!refused.status.success());
+    assert!(err.contains("dual-pgs") && err.contains("Coulomb"), "{err}");
+    assert!(!dir.path().join("refused/result.json").exists());
+    let typo = signorini(&["solve", "scene.toml", "--coulomb", "newtn"], dir.path());
+    let err = String::from_utf8_lossy(&typo.stderr);
+    assert!(
+        !typo.status.success() && err.contains("fixed-point"),
+        "{err}"
+    );
+    let o = signorini(
+        &[
+            "solve",
+            "scene.toml",
+            "--backend",
+            "dual-pgs",
+            "--coulomb",
+            "fixed-point",
+            "--out",
+            "fp",
+        ],
+        dir.path(),
+    );
+    succeeded(&o);
+    let r = json(&dir.path().join("fp/result.json"));
+    assert_eq!(r["coulomb"]["method"], "fixed-point");
+    assert_eq!(r["provenance"]["settings"]["coulomb"], "fixed-point");
+}

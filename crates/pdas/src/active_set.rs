@@ -14,10 +14,11 @@
 use std::time::{Duration, Instant};
 
 use signorini_qp::{
-    kkt_residuals_with, mat_vec, row_sets, FarkasRay, KktResiduals, QpProblem, QpStatus,
-    ResidualScales, RowSet, SolveOptions,
+    kkt_residuals_with, mat_vec, row_sets, CoulombRows, CscMatrix, FarkasRay, KktResiduals,
+    QpProblem, QpStatus, ResidualScales, RowSet, SolveOptions,
 };
 
+use crate::coupling::Coupling;
 use crate::error::PdasError;
 use crate::factor::KktFactor;
 use crate::kernel::{pushed_away, rigid_part};
@@ -120,10 +121,29 @@ pub struct ActiveSet<'p> {
     analysis: Duration,
     /// Total time in numeric factorisations.
     factor_time: Duration,
-    /// Per row, the bound s of a box row (friction's tangential rows), `None` for a one-sided
-    /// row.  A box row is *active* when it sticks (B x = g on it) and inactive when it slips,
-    /// with λ fixed at ±s.
-    bounds: Vec<Option<f64>>,
+    /// Per row, its multiplier law.  A box row is *active* when it sticks (B x = g on it) and
+    /// inactive when it slips, with λ fixed at ±s (Tresca) or tied to ±μ λₙ (Coulomb).
+    laws: Vec<Law>,
+    /// The Coulomb rows, when the problem is solved with Coulomb's bounds.
+    coulomb: Option<&'p CoulombRows>,
+    /// B in compressed-row form, for the coupling of slipping Coulomb rows.
+    rows_of_b: Option<CscMatrix>,
+}
+
+/// A row's multiplier law.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Law {
+    /// λ ≥ 0.
+    OneSided,
+    /// |λ| ≤ s.
+    Tresca(f64),
+    /// |λ| ≤ μ max(0, λ of the normal row).
+    Coulomb {
+        /// The normal row.
+        normal: usize,
+        /// μ.
+        mu: f64,
+    },
 }
 
 /// A set's solution measured against the KKT conditions (see [`ActiveSet::measure`]).
@@ -155,6 +175,7 @@ impl<'p> ActiveSet<'p> {
         settings: &'p PdasSettings,
         options: &'p SolveOptions,
         start: Instant,
+        coulomb: Option<&'p CoulombRows>,
     ) -> Result<Self, SetupError> {
         let kkt = KktMatrix::new(problem)?;
         let mut factor = KktFactor::analyse(kkt.matrix(), kkt.dofs())?;
@@ -192,12 +213,9 @@ impl<'p> ActiveSet<'p> {
             updates: 0,
             analysis: start.elapsed(),
             factor_time: Duration::ZERO,
-            bounds: row_sets(&problem.blocks)
-                .map(|set| match set {
-                    RowSet::Box(s) => Some(s),
-                    RowSet::NonNegative => None,
-                })
-                .collect(),
+            laws: laws(problem, coulomb),
+            coulomb,
+            rows_of_b: coulomb.map(|_| problem.constraints.to_csr()),
         })
     }
 
@@ -296,23 +314,32 @@ impl<'p> ActiveSet<'p> {
         let p = self.problem;
         let c = self.settings.penalty * self.stiffness;
         let bx = mat_vec(&p.constraints, &solution.x);
-        let mut signs = vec![0.0; p.rows()];
-        let active = solution
+        let v: Vec<f64> = solution
             .multipliers
             .iter()
             .zip(&bx)
             .zip(&p.gap)
-            .zip(&self.bounds)
+            .map(|((l, b), g)| l + c * (b - g))
+            .collect();
+        let mut signs = vec![0.0; p.rows()];
+        let active = v
+            .iter()
+            .zip(&self.laws)
             .zip(signs.iter_mut())
-            .map(|((((l, b), g), bound), sign)| {
-                let v = l + c * (b - g);
-                match bound {
-                    None => v > 0.0,
-                    Some(s) if v.abs() <= *s => true,
-                    Some(_) => {
-                        *sign = v.signum();
-                        false
-                    }
+            .map(|((&vi, law), sign)| {
+                // Coulomb's bound comes from the normal row's own predictor: μ max(0, vₙ); a
+                // row whose normal row opens is free (λ = 0), neither sticking nor slipping.
+                let bound = match *law {
+                    Law::OneSided => return vi > 0.0,
+                    Law::Tresca(s) => s,
+                    Law::Coulomb { normal, mu } if v[normal] > 0.0 => mu * v[normal],
+                    Law::Coulomb { .. } => return false,
+                };
+                if vi.abs() <= bound {
+                    true
+                } else {
+                    *sign = vi.signum();
+                    false
                 }
             })
             .collect();
@@ -322,30 +349,52 @@ impl<'p> ActiveSet<'p> {
     /// Whether the problem has box rows (then the sets carry signs and the interior-point
     /// continuation, which knows one-sided rows only, is not used).
     fn has_box(&self) -> bool {
-        self.bounds.iter().any(Option::is_some)
+        self.laws.iter().any(|l| *l != Law::OneSided)
     }
 
-    /// The fixed multipliers of the inactive rows of a set: ±s on slipping box rows, else 0.
+    /// The fixed multipliers of the inactive rows of a set: ±s on slipping Tresca rows, else 0
+    /// (a slipping Coulomb row's multiplier is tied to its normal row by [`Self::coupling`]).
     fn fixed(&self, active: &[bool], signs: &[f64]) -> Vec<f64> {
         active
             .iter()
             .zip(signs)
-            .zip(&self.bounds)
-            .map(|((&on, sign), bound)| match bound {
-                Some(s) if !on => sign * s,
+            .zip(&self.laws)
+            .map(|((&on, sign), law)| match law {
+                Law::Tresca(s) if !on => sign * s,
                 _ => 0.0,
             })
             .collect()
     }
 
-    /// λ projected onto each row's multiplier set: [0, ∞) or [−s, s].
+    /// The slipping Coulomb rows of a set whose normal rows are active, tied by λ = μ σ λₙ.
+    fn coupling(&self, active: &[bool], signs: &[f64]) -> Option<Coupling> {
+        let rows_of_b = self.rows_of_b.as_ref()?;
+        let links: Vec<(usize, usize, f64)> = self
+            .laws
+            .iter()
+            .enumerate()
+            .filter_map(|(i, law)| match *law {
+                Law::Coulomb { normal, mu } if !active[i] && signs[i] != 0.0 && active[normal] => {
+                    Some((i, normal, mu * signs[i]))
+                }
+                _ => None,
+            })
+            .collect();
+        (!links.is_empty()).then(|| Coupling::new(&links, rows_of_b, self.problem.dofs()))
+    }
+
+    /// λ projected onto each row's multiplier set: [0, ∞), [−s, s] or [−μ λₙ⁺, μ λₙ⁺].
     fn clamp(&self, multipliers: &[f64]) -> Vec<f64> {
         multipliers
             .iter()
-            .zip(&self.bounds)
-            .map(|(l, bound)| match bound {
-                Some(s) => l.clamp(-s, *s),
-                None => l.max(0.0),
+            .zip(&self.laws)
+            .map(|(l, law)| match *law {
+                Law::OneSided => l.max(0.0),
+                Law::Tresca(s) => l.clamp(-s, s),
+                Law::Coulomb { normal, mu } => {
+                    let s = mu * multipliers[normal].max(0.0);
+                    l.clamp(-s, s)
+                }
             })
             .collect()
     }
@@ -393,7 +442,10 @@ impl<'p> ActiveSet<'p> {
         iteration: usize,
     ) -> Measured {
         let clamped = self.clamp(multipliers);
-        let residuals = kkt_residuals_with(self.problem, &self.scales, &x, &clamped);
+        let residuals = match self.coulomb {
+            Some(rows) => rows.residuals(self.problem, &self.scales, &x, &clamped),
+            None => kkt_residuals_with(self.problem, &self.scales, &x, &clamped),
+        };
         let worst = residuals.worst();
         let changes = next.iter().zip(set).filter(|(a, b)| a != b).count();
         Measured {
@@ -450,8 +502,8 @@ impl<'p> ActiveSet<'p> {
         // one-sided rows.
         let one_sided = |y: &[f64]| -> Vec<f64> {
             y.iter()
-                .zip(&self.bounds)
-                .map(|(v, b)| if b.is_some() { 0.0 } else { *v })
+                .zip(&self.laws)
+                .map(|(v, law)| if *law == Law::OneSided { *v } else { 0.0 })
                 .collect()
         };
         let rays = [one_sided(correction), one_sided(multipliers)];
@@ -494,6 +546,24 @@ fn no_certificate(problem: &QpProblem, multipliers: &[f64]) -> String {
         .filter(|ray| ray.gap_fraction > 0.0)
         .and_then(|ray| ray.shortfall())
         .map_or_else(String::new, |why| format!("; {why}"))
+}
+
+/// Each row's law: the problem's blocks, with the Coulomb rows of `coulomb` tied to their normal
+/// rows.
+fn laws(problem: &QpProblem, coulomb: Option<&CoulombRows>) -> Vec<Law> {
+    let mut laws: Vec<Law> = row_sets(&problem.blocks)
+        .map(|set| match set {
+            RowSet::Box(s) => Law::Tresca(s),
+            RowSet::NonNegative => Law::OneSided,
+        })
+        .collect();
+    for link in coulomb.map(CoulombRows::links).unwrap_or_default() {
+        laws[link.row] = Law::Coulomb {
+            normal: link.normal_row,
+            mu: link.mu,
+        };
+    }
+    laws
 }
 
 fn count(active: &[bool]) -> usize {

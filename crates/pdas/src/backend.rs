@@ -2,7 +2,9 @@
 
 use std::time::Instant;
 
-use signorini_qp::{BlockKind, QpBackend, QpError, QpProblem, QpSolution, QpStatus, SolveOptions};
+use signorini_qp::{
+    BlockKind, CoulombRows, QpBackend, QpError, QpProblem, QpSolution, QpStatus, SolveOptions,
+};
 
 use crate::active_set::{ActiveSet, Outcome, SetupError};
 use crate::kernel::{check_kernel, unrestrained_mode};
@@ -49,6 +51,7 @@ impl PdasBackend {
         problem: &QpProblem,
         options: &SolveOptions,
         start: Instant,
+        coulomb: Option<&CoulombRows>,
     ) -> Result<Outcome, QpError> {
         if let Err(e) = check_kernel(problem) {
             return Ok(failure(problem, QpStatus::NumericalError, e.to_string()));
@@ -60,7 +63,7 @@ impl PdasBackend {
                 format!("kernel vector {j} (a rigid motion) is not held by any contact row but the load drives it: the objective is unbounded below"),
             ));
         }
-        let mut method = match ActiveSet::new(problem, &self.settings, options, start) {
+        let mut method = match ActiveSet::new(problem, &self.settings, options, start, coulomb) {
             Ok(method) => method,
             Err(SetupError::TooLarge(e)) => return Err(e),
             Err(SetupError::Pdas(e)) => {
@@ -86,12 +89,39 @@ impl QpBackend for PdasBackend {
         problem: &QpProblem,
         options: &SolveOptions,
     ) -> Result<QpSolution, QpError> {
+        self.solve_with(problem, None, options)
+    }
+
+    /// Coulomb's conditions by the same semismooth Newton iteration: a slipping row's
+    /// multiplier is tied to its normal row's, λₜ = ±μ λₙ (see the crate documentation).
+    fn solves_coulomb(&self) -> bool {
+        true
+    }
+
+    fn solve_coulomb_valid(
+        &mut self,
+        problem: &QpProblem,
+        coulomb: &CoulombRows,
+        options: &SolveOptions,
+    ) -> Result<QpSolution, QpError> {
+        self.solve_with(problem, Some(coulomb), options)
+    }
+}
+
+impl PdasBackend {
+    /// The iteration on `problem`, Coulomb's rows tied to their normal rows when given.
+    fn solve_with(
+        &self,
+        problem: &QpProblem,
+        coulomb: Option<&CoulombRows>,
+        options: &SolveOptions,
+    ) -> Result<QpSolution, QpError> {
         let start = Instant::now();
         self.settings.validate().map_err(|e| QpError::Backend {
             backend: "pdas",
             reason: e.to_string(),
         })?;
-        let outcome = self.run(problem, options, start)?;
+        let outcome = self.run(problem, options, start, coulomb)?;
         let solution = QpSolution {
             x: outcome.x,
             multipliers: outcome.multipliers,

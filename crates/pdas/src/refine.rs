@@ -98,7 +98,8 @@ pub fn first_solve(
             }
         }
     }
-    let multipliers = z.split_off(n);
+    let mut multipliers = z.split_off(n);
+    solver.fill(&mut multipliers);
     SetSolution {
         x: z,
         multipliers,
@@ -147,7 +148,8 @@ pub fn refine(
         clear_inactive(&mut r[n..], active);
         solution.correction.clear();
         solution.correction.extend_from_slice(&r[n..]);
-        let candidate: Vec<f64> = z.iter().zip(&r).map(|(a, b)| a + b).collect();
+        let mut candidate: Vec<f64> = z.iter().zip(&r).map(|(a, b)| a + b).collect();
+        solver.fill(&mut candidate[n..]);
         let next = residual(problem, scales, active, &candidate);
         let (next_r, next_norm) = (next.vector, next.norm);
         steps += 1;

@@ -22,6 +22,7 @@ use std::sync::Arc;
 
 use signorini_qp::QpProblem;
 
+use crate::coupling::Coupling;
 use crate::dense::DenseLu;
 use crate::error::PdasError;
 use crate::factor::KktFactor;
@@ -316,14 +317,30 @@ pub struct SetSolver<'a> {
     pub factor: &'a mut KktFactor,
     /// The correction when the factored set is not the current one.
     pub update: Option<&'a SetUpdate>,
+    /// Coulomb's slipping rows tied to their normal rows, when any (then K_c is solved).
+    pub coupling: Option<&'a Coupling>,
 }
 
 impl SetSolver<'_> {
-    /// rhs ← K_F⁻¹ rhs.
+    /// rhs ← K_F⁻¹ rhs (K_c⁻¹ rhs with a coupling, see [`Coupling::solve`]).
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
-        match self.update {
-            Some(update) => update.solve_in_place(self.factor, rhs),
-            None => self.factor.solve_in_place(rhs),
+        let (factor, update) = (&mut *self.factor, self.update);
+        let mut plain = |v: &mut [f64]| match update {
+            Some(update) => update.solve_in_place(factor, v),
+            None => factor.solve_in_place(v),
+        };
+        match self.coupling {
+            Some(coupling) => {
+                coupling.solve(rhs, plain);
+            }
+            None => plain(rhs),
+        }
+    }
+
+    /// Sets the multipliers of tied rows from their normal rows (nothing without a coupling).
+    pub fn fill(&self, multipliers: &mut [f64]) {
+        if let Some(coupling) = self.coupling {
+            coupling.fill(multipliers);
         }
     }
 }
@@ -376,6 +393,7 @@ mod tests {
             .collect();
         let mut a = rhs.clone();
         SetSolver {
+            coupling: None,
             factor: &mut old,
             update: Some(&update),
         }

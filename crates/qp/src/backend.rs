@@ -3,6 +3,7 @@
 use std::time::Duration;
 
 use super::blocks::BlockKind;
+use super::coulomb::{CoulombMethod, CoulombRows};
 use super::problem::{QpError, QpProblem};
 use super::scaling::QpScaling;
 
@@ -20,6 +21,9 @@ pub struct SolveOptions {
     pub time_limit: Option<Duration>,
     /// Print the backend's own progress.  Default `false`.
     pub verbose: bool,
+    /// How Coulomb rows are solved (the core's choice between the fixed point and the
+    /// backend's own method).  Default [`CoulombMethod::Auto`].
+    pub coulomb: CoulombMethod,
 }
 
 impl Default for SolveOptions {
@@ -29,6 +33,7 @@ impl Default for SolveOptions {
             max_iter: None,
             time_limit: None,
             verbose: false,
+            coulomb: CoulombMethod::Auto,
         }
     }
 }
@@ -100,36 +105,101 @@ pub trait QpBackend: Send {
         problem: &QpProblem,
         options: &SolveOptions,
     ) -> Result<QpSolution, QpError> {
-        problem.validate()?;
-        if let Some(kind) = problem
-            .block_kinds()
-            .into_iter()
-            .find(|k| !self.supports(*k))
-        {
-            let supported: Vec<&str> = BlockKind::ALL
-                .into_iter()
-                .filter(|k| self.supports(*k))
-                .map(BlockKind::as_str)
-                .collect();
-            return Err(QpError::UnsupportedBlock {
-                backend: self.name(),
-                kind,
-                supported: supported.join(", "),
-            });
-        }
+        refuse_unsupported(&*self, problem)?;
         let solution = self.solve_valid(problem, options)?;
-        if solution.x.len() != problem.dofs() || solution.multipliers.len() != problem.rows() {
-            return Err(QpError::Backend {
-                backend: self.name(),
-                reason: format!(
-                    "its answer has {} unknowns and {} multipliers for a problem of {} and {}",
-                    solution.x.len(),
-                    solution.multipliers.len(),
-                    problem.dofs(),
-                    problem.rows()
-                ),
-            });
-        }
-        Ok(solution.finite_or_numerical_error())
+        checked_answer(&*self, problem, solution)
     }
+
+    /// Whether the backend has a method of its own for Coulomb rows
+    /// ([`QpBackend::solve_coulomb_valid`]).  Default: no (the core then runs the fixed point
+    /// over Tresca problems through [`QpBackend::solve`]).
+    fn solves_coulomb(&self) -> bool {
+        false
+    }
+
+    /// Solves a problem whose `coulomb` rows are bounded by μ max(0, λₙ) of the answer itself
+    /// (their bounds in `problem`'s box block are a starting guess only), after the checks of
+    /// [`QpBackend::solve_coulomb`].  Default: refused as unavailable.
+    fn solve_coulomb_valid(
+        &mut self,
+        problem: &QpProblem,
+        coulomb: &CoulombRows,
+        options: &SolveOptions,
+    ) -> Result<QpSolution, QpError> {
+        let _ = (problem, coulomb, options);
+        Err(QpError::Unavailable {
+            backend: self.name(),
+            reason: "it has no method of its own for Coulomb friction (the fixed point over Tresca problems solves it through any backend that solves box rows)".into(),
+        })
+    }
+
+    /// Solves the Coulomb problem (see [`CoulombRows`]) with the shared steps of
+    /// [`QpBackend::solve`] around [`QpBackend::solve_coulomb_valid`] (μ is dimensionless, so
+    /// the nondimensionalisation leaves the coupling as it is).
+    fn solve_coulomb(
+        &mut self,
+        problem: &QpProblem,
+        coulomb: &CoulombRows,
+        options: &SolveOptions,
+    ) -> Result<QpSolution, QpError> {
+        let scaling = QpScaling::of(problem);
+        if scaling.is_unit() {
+            refuse_unsupported(&*self, problem)?;
+            let solution = self.solve_coulomb_valid(problem, coulomb, options)?;
+            return checked_answer(&*self, problem, solution);
+        }
+        problem.validate()?;
+        let scaled = scaling.scale(problem);
+        refuse_unsupported(&*self, &scaled)?;
+        let solution = self.solve_coulomb_valid(&scaled, coulomb, options)?;
+        let answer = checked_answer(&*self, &scaled, solution)?;
+        Ok(scaling.unscale(answer).finite_or_numerical_error())
+    }
+}
+
+/// Refuses invalid data ([`QpProblem::validate`]) and blocks `backend` does not solve.
+fn refuse_unsupported<B: QpBackend + ?Sized>(
+    backend: &B,
+    problem: &QpProblem,
+) -> Result<(), QpError> {
+    problem.validate()?;
+    if let Some(kind) = problem
+        .block_kinds()
+        .into_iter()
+        .find(|k| !backend.supports(*k))
+    {
+        let supported: Vec<&str> = BlockKind::ALL
+            .into_iter()
+            .filter(|k| backend.supports(*k))
+            .map(BlockKind::as_str)
+            .collect();
+        return Err(QpError::UnsupportedBlock {
+            backend: backend.name(),
+            kind,
+            supported: supported.join(", "),
+        });
+    }
+    Ok(())
+}
+
+/// The answer's lengths checked against the problem, and a non-finite one turned into a
+/// numerical error.
+fn checked_answer<B: QpBackend + ?Sized>(
+    backend: &B,
+    problem: &QpProblem,
+    solution: QpSolution,
+) -> Result<QpSolution, QpError> {
+    if solution.x.len() != problem.dofs() || solution.multipliers.len() != problem.rows() {
+        return Err(QpError::Backend {
+            backend: backend.name(),
+            reason: format!(
+                "its answer has {} unknowns and {} multipliers for a problem of {} and {}",
+                solution.x.len(),
+                solution.multipliers.len(),
+                problem.dofs(),
+                problem.rows()
+            ),
+        });
+    }
+    Ok(solution.finite_or_numerical_error())
 }

@@ -32,6 +32,7 @@ mod auxiliary;
 mod backend;
 mod blocks;
 mod certificate;
+mod coulomb;
 mod dual_form;
 mod ops;
 mod problem;
@@ -48,6 +49,7 @@ pub use auxiliary::AuxiliaryForm;
 pub use backend::{QpBackend, QpSolution, SolveOptions};
 pub use blocks::{row_sets, BlockKind, ConstraintBlock, RowSet};
 pub use certificate::{FarkasRay, FARKAS_MARGIN};
+pub use coulomb::{CoulombLink, CoulombMethod, CoulombRows};
 pub use dual_form::{
     condensable, condense, primal_of, touched_dofs, CondenseStop, Condensed, CondensedDual,
     BYTES_PER_DUAL_ENTRY,
@@ -55,7 +57,8 @@ pub use dual_form::{
 pub use ops::{csc_parts, dot, mat_t_vec, mat_vec, norm_inf};
 pub use problem::{CscMatrix, QpError, QpProblem};
 pub use residuals::{
-    kkt_residuals, kkt_residuals_with, KktResiduals, ResidualScales, BODY_FORCE_FLOOR,
+    kkt_residuals, kkt_residuals_in, kkt_residuals_with, KktResiduals, ResidualScales,
+    BODY_FORCE_FLOOR,
 };
 pub use scaling::QpScaling;
 pub use status::{checked_status, QpStatus};

@@ -113,13 +113,27 @@ pub fn kkt_residuals_with(
     x: &[f64],
     multipliers: &[f64],
 ) -> KktResiduals {
+    let sets: Vec<RowSet> = row_sets(&problem.blocks).collect();
+    kkt_residuals_in(problem, &sets, scales, x, multipliers)
+}
+
+/// As [`kkt_residuals_with`], with each row's multiplier set given by the caller instead of read
+/// from the problem's blocks (Coulomb's rows, whose bounds μ max(0, λₙ) depend on the answer:
+/// [`crate::CoulombRows::residuals`]).
+pub fn kkt_residuals_in(
+    problem: &QpProblem,
+    sets: &[RowSet],
+    scales: &ResidualScales,
+    x: &[f64],
+    multipliers: &[f64],
+) -> KktResiduals {
     if x.len() != problem.dofs()
         || multipliers.len() != problem.rows()
         || scales.dof_forces.len() != problem.dofs()
         || scales.rows.len() != problem.rows()
         || scales.dof_bodies.len() != problem.dofs()
         || scales.row_body_starts.len() != problem.rows() + 1
-        || row_sets(&problem.blocks).count() != problem.rows()
+        || sets.len() != problem.rows()
         || x.iter().chain(multipliers).any(|v| !v.is_finite())
     {
         return KktResiduals::UNMEASURABLE;
@@ -149,7 +163,7 @@ pub fn kkt_residuals_with(
         .zip(multipliers)
         .zip(&scales.rows)
         .zip(&scales.row_forces)
-        .zip(row_sets(&problem.blocks))
+        .zip(sets.iter().copied())
         .enumerate()
     {
         let slack = gi - bxi;

@@ -6,6 +6,7 @@ use serde::Serialize;
 use super::friction::ContactState;
 use crate::geometry::Point;
 use crate::model::{Effect, ModelWarning};
+use crate::qp::CoulombMethod;
 use crate::qp::KktResiduals;
 use crate::scene::{Formulation, Friction};
 use crate::solve::{CoulombRun, StepRecord};
@@ -247,6 +248,15 @@ pub struct BackendSettings {
     /// (absent: auto's own rule, whose order `reason` explains).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub chain: Vec<String>,
+    /// Coulomb friction's method when one was asked for (`fixed-point`, `newton`); absent for
+    /// the default `auto` (see [`crate::qp::CoulombMethod`]).
+    #[serde(skip_serializing_if = "is_auto")]
+    pub coulomb: CoulombMethod,
+}
+
+/// Whether the Coulomb method is the default (not written).
+fn is_auto(method: &CoulombMethod) -> bool {
+    *method == CoulombMethod::Auto
 }
 
 /// One backend's run inside the `auto` chain (`result.json`'s `attempts`).

@@ -1,4 +1,10 @@
-//! Coulomb friction by a fixed point over Tresca problems (docs/scene.md, "Friction").
+//! Coulomb friction (docs/scene.md, "Friction"): a backend's own method for the coupled
+//! conditions ([`QpBackend::solve_coulomb`], pdas's semismooth Newton) or the fixed point over
+//! Tresca problems through any backend, as [`SolveOptions::coulomb`] chooses
+//! ([`CoulombMethod::Auto`]: the backend's own method when it has one).  Both answers are judged
+//! the same way: by the residuals with each Coulomb row bounded by μ max(0, λₙ) of the answer.
+//!
+//! # The fixed point
 //!
 //! Coulomb's bound μ λₙ depends on the normal multiplier, so the contact problem is no longer a
 //! QP.  Each outer iteration k solves the Tresca QP whose Coulomb rows have the bounds
@@ -23,20 +29,25 @@ use serde::Serialize;
 use super::{finish, ScaledQp, Solution, SolveError};
 use crate::model::Model;
 use crate::qp::{
-    checked_status, kkt_residuals, ConstraintBlock, QpBackend, QpProblem, QpStatus, SolveOptions,
+    checked_status, CoulombLink, CoulombMethod, CoulombRows, QpBackend, QpError, QpProblem,
+    QpStatus, ResidualScales, SolveOptions,
 };
 use crate::scene::Friction;
 
 /// The outer iterations allowed (each is one full solve).
 pub const MAX_OUTER: usize = 100;
 
-/// What the Coulomb fixed point did.
+/// How Coulomb's conditions were solved.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct CoulombRun {
-    /// Outer iterations (Tresca solves) run.
+    /// `fixed-point` or `newton` (the backend's own method).
+    pub method: CoulombMethod,
+    /// Outer iterations: Tresca solves of the fixed point; 1 for the backend's own method.
     pub outer_iterations: usize,
-    /// The last change of the Coulomb bounds, max |sᵏ⁺¹ − sᵏ| / max sᵏ⁺¹.
-    pub last_change: f64,
+    /// The fixed point's last change of the Coulomb bounds, max |sᵏ⁺¹ − sᵏ| / max sᵏ⁺¹
+    /// (absent for the backend's own method).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub last_change: Option<f64>,
     /// The ratio of the last two changes (an estimate of the map's contraction; `None` before
     /// two changes were measured, and then absent from result.json).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -45,38 +56,99 @@ pub struct CoulombRun {
     pub converged: bool,
 }
 
-/// One Coulomb row of the QP: its index in the box block, its normal row, μ.
-struct CoulombRow {
-    slot: usize,
-    normal_row: usize,
-    mu: f64,
-}
-
-/// The fixed point (see the module docs) on the scaled QP `qp` of `model`.
-pub(super) fn fixed_point(
-    model: &Model,
-    qp: &ScaledQp,
-    backend: &mut dyn QpBackend,
-    options: &SolveOptions,
-) -> Result<Solution, SolveError> {
-    let start = Instant::now();
-    let rows: Vec<CoulombRow> = model
+/// The Coulomb rows of `model` in its QP `problem` (the box block follows the normal rows).
+fn coulomb_rows(model: &Model, problem: &QpProblem) -> Result<CoulombRows, QpError> {
+    let first = model.normal_rows();
+    let links = model
         .tangential
         .iter()
         .enumerate()
         .filter_map(|(slot, t)| match t.law {
-            Friction::Coulomb(mu) => Some(CoulombRow {
-                slot,
+            Friction::Coulomb(mu) => Some(CoulombLink {
+                row: first + slot,
                 normal_row: t.normal_row,
                 mu,
             }),
             Friction::Tresca(_) => None,
         })
         .collect();
-    let mut problem = qp.problem.clone();
+    CoulombRows::new(problem, links)
+}
+
+/// Solves the Coulomb problem of `model` by the method [`SolveOptions::coulomb`] chooses.
+pub(super) fn solve(
+    model: &Model,
+    qp: &ScaledQp,
+    backend: &mut dyn QpBackend,
+    options: &SolveOptions,
+) -> Result<Solution, SolveError> {
+    let rows = coulomb_rows(model, &qp.problem)?;
+    let own = match options.coulomb {
+        CoulombMethod::Auto => backend.solves_coulomb(),
+        CoulombMethod::FixedPoint => false,
+        CoulombMethod::Newton => true,
+    };
+    if own {
+        own_method(model, qp, &rows, backend, options)
+    } else {
+        fixed_point(model, qp, &rows, backend, options)
+    }
+}
+
+/// The first bounds of the Coulomb rows: the whole load ‖f‖₁ (at least 1 in the scaled units),
+/// so that nearly every node sticks at first.
+fn first_bounds(problem: &QpProblem, rows: &CoulombRows) -> Vec<f64> {
     let first = problem.load.iter().map(|f| f.abs()).sum::<f64>().max(1.0);
-    let mut bounds: Vec<f64> = vec![first; rows.len()];
-    set_bounds(&mut problem, &rows, &bounds);
+    vec![first; rows.links().len()]
+}
+
+/// The backend's own method for the coupled conditions, judged like the fixed point's answer.
+fn own_method(
+    model: &Model,
+    qp: &ScaledQp,
+    rows: &CoulombRows,
+    backend: &mut dyn QpBackend,
+    options: &SolveOptions,
+) -> Result<Solution, SolveError> {
+    let start = Instant::now();
+    let mut problem = qp.problem.clone();
+    let first = first_bounds(&problem, rows);
+    rows.set_bounds(&mut problem, &first);
+    let raw = backend.solve_coulomb(&problem, rows, options)?;
+    // Judged with its own bounds μ max(0, λₙ): Coulomb's conditions exactly.
+    rows.set_bounds(&mut problem, &rows.bounds(&raw.multipliers));
+    let mut solution = finish(
+        model,
+        &problem,
+        qp.scaling,
+        backend.name(),
+        raw,
+        start.elapsed(),
+        options,
+    );
+    solution.coulomb = Some(CoulombRun {
+        method: CoulombMethod::Newton,
+        outer_iterations: 1,
+        last_change: None,
+        contraction: None,
+        converged: solution.status == QpStatus::Solved,
+    });
+    Ok(solution)
+}
+
+/// The fixed point (see the module docs) on the scaled QP `qp` of `model`.
+fn fixed_point(
+    model: &Model,
+    qp: &ScaledQp,
+    rows: &CoulombRows,
+    backend: &mut dyn QpBackend,
+    options: &SolveOptions,
+) -> Result<Solution, SolveError> {
+    let start = Instant::now();
+    let mut problem = qp.problem.clone();
+    let scales = ResidualScales::of(&problem);
+    let mut bounds = first_bounds(&problem, rows);
+    rows.set_bounds(&mut problem, &bounds);
     let mut iterations = 0;
     let mut changes: Vec<f64> = Vec::new();
     let mut outer = 0;
@@ -84,17 +156,7 @@ pub(super) fn fixed_point(
         outer += 1;
         let mut raw = backend.solve(&problem, options)?;
         iterations += raw.iterations;
-        let next: Vec<f64> = rows
-            .iter()
-            .map(|r| {
-                r.mu * raw
-                    .multipliers
-                    .get(r.normal_row)
-                    .copied()
-                    .unwrap_or(0.0)
-                    .max(0.0)
-            })
-            .collect();
+        let next = rows.bounds(&raw.multipliers);
         let scale = next.iter().fold(0.0_f64, |m, s| m.max(*s));
         let change = bounds
             .iter()
@@ -104,13 +166,13 @@ pub(super) fn fixed_point(
             / scale.max(f64::MIN_POSITIVE);
         changes.push(change);
         // Judged with its own bounds μ max(0, λₙ): Coulomb's conditions exactly.
-        set_bounds(&mut problem, &rows, &next);
+        rows.set_bounds(&mut problem, &next);
         // An inaccurate inner answer may still meet the tolerance once judged with the next
         // bounds, or lead to one that does; any other verdict ends the fixed point.
         if !matches!(raw.status, QpStatus::Solved | QpStatus::Inaccurate) {
             break (raw, false);
         }
-        let residuals = kkt_residuals(&problem, &raw.x, &raw.multipliers);
+        let residuals = rows.residuals(&problem, &scales, &raw.x, &raw.multipliers);
         if checked_status(raw.status, &residuals, options.tol) == QpStatus::Solved {
             break (raw, true);
         }
@@ -135,11 +197,12 @@ pub(super) fn fixed_point(
             .iter()
             .map(|&s| if s > options.tol * scale { s } else { 0.0 })
             .collect();
-        set_bounds(&mut problem, &rows, &bounds);
+        rows.set_bounds(&mut problem, &bounds);
     };
     let run = CoulombRun {
+        method: CoulombMethod::FixedPoint,
         outer_iterations: outer,
-        last_change: changes.last().copied().unwrap_or(0.0),
+        last_change: Some(changes.last().copied().unwrap_or(0.0)),
         contraction: (changes.len() >= 2)
             .then(|| changes[changes.len() - 1] / changes[changes.len() - 2]),
         converged,
@@ -154,7 +217,7 @@ pub(super) fn fixed_point(
         } else {
             ", not converged"
         },
-        run.last_change,
+        run.last_change.unwrap_or(0.0),
         run.contraction
             .map(|c| format!(", contraction {c:.3}"))
             .unwrap_or_default()
@@ -174,17 +237,4 @@ pub(super) fn fixed_point(
     );
     solution.coulomb = Some(run);
     Ok(solution)
-}
-
-/// Sets the bounds of the Coulomb rows (the rest of the box block keeps Tresca's).
-fn set_bounds(problem: &mut QpProblem, rows: &[CoulombRow], bounds: &[f64]) {
-    if let Some(ConstraintBlock::Box { bounds: block }) = problem
-        .blocks
-        .iter_mut()
-        .find(|b| matches!(b, ConstraintBlock::Box { .. }))
-    {
-        for (r, s) in rows.iter().zip(bounds) {
-            block[r.slot] = *s;
-        }
-    }
 }

@@ -179,7 +179,7 @@ fn solve_one(
         .iter()
         .any(|t| matches!(t.law, crate::scene::Friction::Coulomb(_)))
     {
-        return coulomb::fixed_point(model, qp, backend, options);
+        return coulomb::solve(model, qp, backend, options);
     }
     let start = Instant::now();
     let raw = backend.solve(problem, options)?;

@@ -304,6 +304,7 @@ impl ActiveSet<'_> {
         let mut solver = SetSolver {
             factor: &mut self.factor,
             update: None,
+            coupling: None,
         };
         let mut solution = first_solve(p, set, None, &mut solver);
         refine(p, &self.scales, set, &mut solver, &mut solution, &limits);

@@ -209,9 +209,11 @@ impl ActiveSet<'_> {
         let fixed = self
             .has_box()
             .then(|| self.fixed(&state.active, &state.signs));
+        let coupling = self.coupling(&state.active, &state.signs);
         let mut solver = SetSolver {
             factor: &mut self.factor,
             update: set_solve.update.as_ref(),
+            coupling: coupling.as_ref(),
         };
         let clock = Instant::now();
         let mut solution = first_solve(p, &state.active, fixed.as_deref(), &mut solver);
@@ -227,6 +229,7 @@ impl ActiveSet<'_> {
             let mut solver = SetSolver {
                 factor: &mut self.factor,
                 update: set_solve.update.as_ref(),
+                coupling: coupling.as_ref(),
             };
             refine(
                 p,
@@ -329,6 +332,10 @@ impl ActiveSet<'_> {
                 .len()
                 .checked_sub(2)
                 .is_some_and(|k| step.changes >= state.changes_history[k]);
+        // Box rows have no interior-point continuation: their plain steps go on while the sets
+        // still change without repeating (a contact zone that shrinks a node per side each step
+        // changes as many rows as two steps before without flipping).
+        let flipping = flipping && !self.has_box();
         let restart = ((step.cycling || flipping) && iteration < state.max_iter)
             .then(|| (step.candidate.x.clone(), solution.multipliers.clone()));
         state.best.keep_if_better(step.candidate, step.worst);

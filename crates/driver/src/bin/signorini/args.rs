@@ -37,6 +37,18 @@ pub(crate) fn time_limit(seconds: Option<f64>) -> Option<Duration> {
         .and_then(|t| Duration::try_from_secs_f64(t).ok())
 }
 
+/// A Coulomb method by name (`auto`, `fixed-point`, `newton`).
+pub(crate) fn parse_coulomb(text: &str) -> Result<signorini_core::qp::CoulombMethod, String> {
+    use signorini_core::qp::CoulombMethod;
+    CoulombMethod::from_name(text.trim()).ok_or_else(|| {
+        let names: Vec<&str> = CoulombMethod::ALL.iter().map(|m| m.as_str()).collect();
+        format!(
+            "unknown Coulomb method `{text}`; choose one of {}",
+            names.join(", ")
+        )
+    })
+}
+
 /// A tolerance in (0, 1).
 pub(crate) fn parse_tol(text: &str) -> Result<f64, String> {
     let t: f64 = text

@@ -8,7 +8,9 @@ use signorini::exit::Exit;
 use signorini::run;
 use signorini_core::qp::SolveOptions;
 
-use crate::args::{limits, parse_backends, parse_time_limit, parse_tol, time_limit, Common};
+use crate::args::{
+    limits, parse_backends, parse_coulomb, parse_time_limit, parse_tol, time_limit, Common,
+};
 use crate::console::{warn, Console};
 
 /// `signorini compare SCENE …`: the options of a comparison.
@@ -26,6 +28,11 @@ pub(crate) struct CompareArgs {
     /// Relative KKT tolerance every backend is asked to meet.
     #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
     pub(crate) tol: f64,
+    /// Coulomb friction's method: auto (the backend's own semismooth Newton where it has one —
+    /// pdas — else the fixed point over Tresca problems), fixed-point (any backend), or newton
+    /// (refused by a backend without one).
+    #[arg(long, default_value = "auto", value_parser = parse_coulomb)]
+    pub(crate) coulomb: signorini_core::qp::CoulombMethod,
     /// Seconds each backend may take; it then stops with status time-limit.
     #[arg(long, value_parser = parse_time_limit)]
     pub(crate) time_limit: Option<f64>,
@@ -44,6 +51,7 @@ pub(crate) fn compare(args: &CompareArgs) -> Result<Exit> {
     let options = SolveOptions {
         tol: args.tol,
         time_limit: time_limit(args.time_limit),
+        coulomb: args.coulomb,
         ..SolveOptions::default()
     };
     let bar = indicatif::ProgressBar::new(kinds.len() as u64).with_style(
@@ -86,6 +94,7 @@ pub(crate) fn compare(args: &CompareArgs) -> Result<Exit> {
         time_limit_s: options.time_limit.map(|t| t.as_secs_f64()),
         max_iter: options.max_iter,
         chain: Vec::new(),
+        coulomb: options.coulomb,
     };
     report.provenance = Some(match qp {
         Some(dir) => signorini::contract::qp_provenance(dir, settings)

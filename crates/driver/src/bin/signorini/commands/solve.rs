@@ -9,7 +9,9 @@ use signorini::exit::Exit;
 use signorini::run;
 use signorini_core::qp::{QpStatus, SolveOptions};
 
-use crate::args::{limits, parse_backends, parse_time_limit, parse_tol, time_limit, Common};
+use crate::args::{
+    limits, parse_backends, parse_coulomb, parse_time_limit, parse_tol, time_limit, Common,
+};
 use crate::console::{warn, Console};
 
 /// `signorini solve SCENE …`: the options of a solve.
@@ -33,6 +35,11 @@ pub(crate) struct SolveArgs {
     /// Relative KKT tolerance the answer must meet to count as solved.
     #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
     pub(crate) tol: f64,
+    /// Coulomb friction's method: auto (the backend's own semismooth Newton where it has one —
+    /// pdas — else the fixed point over Tresca problems), fixed-point (any backend), or newton
+    /// (refused by a backend without one).
+    #[arg(long, default_value = "auto", value_parser = parse_coulomb)]
+    pub(crate) coulomb: signorini_core::qp::CoulombMethod,
     /// Seconds the backend may take (with auto: the whole chain); it then stops with status
     /// time-limit.
     #[arg(long, value_parser = parse_time_limit)]
@@ -64,6 +71,7 @@ pub(crate) fn solve(args: &SolveArgs) -> Result<Exit> {
     let options = SolveOptions {
         tol: args.tol,
         time_limit: time_limit(args.time_limit),
+        coulomb: args.coulomb,
         ..SolveOptions::default()
     };
     let settings = signorini_core::report::BackendSettings {
@@ -73,6 +81,7 @@ pub(crate) fn solve(args: &SolveArgs) -> Result<Exit> {
         time_limit_s: options.time_limit.map(|t| t.as_secs_f64()),
         max_iter: options.max_iter,
         chain: args.chain.iter().map(|k| k.name().to_string()).collect(),
+        coulomb: options.coulomb,
     };
     let provenance = signorini::contract::provenance(common.scene.as_deref(), settings)?;
     let mut outcome = if kind == BackendKind::Auto {

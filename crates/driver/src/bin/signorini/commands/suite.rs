@@ -85,6 +85,7 @@ pub(crate) fn suite(args: &SuiteArgs) -> Result<Exit> {
         time_limit_s: settings.solve.time_limit.map(|t| t.as_secs_f64()),
         max_iter: settings.solve.max_iter,
         chain: Vec::new(),
+        coulomb: signorini_core::qp::CoulombMethod::Auto,
     };
     // The suite's scenes are many: each case records its own file's hash, and the suite's is
     // that of the list of cases with theirs.
