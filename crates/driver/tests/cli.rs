@@ -154,7 +154,7 @@ fn missing_scene_file_is_named() {
 
 #[test]
 fn check_accepts_every_fixture() {
-    for sub in ["seed", "hard", "accuracy", "gmsh"] {
+    for sub in ["seed", "hard", "accuracy", "gmsh", "validation"] {
         for entry in std::fs::read_dir(fixtures().join(sub)).unwrap() {
             let path = entry.unwrap().path();
             if path.extension().is_some_and(|e| e == "toml") {
