@@ -7,7 +7,11 @@
 #     a/6.25 (uniform).  Q1 applies to the block only (the cap is not a rectangle).
 #   * Patch test: non-matching 0.07 : 0.1 kept at every size; no refine box, so "graded" is
 #     skipped (the study says so).
-# Output: OUT/accuracy-hertz/ and OUT/accuracy-patch/, each with study.csv and accuracy.svg.
+#   * Cattaneo-Mindlin (fixtures/accuracy/cattaneo.toml, the graded Hertz scene pressed then
+#     shifted with Coulomb mu = 0.3): graded meshes, zone sizes a/4 to a/33 (a ~ 0.033 at this
+#     press); stick half-width c and rms tangential traction error.
+# Output: OUT/accuracy-hertz/, OUT/accuracy-patch/ and OUT/accuracy-cattaneo/, each with
+# study.csv and accuracy.svg.
 # Usage: scripts/accuracy-study.sh [OUT_DIR]      (a few minutes on 2 cores, release build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,7 +30,11 @@ study fixtures/accuracy/patch.toml --hmax 0.1,0.05,0.025,0.0125 \
   --formulations node-to-segment,mortar --meshes uniform,graded --elements p1,q1 \
   --out "$out/accuracy-patch"
 
-for d in accuracy-hertz accuracy-patch; do
+study fixtures/accuracy/cattaneo.toml --hmax 0.064,0.032,0.016,0.008 \
+  --formulations node-to-segment,mortar --meshes graded --elements p1 \
+  --out "$out/accuracy-cattaneo"
+
+for d in accuracy-hertz accuracy-patch accuracy-cattaneo; do
   echo "wrote $out/$d/study.csv and $out/$d/accuracy.svg"
 done
 [ $status -eq 0 ] || echo "warning: some points were not solved (see the tables above)" >&2

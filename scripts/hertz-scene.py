@@ -17,7 +17,13 @@ The arc is a polygon: vertices every `--arc-fine` along the arc for |x - cx| <= 
 every `--arc-coarse` beyond.  Polygon vertices are kept by the mesher, so the arc spacing near
 the contact is also the finest boundary spacing a mesh of this scene can have.
 
-Usage: python3 scripts/hertz-scene.py [--graded] [options] > scene.toml
+With `--cattaneo MU` the scene is Cattaneo-Mindlin partial slip instead (Johnson 1985, sec.
+7.1, in 2-D): the cap's top is moved rigidly, first down by `--press` (named support `press`),
+then sideways by `--shift` (`shift`) over `--increments` increments, with Coulomb friction MU on
+the pair (mortar, the flat block as slave); the [reference] states R, E* and MU, and a, p0 and
+the stick half-width c = a sqrt(1 - Q/(MU P)) follow from the run's forces P and Q.
+
+Usage: python3 scripts/hertz-scene.py [--graded] [--cattaneo MU] [options] > scene.toml
 """
 
 import argparse
@@ -62,6 +68,11 @@ def main():
     p.add_argument("--zone-hmax", type=float, default=0.0025, help="refine hmax (graded)")
     p.add_argument("--formulation", default="mortar")
     p.add_argument("--title", default=None)
+    p.add_argument("--cattaneo", type=float, default=None, metavar="MU",
+                   help="Cattaneo-Mindlin: press, then shift, with Coulomb friction MU")
+    p.add_argument("--press", type=float, default=0.002, help="Cattaneo: the top's downward move")
+    p.add_argument("--shift", type=float, default=0.0005, help="Cattaneo: the top's sideways move")
+    p.add_argument("--increments", type=int, default=2, help="Cattaneo: increments of the shift")
     a = p.parse_args()
 
     r, aa, e, nu = a.radius, a.half_width, a.young, a.poisson
@@ -81,8 +92,12 @@ def main():
     arc[-1] = (xr, top)
     polygon = ", ".join(f"[{x!r}, {y!r}]" for x, y in arc)
     traction = -load / (xr - xl)
+    mesh = 'graded' if a.graded else 'uniform'
     title = a.title or (
-        f"Hertz cylinder on a block ({'graded' if a.graded else 'uniform'} mesh): a = {aa}, R = {r}"
+        f"Hertz cylinder on a block ({mesh} mesh): a = {aa}, R = {r}"
+        if a.cattaneo is None
+        else f"Cattaneo-Mindlin, a cylinder pressed then shifted on a block ({mesh} mesh): "
+        f"mu = {a.cattaneo}, R = {r}"
     )
     z = a.zone
     out = []
@@ -91,14 +106,24 @@ def main():
     out.append(f"# Hertz line contact (Johnson 1985, sec. 4.2): cylinder R = {r} (cap of height {hc}) on a block")
     out.append(f"# {w} x {d} clamped at its base; both E = {e}, nu = {nu}, plane strain.")
     out.append(f"#   E* = E / (2 (1 - nu^2))          = {e_star!r}")
-    out.append(f"#   P  = pi a^2 E* / (4 R)            = {load!r}   (total force per unit length, for a = {aa})")
-    out.append(f"#   a  = sqrt(4 P R / (pi E*))        = {aa!r}")
-    out.append(f"#   p0 = 2 P / (pi a) = a E* / (2 R)  = {p0!r}")
-    out.append(f"# The load is a uniform traction P / {xr - xl!r} on the cap's flat top (width {xr - xl!r}).")
-    out.append(f"# The block is {d / aa:g} a deep and the cap {hc / aa:g} a high: Hertz assumes half-spaces, and the")
-    out.append("# finite bodies shift a by O((a/depth)^2).  Measured (node-to-segment, uniform hmax = a/10): the")
-    out.append("# 0.8 x 0.4 block with a 0.3 cap of crates/driver/tests/contact_verification.rs gives an a 0.4 %")
-    out.append("# larger than these bodies of twice the size; doubling again is expected to move a by ~0.1 %.")
+    if a.cattaneo is None:
+        out.append(f"#   P  = pi a^2 E* / (4 R)            = {load!r}   (total force per unit length, for a = {aa})")
+        out.append(f"#   a  = sqrt(4 P R / (pi E*))        = {aa!r}")
+        out.append(f"#   p0 = 2 P / (pi a) = a E* / (2 R)  = {p0!r}")
+        out.append(f"# The load is a uniform traction P / {xr - xl!r} on the cap's flat top (width {xr - xl!r}).")
+    else:
+        out.append("#   a  = sqrt(4 P R / (pi E*)),  p0 = 2 P / (pi a),  c = a sqrt(1 - Q / (mu P)),")
+        out.append("#   q(x) = mu p0 / a (sqrt(a^2 - x^2) - sqrt(c^2 - x^2)) for |x| < c, mu p(x) for c < |x| < a,")
+        out.append("# with P and Q the forces the run transmits (the study reads them from the result): the cap's")
+        out.append(f"# top is moved rigidly, down by {a.press} (`press`), then sideways by {a.shift} (`shift`, in")
+        out.append(f"# {a.increments} increments); Coulomb mu = {a.cattaneo}.  Elastically similar bodies: normal and")
+        out.append("# tangential problems do not couple for half-spaces (Dundurs' beta = 0); these finite bodies'")
+        out.append("# different lateral expansion under the press locks in a small tangential traction, odd in x.")
+    if a.cattaneo is None:
+        out.append(f"# The block is {d / aa:g} a deep and the cap {hc / aa:g} a high: Hertz assumes half-spaces, and the")
+        out.append("# finite bodies shift a by O((a/depth)^2).  Measured (node-to-segment, uniform hmax = a/10): the")
+        out.append("# 0.8 x 0.4 block with a 0.3 cap of crates/driver/tests/contact_verification.rs gives an a 0.4 %")
+        out.append("# larger than these bodies of twice the size; doubling again is expected to move a by ~0.1 %.")
     out.append(f"# Arc: polygon vertices every {a.arc_fine} for |x - {cx}| <= {a.fine_width} (sag {a.arc_fine ** 2 / (8 * r):.2e},")
     out.append(f"# {a.arc_fine ** 2 / (8 * r) / (aa * aa / (2 * r)) * 100:.3f} % of the gap a^2/2R at x = a), every {a.arc_coarse} beyond.")
     out.append("")
@@ -130,26 +155,51 @@ def main():
     out.append('body = "block"')
     out.append(f"region = [0.0, {w!r}, 0.0, 0.0]")
     out.append("")
-    out.append("[[dirichlet]]")
-    out.append('body = "cap"')
-    out.append(f"region = [{xl!r}, {xr!r}, {top!r}, {top!r}]")
-    out.append('components = ["x"]')
-    out.append("")
-    out.append("[[neumann]]")
-    out.append('body = "cap"')
-    out.append(f"region = [{xl!r}, {xr!r}, {top!r}, {top!r}]")
-    out.append(f"traction = [0.0, {traction!r}]")
-    out.append("")
+    if a.cattaneo is None:
+        out.append("[[dirichlet]]")
+        out.append('body = "cap"')
+        out.append(f"region = [{xl!r}, {xr!r}, {top!r}, {top!r}]")
+        out.append('components = ["x"]')
+        out.append("")
+        out.append("[[neumann]]")
+        out.append('body = "cap"')
+        out.append(f"region = [{xl!r}, {xr!r}, {top!r}, {top!r}]")
+        out.append(f"traction = [0.0, {traction!r}]")
+        out.append("")
+    else:
+        for name, comp, value in (("press", "y", [0.0, -a.press]), ("shift", "x", [a.shift, 0.0])):
+            out.append("[[dirichlet]]")
+            out.append(f'name = "{name}"')
+            out.append('body = "cap"')
+            out.append(f"region = [{xl!r}, {xr!r}, {top!r}, {top!r}]")
+            out.append(f'components = ["{comp}"]')
+            out.append(f"value = [{value[0]!r}, {value[1]!r}]")
+            out.append("")
     out.append("[[contact]]")
     out.append('bodies = ["cap", "block"]')
     out.append(f"region = [{num(cx - 0.2)}, {num(cx + 0.2)}, {num(base - 0.01)}, {num(base + 0.03)}]")
-    out.append('slave = "cap"')
+    out.append(f'slave = "{"cap" if a.cattaneo is None else "block"}"')
     out.append(f'formulation = "{a.formulation}"')
+    if a.cattaneo is not None:
+        out.append(f"friction = {a.cattaneo!r}")
     out.append("")
+    if a.cattaneo is not None:
+        out.append("[[step]]")
+        out.append("loads = { press = 1.0 }")
+        out.append("")
+        out.append("[[step]]")
+        out.append("loads = { press = 1.0, shift = 1.0 }")
+        out.append(f"increments = {a.increments}")
+        out.append("")
     out.append("[reference]")
     out.append(f"centre = [{cx!r}, {base!r}]")
-    out.append(f"half_width = {aa!r}")
-    out.append(f"peak_pressure = {p0!r}")
+    if a.cattaneo is None:
+        out.append(f"half_width = {aa!r}")
+        out.append(f"peak_pressure = {p0!r}")
+    else:
+        out.append(f"radius = {r!r}")
+        out.append(f"contact_modulus = {e_star!r}")
+        out.append(f"friction = {a.cattaneo!r}")
     print("\n".join(out))
 
 

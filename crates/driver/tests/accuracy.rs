@@ -317,7 +317,7 @@ fn check_accepts_every_accuracy_fixture() {
             n += 1;
         }
     }
-    assert_eq!(n, 3, "hertz, hertz-graded, patch");
+    assert_eq!(n, 4, "hertz, hertz-graded, patch, cattaneo");
 }
 
 /// A point that cannot be run is written with status `error` and its message, the others are

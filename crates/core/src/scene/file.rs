@@ -225,4 +225,10 @@ pub struct ReferenceSection {
     pub peak_pressure: Option<f64>,
     /// Uniform pressure p (contact patch test).
     pub pressure: Option<f64>,
+    /// Relative radius of curvature R (Cattaneo–Mindlin, with `contact_modulus` and `friction`).
+    pub radius: Option<f64>,
+    /// Contact modulus E* (Cattaneo–Mindlin).
+    pub contact_modulus: Option<f64>,
+    /// Coulomb's μ of the pair (Cattaneo–Mindlin).
+    pub friction: Option<f64>,
 }

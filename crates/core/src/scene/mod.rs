@@ -36,8 +36,8 @@ pub use file::{
     ProbeSection, ReferenceSection, RefineSection, SceneFile,
 };
 pub use types::{
-    Body, ContactPair, Dirichlet, Formulation, Friction, LoadStep, Neumann, Probe, Reference,
-    Traction,
+    Body, Cattaneo, ContactPair, Dirichlet, Formulation, Friction, LoadStep, Neumann, Probe,
+    Reference, Traction,
 };
 pub use validate::{name_forbidden, MAX_COEFFICIENT, MIN_COEFFICIENT};
 

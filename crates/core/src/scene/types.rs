@@ -158,8 +158,8 @@ pub struct Probe {
 }
 
 /// The scene's analytic answer (`[reference]`), for accuracy studies: the values come from
-/// formulas (Johnson's Hertz line contact, the patch test's uniform pressure), never from a
-/// finer solve.
+/// formulas (Johnson's Hertz line contact, the patch test's uniform pressure, Cattaneo–Mindlin
+/// partial slip), never from a finer solve.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Reference {
     /// Contact pair index (0-based).
@@ -172,4 +172,23 @@ pub struct Reference {
     pub peak_pressure: Option<f64>,
     /// Uniform pressure p.
     pub pressure: Option<f64>,
+    /// Cattaneo–Mindlin partial slip of a frictional Hertz contact (excludes the three values
+    /// above: its a, p₀ and c follow from the run's own normal and tangential force).
+    pub cattaneo: Option<Cattaneo>,
+}
+
+/// Cattaneo–Mindlin partial slip (Johnson 1985, §7.1, in 2-D): a cylinder of radius R pressed
+/// by P and then sheared by Q < μP per unit length, with a = √(4PR/(πE*)), p₀ = 2P/(πa), the
+/// stick zone |x| < c = a √(1 − Q/(μP)) and the tangential traction
+/// q(x) = μ p₀/a (√(a² − x²) − √(c² − x²)) for |x| < c, μ p(x) for c < |x| < a.  P and Q are
+/// the run's forces on the pair: a shift prescribed as a displacement transmits a force that
+/// depends on the bodies' compliance, which the 2-D theory leaves undetermined.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cattaneo {
+    /// Relative radius of curvature R of the two surfaces (1/R = 1/R₁ + 1/R₂).
+    pub radius: f64,
+    /// Contact modulus E*, 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂ (plane strain).
+    pub contact_modulus: f64,
+    /// Coulomb's μ (the pair's).
+    pub friction: f64,
 }

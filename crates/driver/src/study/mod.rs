@@ -1,7 +1,8 @@
 //! `signorini study`: discretisation error against time, for scenes with a known answer.
 //!
-//! A scene with a `[reference]` (Johnson's Hertz half-width and peak pressure, or the patch
-//! test's uniform pressure: formulas written in the scene, never a finer solve) is solved for
+//! A scene with a `[reference]` (Johnson's Hertz half-width and peak pressure, the patch test's
+//! uniform pressure, or Cattaneo–Mindlin partial slip of a frictional Hertz contact: formulas
+//! written in the scene, never a finer solve) is solved for
 //! every *combination* of contact formulation × mesh kind × element and every mesh size of the
 //! plan, with one backend; each solve records its DOFs, its time (mesh + assemble + solve) and
 //! its errors against the reference ([`signorini_core::accuracy`]).
@@ -199,7 +200,7 @@ pub struct StudyOutcome {
 #[derive(Debug, thiserror::Error)]
 pub enum StudyError {
     /// The scene has no `[reference]`.
-    #[error("the scene has no [reference] section: `signorini study` compares against analytic values written in the scene (keys `pressure`, or `centre`, `half_width` and `peak_pressure`; see docs/scene.md)")]
+    #[error("the scene has no [reference] section: `signorini study` compares against analytic values written in the scene (keys `pressure`; or `centre`, `half_width` and `peak_pressure` (Hertz); or `centre`, `radius`, `contact_modulus` and `friction` (Cattaneo–Mindlin); see docs/scene.md)")]
     NoReference,
     /// The plan is inconsistent.
     #[error("{0}")]
@@ -405,6 +406,9 @@ fn fill_errors(point: &mut StudyPoint, acc: &Accuracy) {
     point.peak_nodal_pressure = acc.peak_nodal_pressure.map(|e| e.computed);
     point.error_peak_nodal_pressure = acc.peak_nodal_pressure.map(|e| e.error());
     point.pressure_deviation = acc.pressure_deviation;
+    point.stick_half_width = acc.stick_half_width.map(|e| e.computed);
+    point.error_stick_half_width = acc.stick_half_width.map(|e| e.error());
+    point.error_tangential_traction = acc.tangential_traction;
 }
 
 /// Solves one point; errors of the run become a point with status `error`.
@@ -438,6 +442,9 @@ fn solve_point(
         peak_nodal_pressure: None,
         error_peak_nodal_pressure: None,
         pressure_deviation: None,
+        stick_half_width: None,
+        error_stick_half_width: None,
+        error_tangential_traction: None,
         message: String::new(),
     };
     // `auto` is built here rather than by `make_backend`, to read which backend it chose.
@@ -690,6 +697,9 @@ mod tests {
             peak_nodal_pressure: None,
             error_peak_nodal_pressure: None,
             pressure_deviation: Some(0.1),
+            stick_half_width: Some(0.02),
+            error_stick_half_width: Some(-0.01),
+            error_tangential_traction: Some(0.04),
             message: String::new(),
         };
         let mut buf = Vec::new();
@@ -725,6 +735,9 @@ mod tests {
             peak_nodal_pressure: None,
             error_peak_nodal_pressure: None,
             pressure_deviation: None,
+            stick_half_width: None,
+            error_stick_half_width: None,
+            error_tangential_traction: None,
             message: String::new(),
         };
         // |error| = 3 h²: rate 2 whatever the sign; the unsolved point (off the line) is ignored.

@@ -2,7 +2,8 @@
 //!
 //! One panel per error measure that has a value ([`crate::study::points::MEASURES`]: Hertz half-width,
 //! Hertz peak pressure by the elliptical fit and as the largest nodal pressure, patch-test
-//! pressure deviation), stacked vertically in one SVG.  In each panel: |relative error| against
+//! pressure deviation, Cattaneo's stick half-width and rms tangential traction error), stacked
+//! vertically in one SVG.  In each panel: |relative error| against
 //! total time (mesh + assemble + solve), log–log, one curve per combination (formulation, mesh
 //! kind, element), each keeping its colour and marker in every panel; its legend entry carries
 //! the fitted convergence rate against h ([`crate::plots::fit_slope`] of (hmax, |error|) over the
@@ -151,6 +152,9 @@ mod tests {
             peak_nodal_pressure: None,
             error_peak_nodal_pressure: None,
             pressure_deviation: None,
+            stick_half_width: None,
+            error_stick_half_width: None,
+            error_tangential_traction: None,
             message: String::new(),
         }
     }

@@ -47,12 +47,21 @@ pub struct StudyPoint {
     pub error_peak_nodal_pressure: Option<f64>,
     /// Patch test: max |pⱼ / p − 1| over the slave nodes in contact.
     pub pressure_deviation: Option<f64>,
+    /// Cattaneo–Mindlin stick half-width c from the second moment of μλₙ − λₜ.
+    #[serde(default)]
+    pub stick_half_width: Option<f64>,
+    /// stick_half_width / (a √(1 − |Q|/(μP))) − 1.
+    #[serde(default)]
+    pub error_stick_half_width: Option<f64>,
+    /// Cattaneo–Mindlin: rms relative error of the tangential traction over |x| < a.
+    #[serde(default)]
+    pub error_tangential_traction: Option<f64>,
     /// Why the point is not solved (empty when it is).
     pub message: String,
 }
 
 /// The header of `study.csv`: [`StudyPoint`]'s fields in order.
-pub const COLUMNS: [&str; 21] = [
+pub const COLUMNS: [&str; 24] = [
     "formulation",
     "mesh",
     "element",
@@ -73,6 +82,9 @@ pub const COLUMNS: [&str; 21] = [
     "peak_nodal_pressure",
     "error_peak_nodal_pressure",
     "pressure_deviation",
+    "stick_half_width",
+    "error_stick_half_width",
+    "error_tangential_traction",
     "message",
 ];
 
@@ -92,7 +104,7 @@ impl StudyPoint {
 pub type Measure = (&'static str, fn(&StudyPoint) -> Option<f64>);
 
 /// The error measures drawn and fitted, in panel order.
-pub const MEASURES: [Measure; 4] = [
+pub const MEASURES: [Measure; 6] = [
     ("half-width a", |p| p.error_half_width),
     ("peak pressure p0 (elliptical fit)", |p| {
         p.error_peak_pressure
@@ -101,6 +113,12 @@ pub const MEASURES: [Measure; 4] = [
         p.error_peak_nodal_pressure
     }),
     ("patch test max |p/p_ref - 1|", |p| p.pressure_deviation),
+    ("stick half-width c (Cattaneo)", |p| {
+        p.error_stick_half_width
+    }),
+    ("tangential q, rms (Cattaneo)", |p| {
+        p.error_tangential_traction
+    }),
 ];
 
 /// Combinations in order of first appearance.

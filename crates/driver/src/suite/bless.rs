@@ -113,6 +113,18 @@ pub fn differences(old: &Expectation, new: &Expectation, load: f64) -> Vec<Strin
     }
     if let (Some(o), Some(n)) = (&old.figures, &new.figures) {
         out.extend(check::compare_figures(old, o, n, load));
+        // A tangential force the old file did not record (blessed before it was): a change,
+        // so that a bless records it and later runs check it.
+        for (i, (po, pn)) in o.contact_forces.iter().zip(&n.contact_forces).enumerate() {
+            if let (None, Some(t)) = (po.tangential_force, pn.tangential_force) {
+                out.push(format!(
+                    "pair {} ({}–{}) tangential force recorded: {t:.9e}",
+                    i + 1,
+                    pn.bodies[0],
+                    pn.bodies[1]
+                ));
+            }
+        }
     }
     let keys = |e: &Expectation| e.expected_failures.keys().cloned().collect::<Vec<_>>();
     if keys(old) != keys(new) {

@@ -133,7 +133,35 @@ fn compare_forces(
                     scale,
                 ));
             }
+            compare_tangential(&pair, m, e, t, scale, out);
         }
+    }
+}
+
+/// A frictional pair's tangential force, when the expectation records one (an expectation
+/// blessed before tangential forces were recorded checks none), on the scale of the pair's
+/// forces: max(`scale`, |expected tangential force|).
+fn compare_tangential(
+    pair: &str,
+    m: &PairForce,
+    e: &PairForce,
+    rtol: f64,
+    scale: f64,
+    out: &mut Vec<String>,
+) {
+    let Some(expected) = e.tangential_force else {
+        return;
+    };
+    let what = format!("{pair} tangential force");
+    let Some(measured) = m.tangential_force else {
+        out.push(format!(
+            "{what}: none (a frictionless pair), expected {expected:.9e}"
+        ));
+        return;
+    };
+    let scale = scale.max(expected.abs());
+    if !close(measured, expected, rtol, scale) {
+        out.push(mismatch(&what, measured, expected, rtol, scale));
     }
 }
 
@@ -268,6 +296,7 @@ mod tests {
             contact_forces: vec![PairForce {
                 bodies: ["a".into(), "b".into()],
                 normal_force: 5.0,
+                tangential_force: None,
             }],
             probes: vec![ProbeValue {
                 name: "tip".into(),
@@ -334,6 +363,46 @@ mod tests {
         let mut f = figures();
         f.objective = f64::NAN;
         assert_eq!(verdict("clarabel", "solved", &f).0, Verdict::Fail);
+    }
+
+    #[test]
+    fn a_recorded_tangential_force_is_checked_on_the_pair_s_scale() {
+        // Expected 1.5 on a pair of normal force 5 under a load of 10: the scale is 10, so
+        // 5e-6 off passes and 2e-5 fails (as the normal force), naming the figure.
+        let mut e = expectation();
+        if let Some(f) = e.figures.as_mut() {
+            f.contact_forces[0].tangential_force = Some(1.5);
+        }
+        let run = |t: Option<f64>| {
+            let mut f = figures();
+            f.contact_forces[0].tangential_force = t;
+            let answer = Answer {
+                backend: "clarabel",
+                status: "solved",
+                figures: &f,
+            };
+            check(Some(&e), answer, 10.0)
+        };
+        assert_eq!(run(Some(1.5 + 5e-6)).0, Verdict::Pass);
+        let (v, notes) = run(Some(1.5 + 2e-5));
+        assert_eq!(v, Verdict::Fail);
+        assert!(
+            notes[0].starts_with("pair 1 (a–b) tangential force"),
+            "{notes:?}"
+        );
+        let (v, notes) = run(None);
+        assert_eq!(v, Verdict::Fail);
+        assert!(notes[0].contains("none (a frictionless pair)"), "{notes:?}");
+        // An expectation without one checks none: the old expectations still pass.
+        assert_eq!(
+            verdict("clarabel", "solved", &{
+                let mut f = figures();
+                f.contact_forces[0].tangential_force = Some(99.0);
+                f
+            })
+            .0,
+            Verdict::Pass
+        );
     }
 
     #[test]

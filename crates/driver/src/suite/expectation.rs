@@ -269,6 +269,12 @@ impl Expectation {
                     .position(|p| !finite(p.normal_force))
                 {
                     Some(format!("figures.contact_forces[{i}].normal_force"))
+                } else if let Some(i) = f
+                    .contact_forces
+                    .iter()
+                    .position(|p| p.tangential_force.is_some_and(|t| !finite(t)))
+                {
+                    Some(format!("figures.contact_forces[{i}].tangential_force"))
                 } else {
                     f.probes
                         .iter()

@@ -409,6 +409,7 @@ pub fn figures(report: &RunReport) -> Figures {
             .map(|c| PairForce {
                 bodies: c.bodies.clone(),
                 normal_force: c.normal_force,
+                tangential_force: c.tangential_force,
             })
             .collect(),
         probes: report

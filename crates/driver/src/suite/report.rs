@@ -35,7 +35,7 @@ impl Verdict {
     }
 }
 
-/// The normal force a contact pair transmits.
+/// The forces a contact pair transmits: normal, and for a frictional pair tangential.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PairForce {
@@ -43,6 +43,11 @@ pub struct PairForce {
     pub bodies: [String; 2],
     /// Sum of the pair's multipliers (the scene's force units).
     pub normal_force: f64,
+    /// Frictional pairs only: the sum of the tangential multipliers, along each row's tangent
+    /// (result.json's `tangential_force`).  Absent for a frictionless pair, and in an
+    /// expectation blessed before it was recorded (then not checked).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tangential_force: Option<f64>,
 }
 
 /// A probe's displacement.

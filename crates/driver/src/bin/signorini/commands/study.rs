@@ -113,13 +113,22 @@ fn print_outcome(title: &str, outcome: &StudyOutcome) -> Result<()> {
             s.combination, s.reason
         ))?;
     }
-    con.line(format_args!(
+    // Cattaneo's columns only when some point has them: frictionless studies print as before.
+    let cattaneo = outcome
+        .points
+        .iter()
+        .any(|p| p.error_stick_half_width.is_some() || p.error_tangential_traction.is_some());
+    let mut head = format!(
         "  {:<32} {:>8} {:>9} {:<11} {:>9} {:>10} {:>10} {:>10} {:>10}",
         "combination", "hmax", "dofs", "status", "total s", "err a", "err p0", "err pmax", "patch"
-    ))?;
+    );
+    if cattaneo {
+        head.push_str(&format!(" {:>10} {:>10}", "err c", "err q"));
+    }
+    con.line(head)?;
     let e = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:+.2e}"));
     for p in &outcome.points {
-        con.line(format_args!(
+        let mut row = format!(
             "  {:<32} {:>8} {:>9} {:<11} {:>9.4} {:>10} {:>10} {:>10} {:>10}",
             p.combination(),
             p.hmax,
@@ -130,7 +139,15 @@ fn print_outcome(title: &str, outcome: &StudyOutcome) -> Result<()> {
             e(p.error_peak_pressure),
             e(p.error_peak_nodal_pressure),
             e(p.pressure_deviation)
-        ))?;
+        );
+        if cattaneo {
+            row.push_str(&format!(
+                " {:>10} {:>10}",
+                e(p.error_stick_half_width),
+                e(p.error_tangential_traction)
+            ));
+        }
+        con.line(row)?;
     }
     con.line("  convergence rates (|error| ~ h^rate, solved points):")?;
     for r in &outcome.rates {

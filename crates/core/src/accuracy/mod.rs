@@ -46,13 +46,20 @@
 //! inner half (a/h below ~2) the fit falls back to the maximum.
 //!
 //! **Patch test.**  The largest |pⱼ / p − 1| over the slave nodes whose row is in contact.
+//!
+//! **Cattaneo–Mindlin partial slip.**  The stick half-width c and the tangential traction
+//! profile, against Cattaneo's formulas for the pair's own forces; see [`cattaneo`].  The
+//! Hertz half-width and peak pressure above are measured too, against a = √(4PR/(πE*)) and
+//! p₀ = 2P/(πa) for the run's normal force P.
 
 use crate::geometry::Point;
 use crate::report::{ContactNodeReport, RunReport};
 use crate::scene::Reference;
 
+pub mod cattaneo;
+
 /// One slave node, as the estimators need it (built from a [`ContactNodeReport`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct NodeSample {
     /// Undeformed position.
     pub position: Point,
@@ -62,6 +69,12 @@ pub struct NodeSample {
     pub pressure: f64,
     /// Whether the row counts as in contact.
     pub active: bool,
+    /// The length λ is divided by to give the pressure (the report's `weight`).
+    pub weight: f64,
+    /// Frictional pairs: the tangential force λₜ along the row's tangent.
+    pub tangential_multiplier: Option<f64>,
+    /// Frictional pairs: λₜ / weight.
+    pub tangential_traction: Option<f64>,
 }
 
 impl From<&ContactNodeReport> for NodeSample {
@@ -71,6 +84,9 @@ impl From<&ContactNodeReport> for NodeSample {
             multiplier: n.multiplier,
             pressure: n.pressure,
             active: n.active,
+            weight: n.weight,
+            tangential_multiplier: n.tangential_multiplier,
+            tangential_traction: n.tangential_traction,
         }
     }
 }
@@ -103,6 +119,11 @@ pub struct Accuracy {
     pub peak_nodal_pressure: Option<Estimate>,
     /// Patch test: the largest |pⱼ / p − 1| over the nodes in contact.
     pub pressure_deviation: Option<f64>,
+    /// Cattaneo–Mindlin: the stick half-width c, from the second moment of μλₙ − λₜ.
+    pub stick_half_width: Option<Estimate>,
+    /// Cattaneo–Mindlin: the rms relative error of the tangential traction profile over the
+    /// contact zone (see [`cattaneo::traction_error`]).
+    pub tangential_traction: Option<f64>,
 }
 
 /// Why the errors cannot be computed.
@@ -115,6 +136,20 @@ pub enum AccuracyError {
         pair: usize,
         /// Pairs in the report.
         pairs: usize,
+    },
+    /// A Cattaneo–Mindlin reference on a pair whose report carries no tangential forces.
+    #[error("contact pair {pair} reports no tangential forces: a Cattaneo–Mindlin [reference] needs a frictional pair")]
+    NoTangential {
+        /// 1-based pair.
+        pair: usize,
+    },
+    /// |Q| ≥ μP: the whole zone slides, there is no stick zone.
+    #[error("contact pair {pair} slides as a whole (|Q| / μP = {ratio:.4} ≥ 1): Cattaneo–Mindlin partial slip needs |Q| < μP")]
+    FullSlip {
+        /// 1-based pair.
+        pair: usize,
+        /// |Q| / (μ P).
+        ratio: f64,
     },
     /// No force crosses the pair, so there is no pressure to compare.
     #[error("contact pair {pair} transmits no force (no multiplier is positive): nothing to compare with [reference]")]
@@ -206,13 +241,25 @@ pub fn accuracy_of_nodes(
     });
     let a_m = moment_half_width(nodes, centre);
     let mut out = Accuracy::default();
-    if let (Some(reference), Some(computed)) = (reference.half_width, a_m) {
+    let (mut half_width, mut peak_pressure) = (reference.half_width, reference.peak_pressure);
+    if let Some(c) = &reference.cattaneo {
+        let theory = cattaneo::theory_of_nodes(c, nodes, pair)?;
+        half_width = Some(theory.a);
+        peak_pressure = Some(theory.p0);
+        out.stick_half_width =
+            cattaneo::stick_half_width(nodes, centre, &theory).map(|computed| Estimate {
+                computed,
+                reference: theory.c,
+            });
+        out.tangential_traction = cattaneo::traction_error(nodes, centre, &theory);
+    }
+    if let (Some(reference), Some(computed)) = (half_width, a_m) {
         out.half_width = Some(Estimate {
             computed,
             reference,
         });
     }
-    if let Some(p0) = reference.peak_pressure {
+    if let Some(p0) = peak_pressure {
         let window = 0.5 * a_m.unwrap_or(0.0);
         out.peak_pressure = fitted_peak_pressure(nodes, centre, window).map(|computed| Estimate {
             computed,
@@ -253,6 +300,7 @@ mod tests {
             half_width: Some(0.05),
             peak_pressure: Some(0.0137),
             pressure: None,
+            cattaneo: None,
         }
     }
 
@@ -289,6 +337,7 @@ mod tests {
                     multiplier: l,
                     pressure: l / h,
                     active: l > 0.0,
+                    ..NodeSample::default()
                 }
             })
             .collect()
@@ -310,6 +359,7 @@ mod tests {
                     multiplier: w,
                     pressure: 1.0,
                     active: true,
+                    ..NodeSample::default()
                 }
             })
             .collect();
@@ -354,6 +404,7 @@ mod tests {
                     multiplier: p * h,
                     pressure: p,
                     active: p > 0.0,
+                    ..NodeSample::default()
                 }
             })
             .collect();
@@ -380,12 +431,14 @@ mod tests {
                 multiplier: 1.0,
                 pressure: 2.0,
                 active: true,
+                ..NodeSample::default()
             },
             NodeSample {
                 position: [0.5, 0.4],
                 multiplier: 1.0,
                 pressure: 3.0,
                 active: true,
+                ..NodeSample::default()
             },
         ];
         assert_eq!(fitted_peak_pressure(&nodes, [0.4, 0.4], 0.05), Some(3.0));
@@ -398,6 +451,7 @@ mod tests {
             multiplier: p,
             pressure: p,
             active,
+            ..NodeSample::default()
         };
         let nodes = [
             node(2.0, true),
@@ -413,6 +467,7 @@ mod tests {
             half_width: None,
             peak_pressure: None,
             pressure: Some(2.0),
+            cattaneo: None,
         };
         let acc = accuracy_of_nodes(&r, &nodes).unwrap();
         assert_eq!(acc.pressure_deviation, Some(got));
@@ -435,6 +490,7 @@ mod tests {
                     multiplier: th.sin().powi(2),
                     pressure: p0 * th.sin(),
                     active: true,
+                    ..NodeSample::default()
                 }
             })
             .collect();
@@ -453,6 +509,7 @@ mod tests {
             multiplier: 0.0,
             pressure: 0.0,
             active: false,
+            ..NodeSample::default()
         }];
         let err = accuracy_of_nodes(&reference(), &nodes).unwrap_err();
         assert_eq!(err, AccuracyError::NoContact { pair: 1 });
