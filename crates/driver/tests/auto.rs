@@ -566,3 +566,42 @@ fn measure() {
         }
     }
 }
+
+#[test]
+fn coulomb_runs_pdas_s_newton_and_falls_back_to_the_fixed_point_when_it_does_not_solve() {
+    // fixtures/hard/friction-slide: a block dragged to full slip, T = μN exactly.
+    let path = fixture("hard", "friction-slide");
+    let options = SolveOptions::default();
+    // The rule: Coulomb goes to pdas's own semismooth Newton.
+    let mut auto = AutoBackend::default();
+    let newton = solve_with(&path, &mut auto, &options);
+    assert_eq!(newton.solution.status, QpStatus::Solved);
+    let run = newton.solution.coulomb.unwrap();
+    assert_eq!(run.method, signorini_core::qp::CoulombMethod::Newton);
+    assert_eq!(auto.record().unwrap().chosen.as_deref(), Some("pdas"));
+    // A pdas allowed one active-set step cannot settle the sets (the slide needs three): the
+    // core then runs the fixed point through the same chain, where dual-pgs solves each
+    // Tresca problem — and the answer is the Newton one's (both meet the tolerance 1e-9).
+    let short = signorini_pdas::PdasBackend::new(signorini_pdas::PdasSettings {
+        max_iter: 1,
+        ..signorini_pdas::PdasSettings::default()
+    });
+    let mut auto = AutoBackend::with_backends(
+        vec![
+            Box::new(short),
+            Box::new(DualBackend::pgs(DualSettings::default())),
+        ],
+        "test chain",
+    );
+    let fallback = solve_with(&path, &mut auto, &options);
+    assert_eq!(fallback.solution.status, QpStatus::Solved);
+    let run = fallback.solution.coulomb.unwrap();
+    assert_eq!(run.method, signorini_core::qp::CoulombMethod::FixedPoint);
+    let message = fallback.solution.message.clone().unwrap_or_default();
+    assert!(
+        message.contains("own Coulomb method: max-iterations; then the fixed point"),
+        "{message}"
+    );
+    let (du, dl) = agreement(&newton, &fallback);
+    assert!(du <= AGREE && dl <= AGREE, "Δu {du:e}, Δλ {dl:e}");
+}

@@ -22,7 +22,7 @@
 //! one whose bounds reproduce themselves exactly while the answer misses the tolerance ends
 //! `inaccurate` at once (the next solve would repeat this one).
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use serde::Serialize;
 
@@ -88,11 +88,42 @@ pub(super) fn solve(
         CoulombMethod::FixedPoint => false,
         CoulombMethod::Newton => true,
     };
-    if own {
-        own_method(model, qp, &rows, backend, options)
-    } else {
-        fixed_point(model, qp, &rows, backend, options)
+    if !own {
+        return fixed_point(model, qp, &rows, backend, options);
     }
+    let first = own_method(model, qp, &rows, backend, options);
+    if options.coulomb != CoulombMethod::Auto {
+        return first;
+    }
+    // Auto: the backend's own method first; where it does not solve (its active sets cycle, or
+    // it cannot run), the fixed point — unless the time is up.
+    let why = match &first {
+        Ok(s) if s.status == QpStatus::Solved || s.status == QpStatus::TimeLimit => return first,
+        Ok(s) => s.status.as_str().to_string(),
+        Err(e) => e.to_string(),
+    };
+    let remaining = options
+        .time_limit
+        .map(|t| t.saturating_sub(first.as_ref().map_or(Duration::ZERO, |s| s.solve_time)));
+    if remaining.is_some_and(|t| t.is_zero()) {
+        return first;
+    }
+    let fallback_options = SolveOptions {
+        time_limit: remaining,
+        ..options.clone()
+    };
+    let mut solution = fixed_point(model, qp, &rows, backend, &fallback_options)?;
+    let spent = first.as_ref().map_or(Duration::ZERO, |s| s.solve_time);
+    solution.solve_time += spent;
+    let note = format!(
+        "{}'s own Coulomb method: {why}; then the fixed point",
+        backend.name()
+    );
+    solution.message = Some(match solution.message.take() {
+        Some(m) => format!("{note}: {m}"),
+        None => note,
+    });
+    Ok(solution)
 }
 
 /// The first bounds of the Coulomb rows: the whole load ‖f‖₁ (at least 1 in the scaled units),

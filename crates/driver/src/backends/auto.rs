@@ -44,8 +44,8 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 use signorini_core::qp::{
-    checked_status, kkt_residuals, touched_dofs, BlockKind, QpBackend, QpError, QpProblem,
-    QpSolution, QpStatus, SolveOptions,
+    checked_status, kkt_residuals, touched_dofs, BlockKind, CoulombRows, QpBackend, QpError,
+    QpProblem, QpSolution, QpStatus, ResidualScales, SolveOptions,
 };
 use signorini_core::report::{AttemptReport, RunReport};
 
@@ -108,6 +108,12 @@ pub const FRICTION_SHORT_CHAIN: [BackendKind; 3] = [
 /// auxiliary unknowns.
 pub const FRICTION_LONG_CHAIN: [BackendKind; 3] =
     [BackendKind::Pdas, BackendKind::Clarabel, BackendKind::Osqp];
+
+/// The chain for Coulomb friction solved by a backend's own method
+/// ([`QpBackend::solve_coulomb`]): pdas's semismooth Newton, 1.9× the floor on the Coulomb strip
+/// of BENCHMARKS.md ("Friction") where the fixed point over pdas's Tresca solves takes 17.8×.
+/// When no member solves, the core falls back to the fixed point through the frictional chains.
+pub const COULOMB_CHAIN: [BackendKind; 1] = [BackendKind::Pdas];
 
 /// The backend's name.
 pub const NAME: &str = "auto";
@@ -387,12 +393,52 @@ impl QpBackend for AutoBackend {
         problem: &QpProblem,
         options: &SolveOptions,
     ) -> Result<QpSolution, QpError> {
+        self.solve_chain(problem, None, options)
+    }
+
+    /// When a member of the chain (given, or [`COULOMB_CHAIN`]) has its own Coulomb method.
+    fn solves_coulomb(&self) -> bool {
+        let solves = |kind: &BackendKind| {
+            ready(*kind) && chain_backend(*kind).is_ok_and(|b| b.solves_coulomb())
+        };
+        match &self.given {
+            Some((members, _)) => members.iter().any(|m| match m {
+                Member::Kind(kind) => solves(kind),
+                Member::Given(backend) => backend.solves_coulomb(),
+            }),
+            None => COULOMB_CHAIN.iter().any(solves),
+        }
+    }
+
+    /// The members with their own Coulomb method, in order, judged by Coulomb's residuals.
+    fn solve_coulomb_valid(
+        &mut self,
+        problem: &QpProblem,
+        coulomb: &CoulombRows,
+        options: &SolveOptions,
+    ) -> Result<QpSolution, QpError> {
+        self.solve_chain(problem, Some(coulomb), options)
+    }
+}
+
+impl AutoBackend {
+    /// Runs the chain (given, or the rule's: [`plan`], or [`COULOMB_CHAIN`] for `coulomb`) and
+    /// records it.
+    fn solve_chain(
+        &mut self,
+        problem: &QpProblem,
+        coulomb: Option<&CoulombRows>,
+        options: &SolveOptions,
+    ) -> Result<QpSolution, QpError> {
         let start = Instant::now();
         let given = self.given.take();
         let (mut members, reason) = match given {
             Some(given) => given,
             None => {
-                let p = plan(&Features::of(problem));
+                let p = match coulomb {
+                    Some(_) => coulomb_plan(&Features::of(problem)),
+                    None => plan(&Features::of(problem)),
+                };
                 (p.chain.into_iter().map(Member::Kind).collect(), p.reason)
             }
         };
@@ -401,7 +447,13 @@ impl QpBackend for AutoBackend {
             chosen: None,
             reason: reason.clone(),
         };
-        let outcome = run_chain(&mut members, problem, options, start, &mut record);
+        let run = Run {
+            problem,
+            coulomb,
+            options,
+            start,
+        };
+        let outcome = run_chain(&mut members, &run, &mut record);
         // A given chain stays for the next solve (compare and sweep reuse a backend); the rule's
         // is chosen again per problem.
         if self.fixed {
@@ -415,6 +467,35 @@ impl QpBackend for AutoBackend {
         self.record = Some(record);
         result
     }
+}
+
+/// The chain for Coulomb's own methods ([`COULOMB_CHAIN`]) and why.
+pub fn coulomb_plan(f: &Features) -> Plan {
+    let chain: Vec<BackendKind> = COULOMB_CHAIN
+        .iter()
+        .copied()
+        .filter(|k| ready(*k))
+        .collect();
+    let names: Vec<&str> = chain.iter().map(|k| k.name()).collect();
+    Plan {
+        reason: format!(
+            "n = {}, m = {}, {} box rows with Coulomb friction: a backend's own semismooth Newton (the fixed point over Tresca problems if it does not solve); chain {}",
+            f.dofs,
+            f.rows,
+            f.box_rows,
+            names.join(" → ")
+        ),
+        chain,
+    }
+}
+
+/// One chain run's data: the problem, its Coulomb rows when solving Coulomb's conditions, the
+/// options and the start of the whole run.
+struct Run<'a> {
+    problem: &'a QpProblem,
+    coulomb: Option<&'a CoulombRows>,
+    options: &'a SolveOptions,
+    start: Instant,
 }
 
 /// `dual-ssn inaccurate → clarabel solved; <chosen's note>`.
@@ -436,11 +517,10 @@ fn summary(record: &ChainRecord, note: Option<String>) -> String {
 /// gets the time left of `options.time_limit`, and `record` gets every attempt and the choice.
 fn run_chain(
     members: &mut [Member],
-    problem: &QpProblem,
-    options: &SolveOptions,
-    start: Instant,
+    run: &Run<'_>,
     record: &mut ChainRecord,
 ) -> Result<QpSolution, QpError> {
+    let (problem, options, start) = (run.problem, run.options, run.start);
     let deadline = options.time_limit.map(|t| start + t);
     // The best answer so far (the last attempt that produced one) and the last error.
     let mut answer: Option<(QpSolution, String)> = None;
@@ -484,12 +564,19 @@ fn run_chain(
         };
         let name = backend.name().to_string();
         let t0 = Instant::now();
-        let result = backend.solve(problem, &attempt_options);
+        let result = match run.coulomb {
+            None => backend.solve(problem, &attempt_options),
+            Some(rows) if backend.solves_coulomb() => {
+                backend.solve_coulomb(problem, rows, &attempt_options)
+            }
+            // A given member without its own Coulomb method: the core's fixed point runs it.
+            Some(_) => continue,
+        };
         let took = t0.elapsed();
         let next = match result {
             Ok(solution) => {
                 let attempt = (index, name, took);
-                on_answer(problem, options, solution, attempt, record, &mut answer)
+                on_answer(run, solution, attempt, record, &mut answer)
             }
             Err(error) => on_error(error, &name, took, record, &mut last_error),
         };
@@ -526,15 +613,24 @@ fn time_left(deadline: Option<Instant>) -> Option<Option<Duration>> {
 /// Records attempt `(index, name, took)` that produced `solution`, judged by the core's check:
 /// chosen when solved, else kept as the best `answer` so far (ending the chain at a time limit).
 fn on_answer(
-    problem: &QpProblem,
-    options: &SolveOptions,
+    run: &Run<'_>,
     solution: QpSolution,
     (index, name, took): (usize, String, Duration),
     record: &mut ChainRecord,
     answer: &mut Option<(QpSolution, String)>,
 ) -> Next {
-    let residuals = kkt_residuals(problem, &solution.x, &solution.multipliers);
-    let status = checked_status(solution.status, &residuals, options.tol);
+    let problem = run.problem;
+    let residuals = match run.coulomb {
+        // Coulomb's conditions: each Coulomb row bounded by μ max(0, λₙ) of the answer.
+        Some(rows) => rows.residuals(
+            problem,
+            &ResidualScales::of(problem),
+            &solution.x,
+            &solution.multipliers,
+        ),
+        None => kkt_residuals(problem, &solution.x, &solution.multipliers),
+    };
+    let status = checked_status(solution.status, &residuals, run.options.tol);
     record.attempts.push(Attempt {
         backend: name.clone(),
         status: Some(status),
