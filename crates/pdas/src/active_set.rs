@@ -228,9 +228,29 @@ impl<'p> ActiveSet<'p> {
         )
     }
 
-    fn first_set(&self) -> Vec<bool> {
+    /// The first set and its signs: predicted from the warm start when there is one (the
+    /// previous load increment's answer), else from the settings.
+    fn first_set(&self) -> (Vec<bool>, Vec<f64>) {
         let p = self.problem;
-        match self.settings.start {
+        if let Some(start) = self
+            .options
+            .warm_start
+            .as_deref()
+            .and_then(|w| w.fitting(p))
+        {
+            let guess = SetSolution {
+                x: start.x.clone(),
+                multipliers: start.multipliers.clone(),
+                steps: 0,
+                residual: f64::NAN,
+                timed_out: false,
+                correction: Vec::new(),
+            };
+            if guess.is_finite() {
+                return self.next_state(&guess);
+            }
+        }
+        let active = match self.settings.start {
             StartSet::Empty => vec![false; p.rows()],
             StartSet::All => vec![true; p.rows()],
             StartSet::ClosedGaps => p
@@ -239,7 +259,8 @@ impl<'p> ActiveSet<'p> {
                 .zip(&self.scales.rows)
                 .map(|(g, x)| *g <= self.settings.closed_gap * x)
                 .collect(),
-        }
+        };
+        (active, vec![0.0; p.rows()])
     }
 
     fn deadline(&self) -> Option<Instant> {

@@ -113,3 +113,48 @@ fn a_backend_without_its_own_coulomb_method_refuses_by_name() {
         .to_string();
     assert!(e.contains("tresca-only") && e.contains("Coulomb"), "{e}");
 }
+
+#[test]
+fn started_from_its_own_answer_pdas_settles_in_one_step() {
+    // A load path hands each increment the previous answer (SolveOptions::warm_start): pdas
+    // predicts its first set from it.  Started from the exact answer, that set is the final one,
+    // so one step settles it (from every row active the Coulomb blocks take 2, the Laplacian
+    // chain with 20 rows several) — and the answer is the same.
+    use signorini_qp::{examples::laplacian_with_bounds, QpSolution, WarmStart};
+    use std::sync::Arc;
+    // The default options with `answer` as the warm start.
+    let from = |answer: &QpSolution| SolveOptions {
+        warm_start: Some(Arc::new(WarmStart {
+            x: answer.x.clone(),
+            multipliers: answer.multipliers.clone(),
+        })),
+        ..SolveOptions::default()
+    };
+    let (problem, rows) = blocks(2.0, 1.0, &[0.5, -0.9, 0.2], 0.3);
+    let cold = PdasBackend::default()
+        .solve_coulomb(&problem, &rows, &SolveOptions::default())
+        .unwrap();
+    let warm = PdasBackend::default()
+        .solve_coulomb_valid(&problem, &rows, &from(&cold))
+        .unwrap();
+    assert!(cold.iterations > 1, "{:?}", cold.message);
+    assert_eq!(warm.iterations, 1, "{:?}", warm.message);
+    assert_eq!(warm.status, QpStatus::Solved);
+    for (a, b) in cold.x.iter().zip(&warm.x) {
+        assert!((a - b).abs() < 1e-12);
+    }
+    let chain = laplacian_with_bounds(200, 20);
+    let cold = PdasBackend::default()
+        .solve_in_given_units(&chain, &SolveOptions::default())
+        .unwrap();
+    let warm = PdasBackend::default()
+        .solve_in_given_units(&chain, &from(&cold))
+        .unwrap();
+    assert!(cold.iterations > 1, "{:?}", cold.message);
+    assert_eq!(warm.status, QpStatus::Solved, "{:?}", warm.message);
+    assert_eq!(
+        warm.iterations, 1,
+        "{:?} (cold: {})",
+        warm.message, cold.iterations
+    );
+}

@@ -1,5 +1,6 @@
 //! The backend contract: options in, a solution out.
 
+use std::sync::Arc;
 use std::time::Duration;
 
 use super::blocks::BlockKind;
@@ -24,6 +25,26 @@ pub struct SolveOptions {
     /// How Coulomb rows are solved (the core's choice between the fixed point and the
     /// backend's own method).  Default [`CoulombMethod::Auto`].
     pub coulomb: CoulombMethod,
+    /// A nearby answer to start from (the previous load increment's), in the units of the
+    /// problem solved; a backend may use it (pdas: its first active set) or ignore it.  Dropped
+    /// by [`QpBackend::solve`] when it nondimensionalises the problem.  Default `None`.
+    pub warm_start: Option<Arc<WarmStart>>,
+}
+
+/// A nearby answer (x, λ) for [`SolveOptions::warm_start`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct WarmStart {
+    /// x, one per unknown.
+    pub x: Vec<f64>,
+    /// λ, one per row.
+    pub multipliers: Vec<f64>,
+}
+
+impl WarmStart {
+    /// The start when its lengths fit `problem`, else `None`.
+    pub fn fitting(&self, problem: &QpProblem) -> Option<&Self> {
+        (self.x.len() == problem.dofs() && self.multipliers.len() == problem.rows()).then_some(self)
+    }
 }
 
 impl Default for SolveOptions {
@@ -34,6 +55,7 @@ impl Default for SolveOptions {
             time_limit: None,
             verbose: false,
             coulomb: CoulombMethod::Auto,
+            warm_start: None,
         }
     }
 }
@@ -94,6 +116,10 @@ pub trait QpBackend: Send {
         // Checked before scaling too, so that a refusal names the caller's data.
         problem.validate()?;
         let scaled = scaling.scale(problem);
+        let options = &SolveOptions {
+            warm_start: None,
+            ..options.clone()
+        };
         let answer = self.solve_in_given_units(&scaled, options)?;
         Ok(scaling.unscale(answer).finite_or_numerical_error())
     }
@@ -150,6 +176,10 @@ pub trait QpBackend: Send {
         }
         problem.validate()?;
         let scaled = scaling.scale(problem);
+        let options = &SolveOptions {
+            warm_start: None,
+            ..options.clone()
+        };
         refuse_unsupported(&*self, &scaled)?;
         let solution = self.solve_coulomb_valid(&scaled, coulomb, options)?;
         let answer = checked_answer(&*self, &scaled, solution)?;

@@ -46,7 +46,7 @@ mod status;
 mod tests;
 
 pub use auxiliary::AuxiliaryForm;
-pub use backend::{QpBackend, QpSolution, SolveOptions};
+pub use backend::{QpBackend, QpSolution, SolveOptions, WarmStart};
 pub use blocks::{row_sets, BlockKind, ConstraintBlock, RowSet};
 pub use certificate::{FarkasRay, FARKAS_MARGIN};
 pub use coulomb::{CoulombLink, CoulombMethod, CoulombRows};

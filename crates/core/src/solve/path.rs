@@ -8,13 +8,14 @@
 //! B_t u − g_t is the slip of this increment.  The path stops at the first increment whose
 //! answer is not `solved`: its status is the run's, and later increments are not run.
 
+use std::sync::Arc;
 use std::time::Duration;
 
 use serde::Serialize;
 
 use super::{solve_one, ScaledQp, Solution, SolveError};
 use crate::model::{Increment, LoadPath, Model};
-use crate::qp::{mat_vec, QpBackend, QpStatus, SolveOptions};
+use crate::qp::{mat_vec, QpBackend, QpStatus, SolveOptions, WarmStart};
 
 /// What one increment did (`result.json`'s `steps`).
 #[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
@@ -46,10 +47,13 @@ pub(super) fn along(
     let mut elapsed = Duration::ZERO;
     let mut iterations = 0;
     let count = path.increments.len();
+    let mut options = options.clone();
     for (k, increment) in path.increments.iter().enumerate() {
         let prescribed = path.prescribed_at(&increment.factors);
         let step_qp = increment_qp(model, path, qp, increment, &prescribed, previous.as_deref());
-        let mut solution = solve_one(model, &step_qp, backend, options)?;
+        let mut solution = solve_one(model, &step_qp, backend, &options)?;
+        // The next increment starts from this answer (a backend may use it: pdas's first set).
+        options.warm_start = Some(Arc::new(warm_start(model, qp, &solution)));
         for (&d, &v) in model.fixed_dofs.iter().zip(&prescribed) {
             solution.displacement[d] = v;
         }
@@ -83,7 +87,21 @@ pub(super) fn along(
         previous = Some(solution.displacement);
     }
     // No increment at all cannot happen (a path has at least one step of ≥ 1 increment).
-    solve_one(model, qp, backend, options)
+    solve_one(model, qp, backend, &options)
+}
+
+/// `solution` in the scaled QP's units: x on the free DOFs, λ per row.
+fn warm_start(model: &Model, qp: &ScaledQp, solution: &Solution) -> WarmStart {
+    let units = qp.scaling;
+    let force = units.stiffness * units.displacement;
+    WarmStart {
+        x: model
+            .free
+            .iter()
+            .map(|&d| solution.displacement[d] / units.displacement)
+            .collect(),
+        multipliers: solution.multipliers.iter().map(|l| l / force).collect(),
+    }
 }
 
 /// The scaled QP of one increment: the last increment's with f̃ and g̃ of this one.

@@ -45,10 +45,11 @@ struct Plain {
 }
 
 impl Plain {
-    /// The state before the first step: set `active`, a zero iterate as the best so far.
-    fn new(problem: &QpProblem, active: Vec<bool>, max_iter: usize) -> Self {
+    /// The state before the first step: set `active` with `signs`, a zero iterate as the best
+    /// so far.
+    fn new(problem: &QpProblem, (active, signs): (Vec<bool>, Vec<f64>), max_iter: usize) -> Self {
         Self {
-            signs: vec![0.0; active.len()],
+            signs,
             active,
             seen: HashSet::new(),
             best: Best::zero(problem),
