@@ -409,12 +409,11 @@ impl<'p> ActiveSet<'p> {
         multipliers
             .iter()
             .zip(&self.laws)
-            .map(|(l, law)| match *law {
-                Law::OneSided => l.max(0.0),
-                Law::Tresca(s) => l.clamp(-s, s),
+            .map(|(&l, law)| match *law {
+                Law::OneSided => RowSet::NonNegative.project(l),
+                Law::Tresca(s) => RowSet::Box(s).project(l),
                 Law::Coulomb { normal, mu } => {
-                    let s = mu * multipliers[normal].max(0.0);
-                    l.clamp(-s, s)
+                    RowSet::Box(mu * multipliers[normal].max(0.0)).project(l)
                 }
             })
             .collect()

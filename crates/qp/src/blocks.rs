@@ -94,6 +94,28 @@ pub enum RowSet {
     Box(f64),
 }
 
+impl RowSet {
+    /// The set as an interval [lo, hi]: [0, ∞) or [−s, s] (s = 0: the point 0, still a box row).
+    pub fn interval(self) -> (f64, f64) {
+        match self {
+            RowSet::NonNegative => (0.0, f64::INFINITY),
+            RowSet::Box(s) => (-s, s),
+        }
+    }
+
+    /// `v` projected onto the set ([`project`]).
+    pub fn project(self, v: f64) -> f64 {
+        project(v, self.interval())
+    }
+}
+
+/// `v` projected onto [lo, hi]: `max` before `min`, so that on a one-sided row it is
+/// `max(0, v)` bit for bit, and a NaN lands on lo (as `max(0)` puts it on 0) — every backend
+/// projects with this one function.
+pub fn project(v: f64, (lo, hi): (f64, f64)) -> f64 {
+    v.max(lo).min(hi)
+}
+
 /// Each row's multiplier set, in row order, for `blocks`.
 pub fn row_sets(blocks: &[ConstraintBlock]) -> impl Iterator<Item = RowSet> + '_ {
     blocks.iter().flat_map(|block| {
@@ -107,6 +129,18 @@ pub fn row_sets(blocks: &[ConstraintBlock]) -> impl Iterator<Item = RowSet> + '_
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn projection_clips_to_the_set_and_sends_nan_to_the_lower_end() {
+        assert_eq!(RowSet::NonNegative.project(-2.0), 0.0);
+        assert_eq!(RowSet::NonNegative.project(3.0), 3.0);
+        assert_eq!(RowSet::Box(1.5).project(-4.0), -1.5);
+        assert_eq!(RowSet::Box(1.5).project(4.0), 1.5);
+        assert_eq!(RowSet::Box(1.5).project(0.25), 0.25);
+        assert_eq!(RowSet::Box(0.0).project(7.0), 0.0);
+        assert_eq!(RowSet::NonNegative.project(f64::NAN), 0.0);
+        assert_eq!(RowSet::Box(2.0).project(f64::NAN), -2.0);
+    }
 
     #[test]
     fn row_sets_follow_the_blocks_in_order() {

@@ -47,7 +47,7 @@ mod tests;
 
 pub use auxiliary::AuxiliaryForm;
 pub use backend::{QpBackend, QpSolution, SolveOptions, WarmStart};
-pub use blocks::{row_sets, BlockKind, ConstraintBlock, RowSet};
+pub use blocks::{project, row_sets, BlockKind, ConstraintBlock, RowSet};
 pub use certificate::{FarkasRay, FARKAS_MARGIN};
 pub use coulomb::{CoulombLink, CoulombMethod, CoulombRows};
 pub use dual_form::{

@@ -6,19 +6,10 @@ use signorini_qp::{row_sets, QpProblem, RowSet};
 
 /// Each row's interval [lo, hi], in row order.
 pub fn of(problem: &QpProblem) -> Vec<(f64, f64)> {
-    row_sets(&problem.blocks)
-        .map(|set| match set {
-            RowSet::NonNegative => (0.0, f64::INFINITY),
-            RowSet::Box(s) => (-s, s),
-        })
-        .collect()
+    row_sets(&problem.blocks).map(RowSet::interval).collect()
 }
 
-/// `v` projected onto [lo, hi]: `max` before `min`, so that on a contact row it is `max(0, v)`
-/// bit for bit (a NaN lands on lo, as `max(0)` puts it on 0).
-pub fn project(v: f64, (lo, hi): (f64, f64)) -> f64 {
-    v.max(lo).min(hi)
-}
+pub use signorini_qp::project;
 
 /// Each row's box bound s, `None` on a one-sided row.  A zero bound (Coulomb's tangential row
 /// where the normal force vanishes) is `Some(0.0)`, never a one-sided row: telling the two
