@@ -572,8 +572,16 @@ fn coulomb_runs_pdas_s_newton_and_falls_back_to_the_fixed_point_when_it_does_not
     // fixtures/hard/friction-slide: a block dragged to full slip, T = μN exactly.
     let path = fixture("hard", "friction-slide");
     let options = SolveOptions::default();
-    // The rule: Coulomb goes to pdas's own semismooth Newton.
+    // A short interface: the rule runs the fixed point through the short frictional chain
+    // (dual-pgs first), not pdas's Newton.
     let mut auto = AutoBackend::default();
+    let rule = solve_with(&path, &mut auto, &options);
+    assert_eq!(rule.solution.status, QpStatus::Solved);
+    let run = rule.solution.coulomb.unwrap();
+    assert_eq!(run.method, signorini_core::qp::CoulombMethod::FixedPoint);
+    assert_eq!(auto.record().unwrap().chosen.as_deref(), Some("dual-pgs"));
+    // A given chain with pdas first: its Newton.
+    let mut auto = AutoBackend::with_kinds(vec![BackendKind::Pdas], "test chain");
     let newton = solve_with(&path, &mut auto, &options);
     assert_eq!(newton.solution.status, QpStatus::Solved);
     let run = newton.solution.coulomb.unwrap();
@@ -602,6 +610,39 @@ fn coulomb_runs_pdas_s_newton_and_falls_back_to_the_fixed_point_when_it_does_not
         message.contains("own Coulomb method: max-iterations; then the fixed point"),
         "{message}"
     );
-    let (du, dl) = agreement(&newton, &fallback);
-    assert!(du <= AGREE && dl <= AGREE, "Δu {du:e}, Δλ {dl:e}");
+    for other in [&rule, &fallback] {
+        let (du, dl) = agreement(&newton, other);
+        assert!(du <= AGREE && dl <= AGREE, "Δu {du:e}, Δλ {dl:e}");
+    }
+}
+
+#[test]
+fn coulomb_goes_to_newton_on_long_interfaces_and_large_duals_only() {
+    // The rule's features as on the Coulomb strip of BENCHMARKS.md (51 575 DOFs, 2 001 normal
+    // and 2 001 box rows: m/√n = 8.8) and on the Cattaneo cylinder (61 886 DOFs, 125 + 125
+    // rows: m/√n = 0.5), and a short interface whose dual is too large to form densely.
+    let strip = Features {
+        dofs: 51_575,
+        rows: 4_002,
+        touched: 12_000,
+        kernel: 2,
+        box_rows: 2_001,
+    };
+    let cylinder = Features {
+        dofs: 61_886,
+        rows: 250,
+        touched: 750,
+        kernel: 0,
+        box_rows: 125,
+    };
+    let wide = Features {
+        dofs: 4_000_000,
+        rows: 2_400,
+        touched: 7_200,
+        kernel: 0,
+        box_rows: 1_200,
+    };
+    assert!(signorini::auto::coulomb_by_newton(&strip));
+    assert!(!signorini::auto::coulomb_by_newton(&cylinder));
+    assert!(signorini::auto::coulomb_by_newton(&wide));
 }

@@ -94,7 +94,7 @@ impl QpBackend for PdasBackend {
 
     /// Coulomb's conditions by the same semismooth Newton iteration: a slipping row's
     /// multiplier is tied to its normal row's, λₜ = ±μ λₙ (see the crate documentation).
-    fn solves_coulomb(&self) -> bool {
+    fn solves_coulomb(&self, _problem: &QpProblem) -> bool {
         true
     }
 

@@ -106,7 +106,9 @@ fn a_backend_without_its_own_coulomb_method_refuses_by_name() {
         }
     }
     let (problem, rows) = blocks(2.0, 1.0, &[0.5], 0.3);
-    assert!(!TrescaOnly.solves_coulomb() && PdasBackend::default().solves_coulomb());
+    assert!(
+        !TrescaOnly.solves_coulomb(&problem) && PdasBackend::default().solves_coulomb(&problem)
+    );
     let e = TrescaOnly
         .solve_coulomb(&problem, &rows, &SolveOptions::default())
         .unwrap_err()

@@ -136,10 +136,12 @@ pub trait QpBackend: Send {
         checked_answer(&*self, problem, solution)
     }
 
-    /// Whether the backend has a method of its own for Coulomb rows
-    /// ([`QpBackend::solve_coulomb_valid`]).  Default: no (the core then runs the fixed point
-    /// over Tresca problems through [`QpBackend::solve`]).
-    fn solves_coulomb(&self) -> bool {
+    /// Whether the backend would solve Coulomb's rows of `problem` with a method of its own
+    /// ([`QpBackend::solve_coulomb_valid`]; a backend that chooses per problem, like `auto`,
+    /// says so per problem).  Default: no (the core then runs the fixed point over Tresca
+    /// problems through [`QpBackend::solve`]).
+    fn solves_coulomb(&self, problem: &QpProblem) -> bool {
+        let _ = problem;
         false
     }
 

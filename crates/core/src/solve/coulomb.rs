@@ -84,7 +84,7 @@ pub(super) fn solve(
 ) -> Result<Solution, SolveError> {
     let rows = coulomb_rows(model, &qp.problem)?;
     let own = match options.coulomb {
-        CoulombMethod::Auto => backend.solves_coulomb(),
+        CoulombMethod::Auto => backend.solves_coulomb(&qp.problem),
         CoulombMethod::FixedPoint => false,
         CoulombMethod::Newton => true,
     };

@@ -176,7 +176,7 @@ fn ready(kind: BackendKind) -> bool {
 pub fn plan(f: &Features) -> Plan {
     let ratio = f.length_ratio();
     let long = ratio > LONG_INTERFACE;
-    let large = f.rows > SSN_MAX_ROWS || f.touched > SSN_MAX_TOUCHED;
+    let large = large_dual(f);
     let (chain, why) = if f.box_rows > 0 && (long || large) {
         (
             &FRICTION_LONG_CHAIN[..],
@@ -396,17 +396,18 @@ impl QpBackend for AutoBackend {
         self.solve_chain(problem, None, options)
     }
 
-    /// When a member of the chain (given, or [`COULOMB_CHAIN`]) has its own Coulomb method.
-    fn solves_coulomb(&self) -> bool {
+    /// A given chain: when a member has its own Coulomb method.  The rule: on long interfaces
+    /// or large duals ([`coulomb_by_newton`]) when a member of [`COULOMB_CHAIN`] has one.
+    fn solves_coulomb(&self, problem: &QpProblem) -> bool {
         let solves = |kind: &BackendKind| {
-            ready(*kind) && chain_backend(*kind).is_ok_and(|b| b.solves_coulomb())
+            ready(*kind) && chain_backend(*kind).is_ok_and(|b| b.solves_coulomb(problem))
         };
         match &self.given {
             Some((members, _)) => members.iter().any(|m| match m {
                 Member::Kind(kind) => solves(kind),
-                Member::Given(backend) => backend.solves_coulomb(),
+                Member::Given(backend) => backend.solves_coulomb(problem),
             }),
-            None => COULOMB_CHAIN.iter().any(solves),
+            None => coulomb_by_newton(&Features::of(problem)) && COULOMB_CHAIN.iter().any(solves),
         }
     }
 
@@ -467,6 +468,20 @@ impl AutoBackend {
         self.record = Some(record);
         result
     }
+}
+
+/// Whether the rule solves Coulomb rows by a backend's own method (pdas's Newton): on long
+/// interfaces or large duals, the problems of [`FRICTION_LONG_CHAIN`].  On short interfaces the
+/// fixed point through [`FRICTION_SHORT_CHAIN`] (dual-pgs on the small condensed dual, A
+/// factored once per Tresca solve) is faster: on the Cattaneo cylinder (BENCHMARKS.md,
+/// "Friction") 13.5× the floor against 18.7× for pdas's Newton.
+pub fn coulomb_by_newton(f: &Features) -> bool {
+    f.length_ratio() > LONG_INTERFACE || large_dual(f)
+}
+
+/// A dual too large to form densely (m > [`SSN_MAX_ROWS`] or touched DOFs > [`SSN_MAX_TOUCHED`]).
+fn large_dual(f: &Features) -> bool {
+    f.rows > SSN_MAX_ROWS || f.touched > SSN_MAX_TOUCHED
 }
 
 /// The chain for Coulomb's own methods ([`COULOMB_CHAIN`]) and why.
@@ -566,7 +581,7 @@ fn run_chain(
         let t0 = Instant::now();
         let result = match run.coulomb {
             None => backend.solve(problem, &attempt_options),
-            Some(rows) if backend.solves_coulomb() => {
+            Some(rows) if backend.solves_coulomb(problem) => {
                 backend.solve_coulomb(problem, rows, &attempt_options)
             }
             // A given member without its own Coulomb method: the core's fixed point runs it.
