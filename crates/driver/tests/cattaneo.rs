@@ -287,3 +287,84 @@ fn coulomb_by_semismooth_newton_and_by_the_fixed_point_agree() {
         }
     }
 }
+
+/// result.json of the Cattaneo path (`scene(PRESS_THEN_SHIFT)`) solved with `backend` at the
+/// default tolerance, 60 s at most.
+fn solve_path(backend: &str) -> Value {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("scene.toml"), scene(PRESS_THEN_SHIFT)).unwrap();
+    succeeded(&signorini(
+        &[
+            "solve",
+            "scene.toml",
+            "--backend",
+            backend,
+            "--time-limit",
+            "60",
+            "--out",
+            "out",
+        ],
+        dir.path(),
+    ));
+    json(&dir.path().join("out/result.json"))
+}
+
+// dual-ssn on this path: every inner Tresca solve has zero-bound tangential rows (no normal
+// force, bound μ·0), which dual-ssn once took for one-sided rows — the run ended `inaccurate`
+// with |λt| up to 4.7e-4 beyond the bound 0.  Now it must solve the path and agree with pdas, an
+// independent method (primal active set on the whole system, no condensed dual).
+#[test]
+fn dual_ssn_solves_the_cattaneo_path_and_agrees_with_pdas() {
+    let ssn = solve_path("dual-ssn");
+    let pdas = solve_path("pdas");
+    for r in [&ssn, &pdas] {
+        assert_eq!(r["status"], "solved", "{}: {}", r["backend"], r["message"]);
+        for step in r["steps"].as_array().unwrap() {
+            assert_eq!(step["status"], "solved", "{}: {step}", r["backend"]);
+        }
+    }
+    // 1e-6 relative: both answers meet the KKT tolerance 1e-9 (result.json's `tolerance`); a
+    // thousandfold margin covers the conditioning of the stick zone's tangential problem.
+    // (Measured: 3e-13 on the forces, 1.3e-12 of max |q| per node.)
+    let (a, b) = (&ssn["contacts"][0], &pdas["contacts"][0]);
+    for key in ["normal_force", "tangential_force"] {
+        let (x, y) = (a[key].as_f64().unwrap(), b[key].as_f64().unwrap());
+        assert!(
+            (x - y).abs() <= 1e-6 * y.abs(),
+            "{key}: dual-ssn {x}, pdas {y}"
+        );
+    }
+    // The shift is resisted: Q = |tangential force| is a sizeable fraction of μP (Cattaneo: the
+    // stick zone c = a √(1 − Q/(μP)) is inside the contact), not the ~0 of a wrong answer.
+    let q = b["tangential_force"].as_f64().unwrap().abs();
+    let p = b["normal_force"].as_f64().unwrap();
+    assert!(
+        q > 0.1 * 0.3 * p && q < 0.3 * p,
+        "Q = {q}, μP = {}",
+        0.3 * p
+    );
+    // Node by node: the same stick/slip states and tangential tractions to 1e-6 of the largest.
+    let nodes = |pair: &Value| -> Vec<(String, f64)> {
+        pair["nodes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| {
+                (
+                    n["state"].as_str().unwrap().to_string(),
+                    n["tangential_traction"].as_f64().unwrap(),
+                )
+            })
+            .collect()
+    };
+    let (na, nb) = (nodes(a), nodes(b));
+    assert_eq!(na.len(), nb.len());
+    let scale = nb.iter().map(|n| n.1.abs()).fold(0.0, f64::max);
+    for (i, (x, y)) in na.iter().zip(&nb).enumerate() {
+        assert_eq!(x.0, y.0, "node {i}: dual-ssn {x:?}, pdas {y:?}");
+        assert!(
+            (x.1 - y.1).abs() <= 1e-6 * scale,
+            "node {i}: dual-ssn {x:?}, pdas {y:?}"
+        );
+    }
+}
