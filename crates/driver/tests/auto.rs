@@ -9,7 +9,7 @@ mod common;
 use common::signorini;
 
 use std::path::{Path, PathBuf};
-use std::process::Output;
+use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
 use signorini::auto::{plan, AutoBackend, Features};
@@ -382,18 +382,22 @@ fn the_rule_orders_the_chain_from_the_features() {
         touched: 540,
         kernel: 0,
         box_rows: 0,
+        body_dofs: 103_139,
+        body_interface: 135,
     };
     let p = plan(&seed);
     assert_eq!(p.chain.first(), Some(&BackendKind::DualSsn), "{p:?}");
     assert_eq!(p.chain.last(), Some(&BackendKind::Clarabel), "{p:?}");
-    // A thin strip of length 1 (n = 2 594, m = 101: m/√n = 1.98): long, no dual-ssn, osqp
-    // before clarabel when built in.
+    // A thin strip of length 1 (n = 2 594, m = 101, the strip's own 1 113 DOFs: 101/√1113 =
+    // 3.0): long, no dual-ssn, osqp before clarabel when built in.
     let strip = Features {
         dofs: 2_594,
         rows: 101,
         touched: 402,
         kernel: 0,
         box_rows: 0,
+        body_dofs: 1_113,
+        body_interface: 101,
     };
     let p = plan(&strip);
     // pdas first; dual-ssn only as the last resort (slow there, but it solved every long
@@ -413,8 +417,25 @@ fn the_rule_orders_the_chain_from_the_features() {
         touched: 3_000,
         kernel: 0,
         box_rows: 0,
+        body_dofs: 2_000_000,
+        body_interface: 1_500,
     };
     assert_ne!(plan(&wide).chain.first(), Some(&BackendKind::DualSsn));
+    // Issue 21: a 5 × 0.02 strip on a 5 × 2 block (293 453 DOFs, m = 501, the strip's own
+    // 5 555 DOFs).  m/√n of the whole model is 0.92 — short by the model's size, and dual-ssn
+    // took 1.8–1.9× the floor there where pdas took 1.0–1.25×; against the strip it runs along
+    // the interface is long: 501/√5555 = 6.7.
+    let thick = Features {
+        dofs: 293_453,
+        rows: 501,
+        touched: 1_503,
+        kernel: 1,
+        box_rows: 0,
+        body_dofs: 5_555,
+        body_interface: 501,
+    };
+    assert!(thick.length_ratio() > 6.0, "{}", thick.length_ratio());
+    assert_eq!(plan(&thick).chain.first(), Some(&BackendKind::Pdas));
     // pdas joins the chain exactly when the build lists it among its backends.
     assert_eq!(
         plan(&seed).chain.contains(&BackendKind::Pdas),
@@ -437,6 +458,43 @@ fn the_rule_orders_the_chain_from_the_features() {
             assert!(backend.supports(BlockKind::Box), "{p:?}: {kind:?}");
         }
         assert!(p.reason.contains("box rows"), "{}", p.reason);
+    }
+}
+
+/// The rule's features of scenes (no solve): `SIGNORINI_MEASURE` (colon-separated paths), else
+/// every fixture under fixtures/seed, fixtures/hard, fixtures/accuracy and fixtures/validation.
+/// Prints m/√n of the whole model beside ℓ (the measure behind `auto::LONG_INTERFACE`'s numbers).
+/// `cargo test --release -p signorini --test auto -- --ignored features --nocapture`
+#[test]
+#[ignore]
+fn features() {
+    let scenes: Vec<PathBuf> = match std::env::var("SIGNORINI_MEASURE") {
+        Ok(list) => list.split(':').map(PathBuf::from).collect(),
+        Err(_) => ["seed", "hard", "accuracy", "validation"]
+            .iter()
+            .flat_map(|dir| {
+                let dir = common::repo(&format!("fixtures/{dir}"));
+                std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path())
+            })
+            .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+            .collect(),
+    };
+    for path in scenes {
+        let scene = run::load_scene(Some(&path)).unwrap();
+        let prepared = run::prepare(&scene, &MeshLimits::default()).unwrap();
+        let qp = solve::ScaledQp::new(prepared.qp);
+        let f = Features::of(&qp.problem);
+        let whole = (f.rows - f.box_rows) as f64 / (f.dofs as f64).sqrt();
+        println!(
+            "{:<36} n {:>8} m {:>6} body {:>8} DOFs, interface {:>6}: m/√n {whole:>6.2}, ℓ {:>6.2}, first {:?}",
+            path.file_name().unwrap().to_string_lossy(),
+            f.dofs,
+            f.rows,
+            f.body_dofs,
+            f.body_interface,
+            f.length_ratio(),
+            plan(&f).chain.first()
+        );
     }
 }
 
@@ -616,6 +674,34 @@ fn coulomb_runs_pdas_s_newton_and_falls_back_to_the_fixed_point_when_it_does_not
     }
 }
 
+/// From the command line with the default backend: a thin strip pressed onto a foundation 25
+/// times thicker (`scripts/strip-scene.sh --length 1 --foundation-layers 50`: 16 013 DOFs,
+/// m = 101, m/√n = 0.80) is a long interface for the strip, so auto runs pdas first — before
+/// the rule looked at the strip itself, the foundation's DOFs diluted m/√n below the threshold
+/// and dual-ssn ran first.
+#[test]
+fn a_thick_foundation_does_not_hide_a_long_interface_from_the_default_backend() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Command::new("sh")
+        .arg(common::repo("scripts/strip-scene.sh"))
+        .args(["--length", "1", "--foundation-layers", "50"])
+        .output()
+        .unwrap();
+    assert!(scene.status.success(), "{}", stderr(&scene));
+    std::fs::write(dir.path().join("strip.toml"), &scene.stdout).unwrap();
+    common::succeeded(&signorini(
+        &["solve", "strip.toml", "--out", "out"],
+        dir.path(),
+    ));
+    let json = result_json(&dir.path().join("out"));
+    assert_eq!(json["status"], "solved");
+    assert_eq!(json["backend"], "auto");
+    assert_eq!(json["attempts"][0]["backend"], "pdas", "{json:#}");
+    assert_eq!(json["chosen"], "pdas");
+    let reason = json["reason"].as_str().unwrap();
+    assert!(reason.contains("long interface"), "{reason}");
+}
+
 #[test]
 fn coulomb_goes_to_newton_on_long_interfaces_and_large_duals_only() {
     // The rule's features as on the Coulomb strip of BENCHMARKS.md (51 575 DOFs, 2 001 normal
@@ -627,6 +713,8 @@ fn coulomb_goes_to_newton_on_long_interfaces_and_large_duals_only() {
         touched: 12_000,
         kernel: 2,
         box_rows: 2_001,
+        body_dofs: 22_225,
+        body_interface: 2_001,
     };
     let cylinder = Features {
         dofs: 61_886,
@@ -634,6 +722,8 @@ fn coulomb_goes_to_newton_on_long_interfaces_and_large_duals_only() {
         touched: 750,
         kernel: 0,
         box_rows: 125,
+        body_dofs: 28_236,
+        body_interface: 125,
     };
     let wide = Features {
         dofs: 4_000_000,
@@ -641,6 +731,8 @@ fn coulomb_goes_to_newton_on_long_interfaces_and_large_duals_only() {
         touched: 7_200,
         kernel: 0,
         box_rows: 1_200,
+        body_dofs: 2_000_000,
+        body_interface: 1_200,
     };
     assert!(signorini::auto::coulomb_by_newton(&strip));
     assert!(!signorini::auto::coulomb_by_newton(&cylinder));

@@ -8,13 +8,14 @@
 //! ([`checked_status`] on [`kkt_residuals`], exactly as [`signorini_core::solve`] judges every
 //! backend).  The rule:
 //!
-//! * **Short interface** (m ≤ [`LONG_INTERFACE`] · √n, and m ≤ [`SSN_MAX_ROWS`], touched DOFs ≤
-//!   [`SSN_MAX_TOUCHED`]): [`SHORT_CHAIN`] = dual-ssn → pdas → clarabel.  dual-ssn (active set
+//! * **Short interface** (ℓ = [`Features::length_ratio`] ≤ [`LONG_INTERFACE`], and m ≤
+//!   [`SSN_MAX_ROWS`], touched DOFs ≤ [`SSN_MAX_TOUCHED`]): [`SHORT_CHAIN`] = dual-ssn → pdas → clarabel.  dual-ssn (active set
 //!   on the condensed dual, H formed from the factor of A with the touched DOFs last) takes
 //!   1.1–1.5× the floor on the seed's geometry from 448 to 206 278 DOFs, where clarabel takes
 //!   9–30×.
-//! * **Long interface** (m/√n above [`LONG_INTERFACE`]: a contact zone long against the body,
-//!   e.g. a thin strip pressed along its length), or a dual too large to form densely:
+//! * **Long interface** (ℓ above [`LONG_INTERFACE`]: a contact zone long against the body it
+//!   runs along, e.g. a thin strip pressed along its length, however thick the foundation under
+//!   it), or a dual too large to form densely:
 //!   [`LONG_CHAIN`] = pdas → osqp (at most [`OSQP_MAX_ITER`] iterations) → clarabel → dual-ssn.  There the
 //!   dual is ill-conditioned and dual-ssn ends `inaccurate` after 7–90× the floor; osqp solves the
 //!   strips in 50–100 iterations, 6–11× the floor, 1.1–1.75× faster than clarabel; clarabel
@@ -44,8 +45,8 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 use signorini_core::qp::{
-    checked_status, kkt_residuals, touched_dofs, BlockKind, CoulombRows, QpBackend, QpError,
-    QpProblem, QpSolution, QpStatus, ResidualScales, SolveOptions,
+    checked_status, kkt_residuals, touched_dofs, BlockKind, ContactBody, CoulombRows, QpBackend,
+    QpError, QpProblem, QpSolution, QpStatus, ResidualScales, SolveOptions,
 };
 use signorini_core::report::{AttemptReport, RunReport};
 
@@ -59,11 +60,18 @@ pub const SSN_MAX_ROWS: usize = 1_000;
 /// the factor it forms H from has this size).
 pub const SSN_MAX_TOUCHED: usize = 4_000;
 
-/// An interface is *long* when m > this × √n.  In 2D a body's boundary grows like √n, so m/√n
-/// measures the contact length against the body's size: 0.28–0.41 on the seed's geometry at
-/// every mesh size (448 to 206 278 DOFs), at most 0.68 on the fixtures (chain-four), 2.0 to 8.8
-/// on thin strips pressed along their length (lengths 1 to 20, 0.02 thick).  On those the dual
-/// Hessian is so ill-conditioned that dual-ssn ends `inaccurate` after paying 7–90× the floor.
+/// An interface is *long* when ℓ = [`Features::length_ratio`] exceeds this: the interface of
+/// the most slender contact body against the square root of that body's own DOFs
+/// ([`ContactBody`]).  In 2D a body's boundary grows like √(its DOFs), so ℓ measures the contact
+/// length against the body it runs along: 0.40–0.43 on the seed's geometry at every mesh size,
+/// at most 0.87 on the fixtures (chain-four; 0.74 on the Cattaneo cylinder), 1.85 on the graded
+/// Hertz cylinder, 3.0 to 13.4 on thin strips pressed along their length (lengths 1 to 20, 0.02
+/// thick), whatever the foundation's thickness.  On those the dual Hessian is so
+/// ill-conditioned that dual-ssn ends `inaccurate` after paying 7–90× the floor, or solves at
+/// 1.3–1.8× where pdas takes 1.0–1.1× (a strip on a foundation 25–100 times thicker; the rule
+/// once divided m by √n of the whole model, which such a foundation diluted to 0.8–0.9).
+/// Measured by `cargo test --release -p signorini --test auto -- --ignored features
+/// --nocapture` over the fixtures.
 pub const LONG_INTERFACE: f64 = 1.2;
 
 /// OSQP's iteration cap inside the chain: it needs 50–100 iterations on the strips, and a run
@@ -131,11 +139,18 @@ pub struct Features {
     pub kernel: usize,
     /// Rows with bounded multipliers (friction's tangential rows, [`BlockKind::Box`]).
     pub box_rows: usize,
+    /// Unknowns of the contact body most slender against its interface ([`ContactBody`]; 0
+    /// without normal rows).
+    pub body_dofs: usize,
+    /// The size of that body's interface ([`ContactBody::interface`]: the normal rows touching
+    /// it, or its own DOFs they touch when fewer).
+    pub body_interface: usize,
 }
 
 impl Features {
     /// The features of `problem`.
     pub fn of(problem: &QpProblem) -> Self {
+        let body = ContactBody::most_slender(problem);
         Self {
             dofs: problem.dofs(),
             rows: problem.rows(),
@@ -147,13 +162,21 @@ impl Features {
                 .filter(|b| b.kind() == BlockKind::Box)
                 .map(|b| b.rows())
                 .sum(),
+            body_dofs: body.map_or(0, |b| b.dofs),
+            body_interface: body.map_or(0, |b| b.interface),
         }
     }
 
-    /// m / √n (see [`LONG_INTERFACE`]), m counting the normal rows only: friction's
-    /// tangential rows double the rows of the same interface, not its length.
+    /// The interface's length against the body it runs along (see [`LONG_INTERFACE`]): the
+    /// interface of the most slender contact body over the square root of that body's unknowns
+    /// ([`ContactBody::slenderness`]).  A thick foundation under a thin strip does
+    /// not dilute it: the strip's own unknowns count, not the model's.
     pub fn length_ratio(&self) -> f64 {
-        (self.rows - self.box_rows.min(self.rows)) as f64 / (self.dofs.max(1) as f64).sqrt()
+        ContactBody {
+            dofs: self.body_dofs,
+            interface: self.body_interface,
+        }
+        .slenderness()
     }
 }
 
@@ -181,7 +204,7 @@ pub fn plan(f: &Features) -> Plan {
         (
             &FRICTION_LONG_CHAIN[..],
             format!(
-                "{} box rows (friction) on a long interface or a large dual (m/√n = {ratio:.2})",
+                "{} box rows (friction) on a long interface or a large dual (ℓ = {ratio:.2})",
                 f.box_rows
             ),
         )
@@ -189,7 +212,7 @@ pub fn plan(f: &Features) -> Plan {
         (
             &FRICTION_SHORT_CHAIN[..],
             format!(
-                "{} box rows (friction) on a short interface (m/√n = {ratio:.2})",
+                "{} box rows (friction) on a short interface (ℓ = {ratio:.2})",
                 f.box_rows
             ),
         )
@@ -197,7 +220,7 @@ pub fn plan(f: &Features) -> Plan {
         (
             &LONG_CHAIN[..],
             format!(
-                "a long interface (m/√n = {ratio:.2} > {LONG_INTERFACE}): an ill-conditioned dual"
+                "a long interface (ℓ = {ratio:.2} > {LONG_INTERFACE}): an ill-conditioned dual"
             ),
         )
     } else if large {
@@ -210,16 +233,18 @@ pub fn plan(f: &Features) -> Plan {
     } else {
         (
             &SHORT_CHAIN[..],
-            format!("a short interface (m/√n = {ratio:.2} ≤ {LONG_INTERFACE}): a small, well-conditioned dual"),
+            format!("a short interface (ℓ = {ratio:.2} ≤ {LONG_INTERFACE}): a small, well-conditioned dual"),
         )
     };
     let chain: Vec<BackendKind> = chain.iter().copied().filter(|k| ready(*k)).collect();
     let names: Vec<&str> = chain.iter().map(|k| k.name()).collect();
     let reason = format!(
-        "n = {}, m = {}, {} DOFs touched{}: {why}; chain {}",
+        "n = {}, m = {}, {} DOFs touched, ℓ = interface {} / √{} DOFs of the most slender contact body{}: {why}; chain {}",
         f.dofs,
         f.rows,
         f.touched,
+        f.body_interface,
+        f.body_dofs,
         if f.kernel > 0 {
             format!(", {} rigid mode(s) held by contact", f.kernel)
         } else {

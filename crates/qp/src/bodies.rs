@@ -1,0 +1,236 @@
+//! The bodies of a QP, read off its matrices: the stiffness of a finite-element model couples
+//! no two bodies (only contact does, through B), so the connected components of A's graph are
+//! its bodies.  The contact body most slender against its interface decides how
+//! ill-conditioned the condensed dual is (see [`ContactBody`]).
+
+use crate::{BlockKind, CscMatrix, QpProblem};
+
+/// The connected components of the graph of a symmetric matrix (an edge per stored entry).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Components {
+    /// The component of each unknown, numbered 0.. in order of first appearance.
+    pub label: Vec<usize>,
+    /// Unknowns per component.
+    pub sizes: Vec<usize>,
+}
+
+impl Components {
+    /// The components of the graph of the symmetric `a` (square, CSC; an entry (i, j) joins i
+    /// and j whatever its value, so explicit zeros of an assembled pattern join too).  Only the
+    /// strictly lower triangle is read: `a` is symmetric, so it holds every edge.
+    pub fn of(a: &CscMatrix) -> Self {
+        let n = a.rows().min(a.cols());
+        let mut parent: Vec<usize> = (0..n).collect();
+        for (j, column) in a.outer_iterator().enumerate().take(n) {
+            for (i, _) in column.iter() {
+                if i > j && i < n {
+                    union(&mut parent, i, j);
+                }
+            }
+        }
+        let mut label = vec![usize::MAX; n];
+        let mut sizes = Vec::new();
+        let mut of_root = vec![usize::MAX; n];
+        for k in 0..n {
+            let root = find(&mut parent, k);
+            if of_root[root] == usize::MAX {
+                of_root[root] = sizes.len();
+                sizes.push(0);
+            }
+            label[k] = of_root[root];
+            sizes[label[k]] += 1;
+        }
+        Self { label, sizes }
+    }
+}
+
+fn find(parent: &mut [usize], mut k: usize) -> usize {
+    while parent[k] != k {
+        parent[k] = parent[parent[k]];
+        k = parent[k];
+    }
+    k
+}
+
+fn union(parent: &mut [usize], i: usize, j: usize) {
+    let (ri, rj) = (find(parent, i), find(parent, j));
+    if ri != rj {
+        // The smaller root index wins: deterministic, and the trees stay shallow enough with
+        // the halving in `find`.
+        let (keep, drop) = if ri < rj { (ri, rj) } else { (rj, ri) };
+        parent[drop] = keep;
+    }
+}
+
+/// A body that contact rows touch: its unknowns and the size of its contact interface.
+///
+/// interface / √dofs measures how long the body's contact interface is against the body itself: a 2D
+/// body's boundary grows like the square root of its unknowns, so a compact body pressed along
+/// one side scores below 1 at any mesh size, while a strip of length L and thickness t pressed
+/// along its length scores about √(L / 2t) — and the dual of such an interface (the strip's
+/// beam-like compliance seen through B) is ill-conditioned however thick the body it rests on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ContactBody {
+    /// Unknowns of the body (a connected component of A).
+    pub dofs: usize,
+    /// The interface's size in the body's own resolution: the normal rows touching the body, or
+    /// the body's DOFs those rows touch when fewer (a coarse master under a fine slave: many
+    /// rows, few of its own nodes).  Friction's tangential rows ([`BlockKind::Box`]) are not
+    /// counted: they double the rows of the same interface, not its length.
+    pub interface: usize,
+}
+
+impl ContactBody {
+    /// interface / √dofs.
+    pub fn slenderness(&self) -> f64 {
+        self.interface as f64 / (self.dofs.max(1) as f64).sqrt()
+    }
+
+    /// The body of `problem` with the largest [`ContactBody::slenderness`] among those the
+    /// normal rows touch (ties: the first); `None` without normal rows.
+    pub fn most_slender(problem: &QpProblem) -> Option<Self> {
+        let components = Components::of(&problem.stiffness);
+        let normal = normal_rows(problem);
+        // (component, row) for every nonzero of a normal row, deduplicated: the rows per body.
+        let mut touches: Vec<(usize, usize)> = Vec::with_capacity(problem.constraints.nnz());
+        for (j, column) in problem.constraints.outer_iterator().enumerate() {
+            let Some(&label) = components.label.get(j) else {
+                break;
+            };
+            for (i, &v) in column.iter() {
+                if v != 0.0 && normal.get(i).copied().unwrap_or(false) {
+                    touches.push((label, i));
+                }
+            }
+        }
+        touches.sort_unstable();
+        touches.dedup();
+        let mut rows = vec![0usize; components.sizes.len()];
+        for &(label, _) in &touches {
+            rows[label] += 1;
+        }
+        // The DOFs of each body with a nonzero in some normal row.
+        let mut touched = vec![0usize; components.sizes.len()];
+        for (j, column) in problem.constraints.outer_iterator().enumerate() {
+            let Some(&label) = components.label.get(j) else {
+                break;
+            };
+            if column
+                .iter()
+                .any(|(i, &v)| v != 0.0 && normal.get(i).copied().unwrap_or(false))
+            {
+                touched[label] += 1;
+            }
+        }
+        for (r, t) in rows.iter_mut().zip(&touched) {
+            *r = (*r).min(*t);
+        }
+        rows.iter()
+            .zip(&components.sizes)
+            .filter(|(r, _)| **r > 0)
+            .map(|(&interface, &dofs)| Self { dofs, interface })
+            .fold(None, |best: Option<Self>, body| match best {
+                Some(b) if b.slenderness() >= body.slenderness() => Some(b),
+                _ => Some(body),
+            })
+    }
+}
+
+/// Whether each row of `problem` is a normal (non-box) row.
+fn normal_rows(problem: &QpProblem) -> Vec<bool> {
+    let mut normal = Vec::with_capacity(problem.rows());
+    for block in &problem.blocks {
+        normal.extend(std::iter::repeat_n(
+            block.kind() != BlockKind::Box,
+            block.rows(),
+        ));
+    }
+    normal.resize(problem.rows(), true);
+    normal
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sprs::TriMat;
+
+    /// A chain of `n` unknowns coupled to their neighbours, as one body.
+    fn chain(t: &mut TriMat<f64>, first: usize, n: usize) {
+        for k in first..first + n {
+            t.add_triplet(k, k, 2.0);
+            if k + 1 < first + n {
+                t.add_triplet(k, k + 1, -1.0);
+                t.add_triplet(k + 1, k, -1.0);
+            }
+        }
+    }
+
+    #[test]
+    fn the_components_of_a_block_diagonal_matrix_are_its_blocks() {
+        let mut a = TriMat::new((7, 7));
+        chain(&mut a, 0, 3);
+        chain(&mut a, 3, 4);
+        let c = Components::of(&a.to_csc());
+        assert_eq!(c.sizes, vec![3, 4]);
+        assert_eq!(c.label, vec![0, 0, 0, 1, 1, 1, 1]);
+    }
+
+    #[test]
+    fn the_most_slender_body_counts_its_own_rows_against_its_own_unknowns() {
+        // Body 0: 4 unknowns, body 1: 100; two rows couple unknowns 3 and 2 of body 0 with body
+        // 1, a third touches body 1 only.  Body 0: 2/√4 = 1; body 1: 3/√100 = 0.3.
+        let mut a = TriMat::new((104, 104));
+        chain(&mut a, 0, 4);
+        chain(&mut a, 4, 100);
+        let mut b = TriMat::new((3, 104));
+        b.add_triplet(0, 3, 1.0);
+        b.add_triplet(0, 10, -1.0);
+        b.add_triplet(1, 2, 1.0);
+        b.add_triplet(1, 11, -1.0);
+        b.add_triplet(2, 50, 1.0);
+        // An explicit zero does not touch a body.
+        b.add_triplet(2, 0, 0.0);
+        let p = QpProblem::try_new(a.to_csc(), vec![0.0; 104], b.to_csc(), vec![0.0; 3]).unwrap();
+        let body = ContactBody::most_slender(&p).unwrap();
+        assert_eq!(
+            body,
+            ContactBody {
+                dofs: 4,
+                interface: 2
+            }
+        );
+        assert_eq!(body.slenderness(), 1.0);
+    }
+
+    #[test]
+    fn a_coarse_body_under_many_rows_counts_its_own_touched_unknowns() {
+        // Body 0 (9 unknowns): all six rows touch its unknowns 0 and 1 only; body 1 (36): each
+        // row one unknown of its own.  Body 0: min(6, 2)/√9 = 0.67; body 1: 6/√36 = 1.
+        let mut a = TriMat::new((45, 45));
+        chain(&mut a, 0, 9);
+        chain(&mut a, 9, 36);
+        let mut b = TriMat::new((6, 45));
+        for i in 0..6 {
+            b.add_triplet(i, i % 2, -1.0);
+            b.add_triplet(i, 9 + i, 1.0);
+        }
+        let p = QpProblem::try_new(a.to_csc(), vec![0.0; 45], b.to_csc(), vec![0.0; 6]).unwrap();
+        let body = ContactBody::most_slender(&p).unwrap();
+        assert_eq!(
+            body,
+            ContactBody {
+                dofs: 36,
+                interface: 6
+            }
+        );
+    }
+
+    #[test]
+    fn no_normal_rows_no_contact_body() {
+        let mut a = TriMat::new((2, 2));
+        chain(&mut a, 0, 2);
+        let b = TriMat::new((0, 2));
+        let p = QpProblem::try_new(a.to_csc(), vec![0.0; 2], b.to_csc(), vec![]).unwrap();
+        assert_eq!(ContactBody::most_slender(&p), None);
+    }
+}
