@@ -6,6 +6,7 @@ use std::time::Duration;
 use anyhow::Result;
 use signorini::backends::{BackendKind, Form};
 use signorini_core::mesh::MeshLimits;
+use signorini_core::qp::SolveOptions;
 
 #[derive(clap::Args)]
 pub(crate) struct Common {
@@ -14,6 +15,35 @@ pub(crate) struct Common {
     /// Largest total number of elements (all bodies) a scene may ask for before it is refused.
     #[arg(long, default_value_t = 5_000_000)]
     pub(crate) max_elements: usize,
+}
+
+/// What a solve asks of every backend it runs (`solve` and `compare`).
+#[derive(clap::Args)]
+pub(crate) struct SolveFlags {
+    /// Relative KKT tolerance the answer must meet to count as solved.
+    #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
+    pub(crate) tol: f64,
+    /// Coulomb friction's method: auto (the backend's own semismooth Newton where it has one —
+    /// pdas — else the fixed point over Tresca problems), fixed-point (any backend), or newton
+    /// (refused by a backend without one).
+    #[arg(long, default_value = "auto", value_parser = parse_coulomb)]
+    pub(crate) coulomb: signorini_core::qp::CoulombMethod,
+    /// Seconds each backend may take (auto: its whole chain); it then stops with status
+    /// time-limit.
+    #[arg(long, value_parser = parse_time_limit)]
+    pub(crate) time_limit: Option<f64>,
+}
+
+impl SolveFlags {
+    /// The solve options these flags ask for.
+    pub(crate) fn options(&self) -> SolveOptions {
+        SolveOptions {
+            tol: self.tol,
+            time_limit: time_limit(self.time_limit),
+            coulomb: self.coulomb,
+            ..SolveOptions::default()
+        }
+    }
 }
 
 /// Seconds a backend may take: positive; values from 1e9 s (31 years) up mean no limit.

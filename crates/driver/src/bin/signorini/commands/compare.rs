@@ -6,11 +6,8 @@ use std::path::PathBuf;
 use signorini::backends::{BackendKind, ChoiceParser, Form};
 use signorini::exit::Exit;
 use signorini::run;
-use signorini_core::qp::SolveOptions;
 
-use crate::args::{
-    limits, parse_backends, parse_coulomb, parse_time_limit, parse_tol, time_limit, Common,
-};
+use crate::args::{limits, parse_backends, Common, SolveFlags};
 use crate::console::{warn, Console};
 
 /// `signorini compare SCENE …`: the options of a comparison.
@@ -25,17 +22,8 @@ pub(crate) struct CompareArgs {
     /// once, in their own form [default: as named in --backends].
     #[arg(long, value_delimiter = ',', value_parser = ChoiceParser::<Form>::new())]
     pub(crate) forms: Vec<Form>,
-    /// Relative KKT tolerance every backend is asked to meet.
-    #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
-    pub(crate) tol: f64,
-    /// Coulomb friction's method: auto (the backend's own semismooth Newton where it has one —
-    /// pdas — else the fixed point over Tresca problems), fixed-point (any backend), or newton
-    /// (refused by a backend without one).
-    #[arg(long, default_value = "auto", value_parser = parse_coulomb)]
-    pub(crate) coulomb: signorini_core::qp::CoulombMethod,
-    /// Seconds each backend may take; it then stops with status time-limit.
-    #[arg(long, value_parser = parse_time_limit)]
-    pub(crate) time_limit: Option<f64>,
+    #[command(flatten)]
+    pub(crate) solve: SolveFlags,
     /// Output directory for compare.json and compare.csv (created if missing).
     #[arg(long, default_value = "out")]
     pub(crate) out: PathBuf,
@@ -48,12 +36,7 @@ pub(crate) struct CompareArgs {
 pub(crate) fn compare(args: &CompareArgs) -> Result<Exit> {
     let (common, out, qp) = (&args.common, args.out.as_path(), args.qp.as_deref());
     let kinds = parse_backends(&args.backends, &args.forms)?;
-    let options = SolveOptions {
-        tol: args.tol,
-        time_limit: time_limit(args.time_limit),
-        coulomb: args.coulomb,
-        ..SolveOptions::default()
-    };
+    let options = args.solve.options();
     let bar = indicatif::ProgressBar::new(kinds.len() as u64).with_style(
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),

@@ -9,9 +9,7 @@ use signorini::exit::Exit;
 use signorini::run;
 use signorini_core::qp::{QpStatus, SolveOptions};
 
-use crate::args::{
-    limits, parse_backends, parse_coulomb, parse_time_limit, parse_tol, time_limit, Common,
-};
+use crate::args::{limits, parse_backends, Common, SolveFlags};
 use crate::console::{warn, Console};
 
 /// `signorini solve SCENE …`: the options of a solve.
@@ -32,18 +30,8 @@ pub(crate) struct SolveArgs {
     /// (e.g. dual-ssn,clarabel).
     #[arg(long, value_delimiter = ',', value_parser = ChoiceParser::<BackendKind>::new())]
     pub(crate) chain: Vec<BackendKind>,
-    /// Relative KKT tolerance the answer must meet to count as solved.
-    #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
-    pub(crate) tol: f64,
-    /// Coulomb friction's method: auto (the backend's own semismooth Newton where it has one —
-    /// pdas — else the fixed point over Tresca problems), fixed-point (any backend), or newton
-    /// (refused by a backend without one).
-    #[arg(long, default_value = "auto", value_parser = parse_coulomb)]
-    pub(crate) coulomb: signorini_core::qp::CoulombMethod,
-    /// Seconds the backend may take (with auto: the whole chain); it then stops with status
-    /// time-limit.
-    #[arg(long, value_parser = parse_time_limit)]
-    pub(crate) time_limit: Option<f64>,
+    #[command(flatten)]
+    pub(crate) solve: SolveFlags,
     /// Output directory (created if missing).
     #[arg(long, default_value = "out")]
     pub(crate) out: PathBuf,
@@ -68,12 +56,7 @@ pub(crate) fn solve(args: &SolveArgs) -> Result<Exit> {
         "--chain is for --backend auto, not {kind}"
     );
     let scene = run::load_scene(common.scene.as_deref())?;
-    let options = SolveOptions {
-        tol: args.tol,
-        time_limit: time_limit(args.time_limit),
-        coulomb: args.coulomb,
-        ..SolveOptions::default()
-    };
+    let options = args.solve.options();
     let settings = signorini_core::report::BackendSettings {
         backend: kind.name().to_string(),
         form: signorini::contract::forms(&[kind]),
