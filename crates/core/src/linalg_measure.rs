@@ -216,3 +216,55 @@ fn measure_metis_steps() {
         );
     }
 }
+
+/// The floor's kernel: forced supernodal against faer's own choice (simplicial or supernodal by
+/// its flop ratio), alternated `SIGNORINI_MEASURE_REPS` times (default 5) on each scene, the
+/// minimum of each (ordering + symbolic + numeric + solve, as the floor times them).
+#[test]
+#[ignore = "measurement: run by hand with --release --nocapture"]
+fn measure_floor_kernels() {
+    use crate::linalg::{fill_reducing_order, Layout};
+    use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
+    let scenes = std::env::var("SIGNORINI_MEASURE_SCENES").unwrap_or_default();
+    let reps: usize = std::env::var("SIGNORINI_MEASURE_REPS")
+        .ok()
+        .and_then(|r| r.parse().ok())
+        .unwrap_or(5);
+    println!("| scene | n | supernodal s | faer's choice | its s | choice ÷ supernodal |");
+    println!("|---|---:|---:|---|---:|---:|");
+    for path in scenes.split_whitespace() {
+        let scene = Scene::from_path(std::path::Path::new(path)).unwrap();
+        let meshes = model::mesh_scene(&scene, &MeshLimits::default()).unwrap();
+        let qp = model::assemble(&scene, meshes).unwrap().qp;
+        let a = crate::solve::floor_matrix(&qp);
+        let a = a.as_ref().unwrap_or(&qp.stiffness);
+        let mut best = [f64::MAX; 2];
+        let mut chosen = "";
+        for _ in 0..reps {
+            for (k, layout) in [Layout::Supernodal, Layout::FaerChoice]
+                .into_iter()
+                .enumerate()
+            {
+                let t = Instant::now();
+                let ordering = fill_reducing_order(a).unwrap();
+                let pattern = CholeskyPattern::analyse_laid_out(a, &ordering, layout).unwrap();
+                let mut x = qp.load.clone();
+                pattern.factor(a).unwrap().solve_in_place(&mut x);
+                best[k] = best[k].min(t.elapsed().as_secs_f64());
+                if layout == Layout::FaerChoice {
+                    chosen = match pattern.symbolic().raw() {
+                        SymbolicCholeskyRaw::Supernodal(_) => "supernodal",
+                        SymbolicCholeskyRaw::Simplicial(_) => "simplicial",
+                    };
+                }
+            }
+        }
+        println!(
+            "| {path} | {} | {:.4} | {chosen} | {:.4} | {:.2} |",
+            a.rows(),
+            best[0],
+            best[1],
+            best[1] / best[0]
+        );
+    }
+}

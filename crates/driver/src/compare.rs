@@ -1,7 +1,7 @@
 //! `signorini compare`: mesh and assemble once, then the same QP through several backends, each
 //! timed against the floor (one unconstrained sparse factorisation + solve of the same A, timed
 //! in the same run, on the factor path every backend that factors A uses: the project's
-//! fill-reducing ordering, forced-supernodal LLᵀ; see [`signorini_core::solve::floor`]) and
+//! fill-reducing ordering, LLᵀ in the kernel faer chooses; see [`signorini_core::solve::floor`]) and
 //! compared with the most accurate answer.
 
 use std::path::{Path, PathBuf};

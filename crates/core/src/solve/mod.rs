@@ -7,7 +7,9 @@ mod path;
 
 use std::time::{Duration, Instant};
 
-use crate::linalg::{CholeskyPattern, FactorInfo, LinalgError, SparseCholesky};
+use crate::linalg::{
+    fill_reducing_order, CholeskyPattern, FactorInfo, Layout, LinalgError, SparseCholesky,
+};
 use crate::model::{Model, ModelError};
 use crate::qp::{
     checked_status, kkt_residuals, mat_t_vec, CscMatrix, KktResiduals, QpBackend, QpError,
@@ -389,12 +391,14 @@ fn shifted_stiffness(qp: &QpProblem) -> CscMatrix {
     &qp.stiffness + &eye
 }
 
-/// One timed ordering + factorisation + solve of `a`; the analysed pattern is returned for
-/// [`floor`]'s count of nnz(L).
+/// One timed ordering + factorisation + solve of `a`, in the kernel faer chooses for its pattern
+/// (simplicial or supernodal by its flop ratio: simplicial on long thin strips, where it is the
+/// faster one); the analysed pattern is returned for [`floor`]'s count of nnz(L).
 fn timed_factor(a: &CscMatrix, load: &[f64]) -> Result<(Duration, CholeskyPattern), LinalgError> {
     let start = Instant::now();
     let mut x = load.to_vec();
-    let pattern = CholeskyPattern::analyse(a)?;
+    let pattern =
+        CholeskyPattern::analyse_laid_out(a, &fill_reducing_order(a)?, Layout::FaerChoice)?;
     pattern.factor(a)?.solve_in_place(&mut x);
     Ok((start.elapsed(), pattern))
 }
@@ -419,9 +423,11 @@ fn floor_factor(
 }
 
 /// The timing floor: one unconstrained sparse factorisation + solve of the same A, on the path
-/// every factor of A in the project takes ([`CholeskyPattern::analyse`]: the rule's ordering,
-/// forced-supernodal symbolic analysis, numeric LLᵀ on one thread), timed from the ordering to
-/// the end of the solve.  With a known null space (floating bodies) [`floor_matrix`] is factored
+/// every factor of A in the project takes (the rule's ordering, faer's symbolic analysis,
+/// numeric LLᵀ on one thread) in the faster of faer's two kernels as faer judges it
+/// ([`Layout::FaerChoice`]: simplicial where its flop ratio says so, else supernodal — the
+/// solves that must read supernodes, the dual backends', force that layout and pay for it),
+/// timed from the ordering to the end of the solve.  With a known null space (floating bodies) [`floor_matrix`] is factored
 /// instead (built before the clock starts), and so is A + εI when A's own Cholesky breaks down.
 pub fn floor(qp: &QpProblem) -> Result<Floor, LinalgError> {
     let (time, pattern, shifted) = floor_factor(qp)?;
@@ -460,6 +466,23 @@ mod tests {
         let n = a.rows();
         let b: CscMatrix = sprs::TriMat::new((0, n)).to_csc();
         QpProblem::try_new(a, vec![1.0; n], b, vec![]).unwrap()
+    }
+
+    /// Issue 21: the floor takes faer's own kernel.  On a small grid faer's flop ratio picks
+    /// the simplicial one; the floor once forced supernodal everywhere (supernodes > 0 here).
+    #[test]
+    fn the_floor_factors_in_the_kernel_faer_chooses() {
+        let qp = qp_of(two_dof_grid(10));
+        let floor = floor(&qp).unwrap();
+        let ordering = fill_reducing_order(&qp.stiffness).unwrap();
+        let choice =
+            CholeskyPattern::analyse_laid_out(&qp.stiffness, &ordering, Layout::FaerChoice)
+                .unwrap()
+                .info(&qp.stiffness)
+                .unwrap();
+        assert_eq!(choice.supernodes, 0, "faer chooses simplicial here");
+        assert_eq!(floor.info.supernodes, choice.supernodes);
+        assert_eq!(floor.info.nnz_l, choice.nnz_l);
     }
 
     #[test]

@@ -3,8 +3,9 @@
 //!
 //! Every factorisation of A takes one path: [`fill_reducing_order`] (AMD or METIS nested
 //! dissection, by the rule in [`ordering`]), faer's symbolic Cholesky with that ordering
-//! (`SymmetricOrdering::Custom`) forced supernodal, and the numeric LLᵀ on one thread
-//! (`Par::Seq`).  The symbolic analysis is kept apart from the numeric factorisation so that one
+//! (`SymmetricOrdering::Custom`) — forced supernodal for the factors whose supernodes are read
+//! (the dual backends'), faer's own choice of simplicial or supernodal for the timing floor and
+//! pdas's KKT factor ([`Layout`]) — and the numeric LLᵀ on one thread (`Par::Seq`).  The symbolic analysis is kept apart from the numeric factorisation so that one
 //! analysis serves many refactorisations of the same pattern, and so that the memory a factor
 //! will take ([`FactorInfo::factor_bytes`]) is known before it is allocated.
 
@@ -179,7 +180,8 @@ pub enum Layout {
     /// Supernodal always: every factor of A (the dual backends read the trailing block off
     /// its supernodes).
     Supernodal,
-    /// Simplicial or supernodal as faer's flop ratio chooses: pdas's LDLᵀ of its KKT matrix.
+    /// Simplicial or supernodal as faer's flop ratio chooses: the timing floor's LLᵀ of A and
+    /// pdas's LDLᵀ of its KKT matrix.
     FaerChoice,
 }
 
