@@ -108,6 +108,16 @@ impl DualBackend {
         match result {
             Ok(mut outcome) => {
                 outcome.message = format!("{}; {factor}", outcome.message);
+                if outcome.status != QpStatus::Solved {
+                    // Why a dual method may not reach the tolerance: the condensed dual inherits
+                    // A's conditioning, which the factor's smallest pivot ratio bounds (a thin
+                    // strip held at one point is a cantilever: 1e-10 and below).
+                    outcome.message = format!(
+                        "{}; A's smallest Cholesky pivot ratio minⱼ Lⱼⱼ²/Aⱼⱼ = {:.1e}",
+                        outcome.message,
+                        data.inverse.factor().min_pivot_ratio()
+                    );
+                }
                 Ok(outcome)
             }
             Err(e) => verdict(problem, e),

@@ -23,3 +23,41 @@ fn message_names_the_ordering_and_nnz_of_l() {
         assert!(message.contains(&expected), "{}: {message}", b.name());
     }
 }
+
+/// Issue 21: a dual method that stops short says why it may have: A's conditioning, which the
+/// condensed dual inherits, as the factor's smallest pivot ratio.  A = [1, 1 − ε; 1 − ε, 1]:
+/// L₁₁² = 1, L₂₂² = 1 − (1 − ε)² = 2ε − ε², so the ratio is 2.0e-6 at ε = 1e-6 (Jacobi
+/// scaling leaves this unit diagonal alone).  One projected Gauss–Seidel sweep cannot meet
+/// 1e-12 on it; with the default cap it is solved, and the message stays as it was.
+#[test]
+fn a_method_that_stops_short_names_a_s_smallest_pivot_ratio() {
+    use signorini_dual::{DualBackend, DualSettings};
+    let e = 1e-6;
+    let a = [(0, 0, 1.0), (0, 1, 1.0 - e), (1, 0, 1.0 - e), (1, 1, 1.0)];
+    let p = qp(
+        2,
+        &a,
+        vec![1.0, 0.5],
+        2,
+        &[(0, 0, 1.0), (1, 1, 1.0)],
+        vec![0.1, 0.1],
+    );
+    let mut capped = DualBackend::pgs(DualSettings {
+        max_iter: 1,
+        ..DualSettings::default()
+    });
+    let (sol, status) = solve(&mut capped, &p, 1e-12);
+    assert_ne!(status, QpStatus::Solved);
+    let message = sol.message.unwrap();
+    assert!(
+        message.contains("A's smallest Cholesky pivot ratio minⱼ Lⱼⱼ²/Aⱼⱼ = 2.0e-6"),
+        "{message}"
+    );
+    let (sol, status) = solve(
+        &mut DualBackend::active_set(DualSettings::default()),
+        &p,
+        1e-12,
+    );
+    assert_eq!(status, QpStatus::Solved);
+    assert!(!sol.message.unwrap().contains("pivot ratio"));
+}
