@@ -69,6 +69,13 @@
 //! displaced sideways by the cylinder's tangential displacement — a physical, not a discrete,
 //! difference of position between the two sides' profiles (Hertz's theory neglects it).
 //!
+//! Frictional pairs keep the slave's frame for now ([`Frame::Slave`]: rows along −n_j, the gap
+//! along n̂): their tangential rows measure the slip from the reference configuration, so along
+//! the master's tangent the closing of a gap between points paired along the slave's normal
+//! would read as slip (θ × the gap closed; the Cattaneo stick zone came out 10 % short).  Moving
+//! them needs the paired points' initial tangential offset ∫ψ_j t_m·(y − x) as the tangential
+//! rows' reference value.
+//!
 //! The pair's `normal_force` (Σλ) is a sum of magnitudes along each row's normal; the report's
 //! `force` is the resultant vector Σ λ n + λₜ t, equal to the slave's contact force.
 //!
@@ -154,7 +161,21 @@ const BEHIND: f64 = 0.05;
 struct Sums {
     masters: Vec<(usize, f64)>,
     gap: f64,
+    /// ∫ψ_j g with g along the slave normal (the [`Frame::Slave`] rows).
+    slave_gap: f64,
     normal: Point,
+}
+
+/// Which side's normals a pair's mortar rows act along (see "Why the master's normal").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Frame {
+    /// The master's normals, the gap measured from the master segment's line: frictionless
+    /// pairs.
+    Master,
+    /// The slave's averaged normals, the gap along them: frictional pairs, until the tangential
+    /// rows measure their slip from the paired points' initial offset (along the master's
+    /// tangent, closing a gap between points paired along the slave's normal reads as slip).
+    Slave,
 }
 
 impl Sums {
@@ -172,7 +193,8 @@ impl Sums {
 /// when an end of the edge starts on or inside the master (an initial overlap, negative gaps),
 /// otherwise only by [`BEHIND`] × the edge's length plus `tol` — the sagitta of a polygonal
 /// curved interface — so that a master segment on the far side of the master body (facing the
-/// slave's back across the body) never covers a slave edge.
+/// slave's back across the body) never covers a slave edge.  `frame` chooses the rows' normals.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn pair_rows(
     slave: &Mesh,
     master: &Mesh,
@@ -181,6 +203,7 @@ pub(super) fn pair_rows(
     inside_s: &[Option<f64>],
     tol: f64,
     limit: f64,
+    frame: Frame,
 ) -> Built {
     let mut built = Built {
         rows: Vec::new(),
@@ -278,6 +301,7 @@ pub(super) fn pair_rows(
                     s.add(a, w * (1.0 - g.eta));
                     s.add(b, w * g.eta);
                     s.gap += w * gap;
+                    s.slave_gap += w * g.gap;
                     s.normal = [s.normal[0] + w * nm[0], s.normal[1] + w * nm[1]];
                 }
             }
@@ -296,11 +320,15 @@ pub(super) fn pair_rows(
             built.unmatched += 1;
             continue;
         }
-        let gap = s.gap / d;
+        let slave_normal = [-n[0], -n[1]];
+        let (gap, normal) = match frame {
+            Frame::Master => (s.gap / d, unit(s.normal).unwrap_or(slave_normal)),
+            Frame::Slave => (s.slave_gap / d, slave_normal),
+        };
         built.rows.push(ContactRow {
             slave_node: j,
             masters: s.masters.iter().map(|&(k, m)| (k, m / d)).collect(),
-            normal: unit(s.normal).unwrap_or([-n[0], -n[1]]),
+            normal,
             gap: if gap.abs() <= tol { 0.0 } else { gap },
             tributary: d,
             position: *x,

@@ -1,7 +1,7 @@
 //! Unit tests of the mortar geometry and rows against hand-computed values.
 
 use super::geometry::{dual, nodal_normals, SlaveSegment, GAUSS};
-use super::{pair_rows, MIN_SHARE};
+use super::{pair_rows, Frame, MIN_SHARE};
 use crate::contact::{pair_rows as node_to_segment, ContactRow, Search};
 use crate::geometry::Point;
 use crate::mesh::{Cells, Mesh};
@@ -30,7 +30,16 @@ fn master_flat(xs: &[f64], y: f64) -> Mesh {
 fn rows(slave: &Mesh, master: &Mesh) -> super::Built {
     let cs = vec![true; slave.nodes.len()];
     let inside = vec![None; slave.nodes.len()];
-    pair_rows(slave, master, &cs, &master.boundary, &inside, 1e-12, 1.0)
+    pair_rows(
+        slave,
+        master,
+        &cs,
+        &master.boundary,
+        &inside,
+        1e-12,
+        1.0,
+        Frame::Master,
+    )
 }
 
 fn weight_sum(r: &ContactRow) -> f64 {
