@@ -130,6 +130,7 @@ fn contact_reports(
         let mut active = 0;
         let mut normal_force = 0.0;
         let mut tangential_force = 0.0;
+        let mut force = [0.0; 2];
         let slave_nodes: Vec<usize> = pair.rows.iter().map(|r| r.slave_node).collect();
         let arc = interface_arc(&model.meshes[pair.slave], &slave_nodes);
         for (r, place) in pair.rows.iter().zip(&arc) {
@@ -140,7 +141,12 @@ fn contact_reports(
             }
             normal_force += l;
             let t = tangential.get(row).copied().flatten();
-            tangential_force += t.map_or(0.0, |t| t.multiplier);
+            let lt = t.map_or(0.0, |t| t.multiplier);
+            tangential_force += lt;
+            // λ along the row's normal and λₜ along its tangent (n_y, −n_x), on the slave.
+            let n = r.normal;
+            force[0] += l * n[0] + lt * n[1];
+            force[1] += l * n[1] - lt * n[0];
             nodes.push(ContactNodeReport {
                 x: r.position[0],
                 y: r.position[1],
@@ -169,6 +175,7 @@ fn contact_reports(
             constraints: pair.rows.len(),
             active,
             normal_force,
+            force,
             friction: pair.friction,
             tangential_force: pair.friction.map(|_| tangential_force),
             nodes,

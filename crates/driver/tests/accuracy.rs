@@ -65,8 +65,9 @@ fn hertz_mortar_graded(h: f64) -> (f64, f64, f64, usize) {
     assert!((reference.half_width.unwrap() / a - 1.0).abs() < 1e-12);
     assert!((reference.peak_pressure.unwrap() / p0 - 1.0).abs() < 1e-12);
     // The cap is held by contact alone in y, so the vertical components of the contact forces
-    // add up to the load.  Mortar's multipliers act along the slave's (averaged) normals, tilted
-    // by θ ≤ a/R in the contact zone, so Σλ exceeds P by at most 1/cos θ − 1 ≈ (a/R)²/2.
+    // add up to the load.  Mortar's multipliers act along the master's normals (the block's:
+    // vertical, so Σλ = P to the solver's tolerance; were the master curved, tilted by θ ≤ a/R
+    // in the contact zone, Σλ would exceed P by at most 1/cos θ − 1 ≈ (a/R)²/2).
     let force = o.report.contacts[0].normal_force;
     let tilt = 0.5 * (a / 1.0_f64).powi(2);
     assert!(

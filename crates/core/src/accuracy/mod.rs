@@ -27,8 +27,8 @@
 //! interface mesh (0.08 % at a/h = 20, 0.33 % at a/h = 10), below the discretisation error
 //! itself and falling with it.  It uses every node, so no single node (nor where exactly the contact
 //! ends, which a mesh locates only to ±h) decides it, and it needs the forces only: the same
-//! estimator for both formulations whatever their weights.  (Mortar's multipliers act along the
-//! slave's averaged normals; on a curved slave side they are tilted by θ ≤ a/R in the contact
+//! estimator for both formulations whatever their weights.  (Both formulations' multipliers act
+//! along the master's normals; on a curved master they are tilted by θ ≤ a/R in the contact
 //! zone, so they weigh the edge nodes by up to 1/cos θ − 1 ≈ (a/R)²/2 more than the vertical
 //! load does: a term of the order Hertz's own theory neglects.)  The "active extent" (half the span
 //! of the nodes in contact) is first-order, ±h.

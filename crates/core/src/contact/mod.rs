@@ -105,7 +105,8 @@ pub struct ContactRow {
     pub masters: Vec<(usize, f64)>,
     /// Unit normal n of the row, pointing out of the master towards the slave: the row is
     /// −n·u_X + Σₖ wₖ n·u_k ≤ g.  Node-to-segment: the master segment's outward normal; mortar:
-    /// minus the slave's averaged nodal normal.
+    /// the ψ-weighted mean of the outward normals of the master segments the node's dual basis
+    /// function meets.
     pub normal: Point,
     /// Initial normal gap g (node-to-segment: (X − Y)·n; mortar: the weighted gap g̃_j / D_jj).
     pub gap: f64,
@@ -607,7 +608,13 @@ impl PairSearch<'_, '_> {
                 self.search,
             ),
             Formulation::Mortar => {
-                mortar::pair_rows(ms, mm, cand_s, segments, inside_s, self.tol, limit)
+                // Frictional pairs keep the slave's frame (see mortar::Frame).
+                let frame = if self.it.friction.is_some() {
+                    mortar::Frame::Slave
+                } else {
+                    mortar::Frame::Master
+                };
+                mortar::pair_rows(ms, mm, cand_s, segments, inside_s, self.tol, limit, frame)
             }
         }
     }

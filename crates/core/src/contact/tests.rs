@@ -1144,6 +1144,15 @@ fn a_region_box_that_cuts_a_master_edge_keeps_that_edge() {
         Search::Indexed,
     );
     assert_eq!((built.rows.len(), built.unmatched), (16, 0));
-    let mortar = mortar::pair_rows(&slave, &master, &cand_s, &segments, &inside_s, tol, 0.5);
+    let mortar = mortar::pair_rows(
+        &slave,
+        &master,
+        &cand_s,
+        &segments,
+        &inside_s,
+        tol,
+        0.5,
+        mortar::Frame::Master,
+    );
     assert_eq!((mortar.rows.len(), mortar.unmatched), (16, 0));
 }

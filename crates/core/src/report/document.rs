@@ -109,8 +109,14 @@ pub struct ContactReport {
     pub constraints: usize,
     /// Rows with a positive multiplier (see [`is_active`](super::is_active)).
     pub active: usize,
-    /// Sum of the multipliers: the total normal force transmitted.
+    /// Sum of the multipliers: the total normal force transmitted, as a sum of magnitudes
+    /// along each row's own normal (it exceeds |`force`| where those normals differ).
     pub normal_force: f64,
+    /// The resultant vector of the pair's contact forces on the slave body, Σ λ n + λₜ t over
+    /// its rows (normal and tangential): what the master exerts on the slave through this pair.
+    /// It equals the slave's `contact_force` when the slave is in no other pair, and so balances
+    /// its loads and reactions.
+    pub force: [f64; 2],
     /// Frictional pairs only: the friction law, `{"coulomb": μ}` or `{"tresca": bound}`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub friction: Option<Friction>,

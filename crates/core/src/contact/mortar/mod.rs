@@ -13,26 +13,29 @@
 //! the end of a flat contact zone) n_j is the facing edge's own normal; at a corner where both
 //! edges face the master (a wedge tip) it is their bisector; at the last node of the zone it is
 //! its one segment's normal.  Along a slave segment the normal is interpolated linearly,
-//! n(ξ) = (1 − ξ) n₁ + ξ n₂.
+//! n(ξ) = (1 − ξ) n₁ + ξ n₂.  This field only pairs slave points with master points (the
+//! projection below); the rows act along the master's normals (see "Why the master's normal").
 //!
 //! For each interface segment the master segments near it (an R-tree query, O(log m)) are
 //! projected onto it along that field: each master end y gives the ξ with
 //! (x(ξ) − y) × n(ξ) = 0, a quadratic (linear when n₁ ∥ n₂).  The image [ξ_a, ξ_b] is clipped
 //! to [0, 1], and each clipped piece is integrated by a 3-point Gauss rule: at each point the
-//! slave point x(ξ) is projected along n̂(ξ) onto the master segment (parameter η, gap
-//! g = (y(η) − x(ξ))·n̂).  With the dual basis ψ₁ = 2N₁ − N₂, ψ₂ = 2N₂ − N₁ (∫ψ_i N_j = δ_ij ∫N_j
-//! on a whole segment, ψ₁ + ψ₂ = 1):
+//! slave point x(ξ) is projected along n̂(ξ) onto the master segment (parameter η: the master
+//! point it is paired with), and its gap is its distance from the master segment's line,
+//! g = (x(ξ) − y_a)·n_m, n_m the master segment's outward unit normal.  With the dual basis
+//! ψ₁ = 2N₁ − N₂, ψ₂ = 2N₂ − N₁ (∫ψ_i N_j = δ_ij ∫N_j on a whole segment, ψ₁ + ψ₂ = 1):
 //!
 //! ```text
 //! M_jk = Σ ∫ ψ_j N_k^master,   D_jj = Σ_k M_jk = ∫_covered ψ_j,   g̃_j = Σ ∫ ψ_j g,
+//! ν_j = Σ ∫ ψ_j n_m,   n̄_j = ν_j / |ν_j|,
 //! ```
 //!
 //! summed over the covered parts of slave node j's segments.  On a fully covered segment
 //! ∫ψ_j = ∫N_j, so D_jj is the slave's lumped mass ∫N_j.  Slave node j's row is the mortar
-//! condition n_jᵀ(D_jj u_j − Σₖ M_jk u_k) ≤ g̃_j divided by D_jj:
+//! condition n̄_jᵀ(D_jj u_j − Σₖ M_jk u_k) ≤ g̃_j divided by D_jj:
 //!
 //! ```text
-//! masters = [(k, M_jk / D_jj)],  normal = −n_j,  gap = g̃_j / D_jj,  tributary = D_jj,
+//! masters = [(k, M_jk / D_jj)],  normal = n̄_j,  gap = g̃_j / D_jj,  tributary = D_jj,
 //! ```
 //!
 //! so its multiplier λ_j is a nodal force like node-to-segment's, λ_j / D_jj the contact
@@ -42,14 +45,39 @@
 //! consistent nodal forces of p, which is why the contact patch test passes on non-matching
 //! meshes.  On conforming meshes every master image is a whole slave segment, M_jk = D_jj δ_jk,
 //! and the rows are node-to-segment's (weight 1 on the coincident master node, round-off on its
-//! neighbours).
+//! neighbours; the normal the mean of the master normals beside the node).
 //!
-//! The row's normal is the slave's averaged normal, not the master segment's: on a curved slave
-//! side the multipliers act along tilted normals, so their sum (the reported normal force)
-//! exceeds the resultant by O(θ²) with θ the tilt (3 × 10⁻⁴ on the Hertz cap of
-//! `contact_verification.rs` at a/R = 0.05 with the cap as slave; 3 × 10⁻¹¹, round-off, with
-//! the flat block as slave).  Node-to-segment, which uses the master's normals, has the same
-//! effect with the sides swapped.
+//! # Why the master's normal
+//!
+//! The rows are the linearisation of the non-penetration condition about the reference
+//! configuration (one QP, small displacements).  The distance of a slave point from a master
+//! segment's line changes, to first order, by n_m·(u_master − u_slave) — and by nothing else:
+//! moving the slave point along the master segment changes which master point faces it (η), not
+//! the distance.  Measured along the slave's own normal n̂ instead, the distance is
+//! g / (−n_m·n̂), whose first variation is n_m·Δu / (−n_m·n̂): the same direction n_m, scaled.
+//! Rows along the slave's averaged normals (the earlier discretisation) dropped the change of η
+//! and so counted a sideways motion of the slave, sin θ per unit, as approach, θ the angle
+//! between the two sides' normals: on a curved slave over a flat master the row of a node at
+//! angle θ read a slave sliding sideways by s as having moved s sin θ closer.  That is an error
+//! of the order of the tangential displacement times θ, first order in the load, and on the
+//! Hertz cylinder with a stiff block (E ratio 1000) it made the curved-slave half-width 0.7 %
+//! and its profile 1.3 % rms off (node-to-segment, along the master's normals: 0.04 %, 0.2 %;
+//! docs/scene.md and BENCHMARKS.md have the figures).  Along n_m a flat master's rows are exactly
+//! the vertical condition, and the multipliers sum to the resultant exactly.  On a curved master
+//! (a flat slave under a cylinder) the rows act along the cylinder's normals: the pressure is
+//! then reported at the slave's (the flat body's) points, which face the cylinder's points
+//! displaced sideways by the cylinder's tangential displacement — a physical, not a discrete,
+//! difference of position between the two sides' profiles (Hertz's theory neglects it).
+//!
+//! Frictional pairs keep the slave's frame for now ([`Frame::Slave`]: rows along −n_j, the gap
+//! along n̂): their tangential rows measure the slip from the reference configuration, so along
+//! the master's tangent the closing of a gap between points paired along the slave's normal
+//! would read as slip (θ × the gap closed; the Cattaneo stick zone came out 10 % short).  Moving
+//! them needs the paired points' initial tangential offset ∫ψ_j t_m·(y − x) as the tangential
+//! rows' reference value.
+//!
+//! The pair's `normal_force` (Σλ) is a sum of magnitudes along each row's normal; the report's
+//! `force` is the resultant vector Σ λ n + λₜ t, equal to the slave's contact force.
 //!
 //! # Ends of the contact zone
 //!
@@ -75,7 +103,9 @@
 //! side, the two nodal normals at an angle Δθ) η(ξ) is a ratio of linear functions whose
 //! expansion in ξ has coefficients O(Δθ^k) at degree k, so the rule misses O(Δθ⁵) relative
 //! (tested below 10⁻² Δθ⁵; measured 10⁻⁷ at Δθ = 0.3 and 10⁻¹⁰ at Δθ = 0.1 for the weighted
-//! gap), far below the discretisation error.
+//! gap along the slave normal), far below the discretisation error.  The gap integrated now, the
+//! distance from the master segment's line, is affine in ξ on every piece, so ψ_j g is
+//! integrated exactly; the M_jk keep the O(Δθ⁵) above.
 //!
 //! # Limits
 //!
@@ -110,8 +140,9 @@ mod tests;
 
 use super::search::SegmentIndex;
 use super::{Built, ContactRow, FACING};
+use crate::geometry::Point;
 use crate::mesh::Mesh;
-use geometry::{dot, dual, edge_normal, nodal_normals, sub, SlaveSegment};
+use geometry::{dot, dual, edge_normal, nodal_normals, sub, unit, SlaveSegment};
 
 /// The smallest D_jj, as a share of the slave node's full share ∫N_j of its interface segments,
 /// that gets a row (see the module docs): at 1/4 the weights M_jk / D_jj stay below about 16 in
@@ -124,11 +155,27 @@ pub(super) const MIN_SHARE: f64 = 0.25;
 /// means the master segment is on the far side of the master body.
 const BEHIND: f64 = 0.05;
 
-/// One slave node's integrals: M_jk (merged by master node), g̃_j.
+/// One slave node's integrals: M_jk (merged by master node), g̃_j and ∫ψ_j n_m (the row's
+/// direction before normalisation).
 #[derive(Debug, Clone, Default)]
 struct Sums {
     masters: Vec<(usize, f64)>,
     gap: f64,
+    /// ∫ψ_j g with g along the slave normal (the [`Frame::Slave`] rows).
+    slave_gap: f64,
+    normal: Point,
+}
+
+/// Which side's normals a pair's mortar rows act along (see "Why the master's normal").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Frame {
+    /// The master's normals, the gap measured from the master segment's line: frictionless
+    /// pairs.
+    Master,
+    /// The slave's averaged normals, the gap along them: frictional pairs, until the tangential
+    /// rows measure their slip from the paired points' initial offset (along the master's
+    /// tangent, closing a gap between points paired along the slave's normal reads as slip).
+    Slave,
 }
 
 impl Sums {
@@ -146,7 +193,8 @@ impl Sums {
 /// when an end of the edge starts on or inside the master (an initial overlap, negative gaps),
 /// otherwise only by [`BEHIND`] × the edge's length plus `tol` — the sagitta of a polygonal
 /// curved interface — so that a master segment on the far side of the master body (facing the
-/// slave's back across the body) never covers a slave edge.
+/// slave's back across the body) never covers a slave edge.  `frame` chooses the rows' normals.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn pair_rows(
     slave: &Mesh,
     master: &Mesh,
@@ -155,6 +203,7 @@ pub(super) fn pair_rows(
     inside_s: &[Option<f64>],
     tol: f64,
     limit: f64,
+    frame: Frame,
 ) -> Built {
     let mut built = Built {
         rows: Vec::new(),
@@ -238,13 +287,22 @@ pub(super) fn pair_rows(
                 // through the master body (onto its far side).
                 continue;
             }
+            // The master segment's outward normal (it faces the slave: checked when `near`
+            // was built) and, at each point, the slave point's distance from its line.
+            let Some(nm) = edge_normal(ya, yb) else {
+                continue;
+            };
             for g in points {
                 let psi = dual(g.xi);
+                let gap = dot(sub(seg.point(g.xi), ya), nm);
                 for (node, psi) in [(*p, psi[0]), (*q, psi[1])] {
                     let w = psi * g.weight;
-                    sums[node].add(a, w * (1.0 - g.eta));
-                    sums[node].add(b, w * g.eta);
-                    sums[node].gap += w * g.gap;
+                    let s = &mut sums[node];
+                    s.add(a, w * (1.0 - g.eta));
+                    s.add(b, w * g.eta);
+                    s.gap += w * gap;
+                    s.slave_gap += w * g.gap;
+                    s.normal = [s.normal[0] + w * nm[0], s.normal[1] + w * nm[1]];
                 }
             }
         }
@@ -262,11 +320,15 @@ pub(super) fn pair_rows(
             built.unmatched += 1;
             continue;
         }
-        let gap = s.gap / d;
+        let slave_normal = [-n[0], -n[1]];
+        let (gap, normal) = match frame {
+            Frame::Master => (s.gap / d, unit(s.normal).unwrap_or(slave_normal)),
+            Frame::Slave => (s.slave_gap / d, slave_normal),
+        };
         built.rows.push(ContactRow {
             slave_node: j,
             masters: s.masters.iter().map(|&(k, m)| (k, m / d)).collect(),
-            normal: [-n[0], -n[1]],
+            normal,
             gap: if gap.abs() <= tol { 0.0 } else { gap },
             tributary: d,
             position: *x,

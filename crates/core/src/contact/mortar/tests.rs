@@ -1,7 +1,7 @@
 //! Unit tests of the mortar geometry and rows against hand-computed values.
 
 use super::geometry::{dual, nodal_normals, SlaveSegment, GAUSS};
-use super::{pair_rows, MIN_SHARE};
+use super::{pair_rows, Frame, MIN_SHARE};
 use crate::contact::{pair_rows as node_to_segment, ContactRow, Search};
 use crate::geometry::Point;
 use crate::mesh::{Cells, Mesh};
@@ -30,7 +30,16 @@ fn master_flat(xs: &[f64], y: f64) -> Mesh {
 fn rows(slave: &Mesh, master: &Mesh) -> super::Built {
     let cs = vec![true; slave.nodes.len()];
     let inside = vec![None; slave.nodes.len()];
-    pair_rows(slave, master, &cs, &master.boundary, &inside, 1e-12, 1.0)
+    pair_rows(
+        slave,
+        master,
+        &cs,
+        &master.boundary,
+        &inside,
+        1e-12,
+        1.0,
+        Frame::Master,
+    )
 }
 
 fn weight_sum(r: &ContactRow) -> f64 {
@@ -192,8 +201,10 @@ fn normals_at_corners() {
     assert!(close(normals[2].unwrap(), [1.0 / s, -2.0 / s]));
     let b = rows(&wedge, &master_flat(&[-2.0, -0.1, 0.4, 2.0], -0.1));
     assert_eq!(b.rows.len(), 3);
-    assert_eq!(b.rows[1].normal, [0.0, 1.0]);
-    assert!(close(b.rows[0].normal, [1.0 / s, 2.0 / s]));
+    // The rows act along the (flat) master's normal, whatever the slave's normals.
+    for r in &b.rows {
+        assert!(close(r.normal, [0.0, 1.0]), "{:?}", r.normal);
+    }
     for r in &b.rows {
         assert!((weight_sum(r) - 1.0).abs() < 1e-15);
     }
@@ -317,19 +328,18 @@ fn curved_nonmatching_rows_cover_the_slave_and_are_translation_invariant() {
             "{}",
             r.gap
         );
-        // The row normal is minus the radial direction of the node (inside the zone; its two
-        // ends take their one segment's normal, radial at the segment's middle).
-        let end = r.slave_node == 0 || r.slave_node == slave.nodes.len() - 1;
-        let x = if end {
-            let [p, q] = slave.boundary[r.slave_node.min(slave.nodes.len() - 2)];
-            let (a, c) = (slave.nodes[p], slave.nodes[q]);
-            [0.5 * (a[0] + c[0]), 0.5 * (a[1] + c[1])]
-        } else {
-            r.position
-        };
+        // The row normal is the ψ-weighted mean of the normals of the master segments over
+        // the node's edges: each master normal is radial at its segment's middle, which lies
+        // within a slave edge (0.1 rad) plus half a master segment (1.1/14 rad) of the node's
+        // direction, so the row normal is within that angle of minus the node's radial
+        // direction.
+        let x = r.position;
         let len = x[0].hypot(x[1]);
+        let cos = -(r.normal[0] * x[0] + r.normal[1] * x[1]) / len;
         assert!(
-            (r.normal[0] + x[0] / len).abs() < 1e-14 && (r.normal[1] + x[1] / len).abs() < 1e-14
+            cos >= (0.1_f64 + 1.1 / 14.0).cos(),
+            "node {}: {cos}",
+            r.slave_node
         );
     }
     // Moving both bodies rigidly changes no row (beyond the round-off of coordinates ~ 5).
@@ -390,8 +400,8 @@ fn conforming_meshes_give_the_node_to_segment_rows() {
             assert_eq!(m.gap, n.gap);
             // The tributary length (node-to-segment's facing half lengths) is ∫N_j = D_jj.
             assert!((m.tributary - n.tributary).abs() < 1e-14);
-            // Flat: the same normal; curved: the averaged nodal normal instead of the master
-            // segment's, which differ by half the segment angle (0.05 rad).
+            // Flat: the same normal; curved: the mean of the two master segments' normals at
+            // the coincident node instead of one segment's: half the segment angle (0.05 rad).
             let dot = m.normal[0] * n.normal[0] + m.normal[1] * n.normal[1];
             assert!(dot > (0.1_f64 / 2.0).cos() - 1e-12, "{dot}");
         }
@@ -445,5 +455,47 @@ fn three_gauss_points_integrate_a_curved_segment_to_order_five_in_its_angle() {
                 "Δθ {dtheta}, moment {k}: {rel:e}"
             );
         }
+    }
+}
+
+/// A curved slave (a polygonal arc of radius 1, lowest point 0.01 above y = 0) over a flat,
+/// non-matching master.  The exact contact condition for a slave point over a flat master is
+/// vertical — its height plus its vertical displacement stays ≥ 0 whatever it does sideways —
+/// so every row must act along the master's normal +y (a sideways slide of the slave changes
+/// no row), and, the vertical distance being linear along each slave edge, the weighted gap
+/// g̃_j / D_jj must be node j's height exactly (biorthogonality: ∫ψ_j N_k = δ_jk D_jj on fully
+/// covered edges).  Rows along the slave's tilted normals (the linearisation that drops the
+/// change of the master point with the slave's sideways motion) failed both: the row of a
+/// node at angle θ moved by sin θ per unit slide and measured the gap along the tilted normal.
+#[test]
+fn rows_on_a_curved_slave_over_a_flat_master_act_along_the_master_normal() {
+    let n = 12;
+    let arc: Vec<Point> = (0..=n)
+        .map(|i| {
+            let t = -0.3 + 0.6 * i as f64 / n as f64;
+            [t.sin(), 1.01 - t.cos()]
+        })
+        .collect();
+    let slave = polyline(&arc);
+    let master = master_flat(&[-0.5, -0.21, 0.02, 0.17, 0.33, 0.5], 0.0);
+    let b = rows(&slave, &master);
+    assert_eq!(b.rows.len(), arc.len());
+    for r in &b.rows {
+        // The master is flat: the ψ-weighted mean of its normal is +y to round-off.
+        assert!(
+            r.normal[0].abs() < 1e-15 && (r.normal[1] - 1.0).abs() < 1e-15,
+            "node {}: normal {:?}",
+            r.slave_node,
+            r.normal
+        );
+        let height = arc[r.slave_node][1];
+        // The 3-point rule integrates ψ_j × (a linear gap) exactly: round-off only.
+        assert!(
+            (r.gap - height).abs() < 1e-14,
+            "node {}: gap {} vs height {height}",
+            r.slave_node,
+            r.gap
+        );
+        assert!((weight_sum(r) - 1.0).abs() < 1e-14);
     }
 }
