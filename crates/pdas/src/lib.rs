@@ -155,9 +155,17 @@
 //! because the strip's bending mode is itself ~10⁻⁹ s soft; the set then holds every rigid
 //! mode, and a set that does not is caught by the dynamic regularisation and fails the test.
 //!
-//! The interior-point start is pushed well inside the interior (10³ times Mehrotra's centring
-//! shift, measured in `active_set::interior`), which takes the interior phase of strip-partial
-//! from 15 steps to 5.
+//! A step that changes more than 256 rows hands over at once, from the first step on (issue
+//! 21): such a set could not be reached by a low-rank update anyway, and on a long interface
+//! it is where the plain steps start to flip (strip-partial's first step, from every row
+//! active, drops 689 rows: the oscillating multipliers of the glued strip beyond the load,
+//! positive and negative lobes decaying over a few rows and round-off further out, decide
+//! the far rows by their signs, and each set released this way pivots the free strip about
+//! the rows it keeps).  The interior-point start is the iterate shifted into the interior by
+//! 0.1 of each row's length scale and of the force scale (`active_set::interior`); Mehrotra's
+//! centring shift, used before, is ≈ 0 at the first step's iterate (every gap closed) and
+//! started at the boundary (82 steps).  Factorisations on strip-partial: floating 13 → 5
+//! (1 plain step, 2 interior, 2 exact solves), clamped 21 → 9.
 //!
 //! Measured (release, `signorini compare SCENE --backends clarabel,pdas --time-limit 60`,
 //! three runs each (strip-partial: twice three, before and after `MIN_PLAIN_STEPS`), other
@@ -166,7 +174,7 @@
 //!
 //! | scene | pdas ÷floor | pdas work | clarabel |
 //! |---|---|---|---|
-//! | strip-partial (51 575 DOFs, m 2001, 403 active) | 10.5, 11.5, 10.1; 11.2, 9.1, 10.1 | 14 factorisations: 7 plain steps, 5 interior-point steps, 2 exact solves | inaccurate, 45–50× |
+//! | strip-partial (51 575 DOFs, m 2001, 403 active) | 10.5, 11.5, 10.1; 11.2, 9.1, 10.1 (now 3.2, see BENCHMARKS.md) | 14 factorisations: 7 plain steps, 5 interior-point steps, 2 exact solves (now 5) | inaccurate, 45–50× |
 //! | strip-partial clamped (51 572 DOFs) | 25.7, 26.9, 22.9 | 33 factorisations: 9 plain, 16 interior-point, 8 exact | – |
 //! | strip-floating | 1.82, 1.69, 1.95 | 1 factorisation (unchanged) | 15.6× |
 //! | strip-clamped | 1.69, 1.85, 1.88 | 1 factorisation + rank-1 update (unchanged) | 21.1× |
@@ -175,10 +183,18 @@
 //!
 //! dual-ssn solves strip-partial in 789 dense active-set steps (27 s, ~800× the floor) and
 //! finds the same 403 rows.  Before this continuation pdas ended strip-partial at
-//! `max-iterations` (100 steps, 44× the floor).  Most of what remains is the 7 plain steps
-//! before the hand-over (measured: handing over as soon as a step fails to halve the changes
-//! cuts strip-partial to 11 factorisations but turns 15 fixtures' 4–7 plain steps into 7–13)
-//! and one numeric factorisation per interior step.  Every seed and hard fixture takes the
+//! `max-iterations` (100 steps, 44× the floor).  The 7 plain steps before the hand-over of the
+//! table are gone with the 256-row rule above (handing over as soon as a step fails to halve
+//! the changes had cut strip-partial to 11 factorisations but turned 15 fixtures' 4–7 plain
+//! steps into 7–13); what remains is one numeric factorisation per interior step and per
+//! exact solve, ~4× the floor at m = 2 001 and 20 001 (BENCHMARKS.md) against the issue's
+//! goal of 2×.  Also measured on strip-partial and not kept: an active-set rule that ignores
+//! forces and penetrations below 0.1 tol (relative) — the far rows' signs are then no longer
+//! round-off, but releasing every row beyond the first lobes lets the free strip pivot down
+//! about the lobes kept (it penetrates by up to 1e-1 of the lift-off gap) and the sets
+//! alternate between ~430 and ~1 600 rows; the plain steps' ρ = 10⁻¹⁰ s bends such a free
+//! cantilever visibly (a curved penetration profile where the exact one is straight), ρ = 0
+//! straightens it but does not stop the flips.  Every seed and hard fixture takes the
 //! same number of steps as before the continuation.
 //!
 //! Tried first and measured on strip-partial, then removed: (a) a semismooth Newton method on

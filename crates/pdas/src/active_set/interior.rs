@@ -32,12 +32,14 @@ use crate::update::SetSolver;
 /// Fraction of the distance to the boundary an interior step may go.
 const TO_BOUNDARY: f64 = 0.995;
 
-/// The start's centring shift, as a multiple of Mehrotra's (½ ŝᵀλ̂ / Σλ̂ on the gaps,
-/// ½ ŝᵀλ̂ / Σŝ on the forces): a start well inside the interior.  Iterations to solved on
-/// strip-partial floating / clamped at its left end (7 of them plain active-set steps):
-/// ×1 → 23 / 54, ×10² → 15 / 34, ×10³ → 14 / 28, ×10⁴ → 14 / 28, ×10⁵ → 16 / 29.
-/// (η = 0.9 or 0.999 for [`TO_BOUNDARY`] instead of 0.995: 25 and 23 at ×1.)
-const START_CENTRING: f64 = 1e3;
+/// The start's shift into the interior, in the units of the KKT residuals: sᵢ = (g − B x)ᵢ⁺ +
+/// `START_SHIFT` Xᵢ and λᵢ = λᵢ⁺ + `START_SHIFT` F (issue 21).  Factorisations to solved on
+/// strip-partial floating / clamped at its left end, handed over after the first plain step:
+/// 0.01 → 6 / –, 0.1 → 5 / 9, 1 → 7 / –; Mehrotra's start (its centring shift ×10³, the
+/// earlier rule) → 82 / max-iterations (from the first step's iterate, every gap ≈ 0, its
+/// centring shift is ≈ 0 and the iterate starts at the boundary), and 13 / 21 when handed
+/// over after the seventh plain step as before.
+const START_SHIFT: f64 = 0.1;
 
 /// The interior-point iteration's state, carried from one step to the next.
 struct Interior {
@@ -109,7 +111,7 @@ impl ActiveSet<'_> {
         phase1: Phase1,
         max_iter: usize,
     ) -> Outcome {
-        let (s, lambda) = mehrotra_start(self.problem, &self.scales, &x, multipliers);
+        let (s, lambda) = shifted_start(self.problem, &self.scales, &x, multipliers);
         let mut state = Interior {
             x,
             s,
@@ -350,43 +352,26 @@ impl ActiveSet<'_> {
     }
 }
 
-/// Mehrotra's start (s, λ) from (x, λ) in scaled variables ŝ = s / X, λ̂ = λ / F: s = g − B x
-/// and λ shifted to be non-negative, then both shifted by the centring term
-/// ([`START_CENTRING`]) into the interior.
-fn mehrotra_start(
+/// The start (s, λ) from (x, λ): s = (g − B x)⁺ and λ⁺, both shifted into the interior by
+/// [`START_SHIFT`] times each row's length scale Xᵢ and the force scale F.
+fn shifted_start(
     p: &QpProblem,
     scales: &ResidualScales,
     x: &[f64],
     multipliers: &[f64],
 ) -> (Vec<f64>, Vec<f64>) {
-    let m = p.rows();
-    let force = scales.force;
-    let rows = &scales.rows;
     let bx = mat_vec(&p.constraints, x);
-    let mut s: Vec<f64> = p.gap.iter().zip(&bx).map(|(g, b)| g - b).collect();
-    let mut lambda: Vec<f64> = multipliers.to_vec();
-    let shift_s = (-1.5 * (0..m).map(|i| s[i] / rows[i]).fold(0.0, f64::min)).max(0.0);
-    let shift_l = (-1.5 * lambda.iter().map(|l| l / force).fold(0.0, f64::min)).max(0.0);
-    for i in 0..m {
-        s[i] += shift_s * rows[i];
-        lambda[i] += shift_l * force;
-    }
-    let product: f64 = (0..m).map(|i| s[i] / rows[i] * lambda[i] / force).sum();
-    let sum_s: f64 = (0..m).map(|i| s[i] / rows[i]).sum();
-    let sum_l: f64 = lambda.iter().map(|l| l / force).sum();
-    let (extra_s, extra_l) = if product > 0.0 {
-        (
-            0.5 * product / sum_l.max(f64::MIN_POSITIVE),
-            0.5 * product / sum_s.max(f64::MIN_POSITIVE),
-        )
-    } else {
-        (1.0, 1.0)
-    };
-    let (extra_s, extra_l) = (START_CENTRING * extra_s, START_CENTRING * extra_l);
-    for i in 0..m {
-        s[i] += extra_s.max(1e-8) * rows[i];
-        lambda[i] += extra_l.max(1e-8) * force;
-    }
+    let s = p
+        .gap
+        .iter()
+        .zip(&bx)
+        .zip(&scales.rows)
+        .map(|((g, b), row)| (g - b).max(0.0) + START_SHIFT * row)
+        .collect();
+    let lambda = multipliers
+        .iter()
+        .map(|l| l.max(0.0) + START_SHIFT * scales.force)
+        .collect();
     (s, lambda)
 }
 

@@ -20,6 +20,15 @@ use crate::update::{SetSolver, SetUpdate};
 /// hands over, and strip-partial hands over after its seventh.
 const MIN_PLAIN_STEPS: usize = 6;
 
+/// A step that changes more rows than this hands over to the interior-point iteration at once,
+/// from the first step on (issue 21): the next set could not be reached by a low-rank update
+/// (256 rows, [`crate::PdasSettings::max_update_rank`]'s default) and would cost a
+/// factorisation, and on a long interface such changes are where the plain steps flip.
+/// Measured on strip-partial (51 575 DOFs, 2001 rows, the first step drops 689): 13
+/// factorisations (7 plain steps) before, 5 after; no seed or hard fixture changes this many
+/// rows in a step (m ≤ 301).
+const EARLY_HANDOVER_CHANGES: usize = 256;
+
 /// The plain iteration's state, carried from one step to the next.
 struct Plain {
     /// The current set F_k.
@@ -336,7 +345,7 @@ impl ActiveSet<'_> {
         // Box rows have no interior-point continuation: their plain steps go on while the sets
         // still change without repeating (a contact zone that shrinks a node per side each step
         // changes as many rows as two steps before without flipping).
-        let flipping = flipping && !self.has_box();
+        let flipping = (flipping || step.changes > EARLY_HANDOVER_CHANGES) && !self.has_box();
         let restart = ((step.cycling || flipping) && iteration < state.max_iter)
             .then(|| (step.candidate.x.clone(), solution.multipliers.clone()));
         state.best.keep_if_better(step.candidate, step.worst);
