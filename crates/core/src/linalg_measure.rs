@@ -132,16 +132,11 @@ fn measure_old_vs_new_floor() {
     use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
     let scenes = std::env::var("SIGNORINI_MEASURE_SCENES").unwrap_or_default();
     for path in scenes.split_whitespace() {
-        let scene = Scene::from_path(std::path::Path::new(path)).unwrap();
-        let meshes = model::mesh_scene(&scene, &MeshLimits::default()).unwrap();
-        let qp = model::assemble(&scene, meshes).unwrap().qp;
+        let qp = scene_qp(path);
         let a = crate::solve::floor_matrix(&qp);
         let a = a.as_ref().unwrap_or(&qp.stiffness);
         let (mut old, mut new, mut new_metis) = (f64::MAX, f64::MAX, f64::MAX);
-        let reps: usize = std::env::var("SIGNORINI_MEASURE_REPS")
-            .ok()
-            .and_then(|r| r.parse().ok())
-            .unwrap_or(5);
+        let reps = reps();
         for _ in 0..reps {
             let t = Instant::now();
             let view = crate::linalg::faer_view(a).unwrap();
@@ -226,16 +221,11 @@ fn measure_floor_kernels() {
     use crate::linalg::{fill_reducing_order, Layout};
     use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
     let scenes = std::env::var("SIGNORINI_MEASURE_SCENES").unwrap_or_default();
-    let reps: usize = std::env::var("SIGNORINI_MEASURE_REPS")
-        .ok()
-        .and_then(|r| r.parse().ok())
-        .unwrap_or(5);
+    let reps = reps();
     println!("| scene | n | supernodal s | faer's choice | its s | choice ÷ supernodal |");
     println!("|---|---:|---:|---|---:|---:|");
     for path in scenes.split_whitespace() {
-        let scene = Scene::from_path(std::path::Path::new(path)).unwrap();
-        let meshes = model::mesh_scene(&scene, &MeshLimits::default()).unwrap();
-        let qp = model::assemble(&scene, meshes).unwrap().qp;
+        let qp = scene_qp(path);
         let a = crate::solve::floor_matrix(&qp);
         let a = a.as_ref().unwrap_or(&qp.stiffness);
         let mut best = [f64::MAX; 2];
@@ -267,4 +257,19 @@ fn measure_floor_kernels() {
             best[1] / best[0]
         );
     }
+}
+
+/// The scene at `path`, meshed and assembled with the default limits: its QP.
+fn scene_qp(path: &str) -> crate::qp::QpProblem {
+    let scene = Scene::from_path(std::path::Path::new(path)).unwrap();
+    let meshes = model::mesh_scene(&scene, &MeshLimits::default()).unwrap();
+    model::assemble(&scene, meshes).unwrap().qp
+}
+
+/// Repetitions per measurement: `SIGNORINI_MEASURE_REPS`, default 5.
+fn reps() -> usize {
+    std::env::var("SIGNORINI_MEASURE_REPS")
+        .ok()
+        .and_then(|r| r.parse().ok())
+        .unwrap_or(5)
 }

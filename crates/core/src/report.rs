@@ -143,10 +143,10 @@ fn contact_reports(
             let t = tangential.get(row).copied().flatten();
             let lt = t.map_or(0.0, |t| t.multiplier);
             tangential_force += lt;
-            // λ along the row's normal and λₜ along its tangent (n_y, −n_x), on the slave.
-            let n = r.normal;
-            force[0] += l * n[0] + lt * n[1];
-            force[1] += l * n[1] - lt * n[0];
+            // λ along the row's normal and λₜ along its tangent, on the slave.
+            let (n, tn) = (r.normal, crate::model::tangent(r.normal));
+            force[0] += l * n[0] + lt * tn[0];
+            force[1] += l * n[1] + lt * tn[1];
             nodes.push(ContactNodeReport {
                 x: r.position[0],
                 y: r.position[1],

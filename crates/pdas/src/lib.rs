@@ -155,7 +155,8 @@
 //! because the strip's bending mode is itself ~10⁻⁹ s soft; the set then holds every rigid
 //! mode, and a set that does not is caught by the dynamic regularisation and fails the test.
 //!
-//! A step that changes more than 256 rows hands over at once, from the first step on (issue
+//! A step that changes more rows than a low-rank update takes ([`PdasSettings::max_update_rank`],
+//! 256 by default) hands over at once, from the first step on (issue
 //! 21): such a set could not be reached by a low-rank update anyway, and on a long interface
 //! it is where the plain steps start to flip (strip-partial's first step, from every row
 //! active, drops 689 rows: the oscillating multipliers of the glued strip beyond the load,
@@ -184,7 +185,7 @@
 //! dual-ssn solves strip-partial in 789 dense active-set steps (27 s, ~800× the floor) and
 //! finds the same 403 rows.  Before this continuation pdas ended strip-partial at
 //! `max-iterations` (100 steps, 44× the floor).  The 7 plain steps before the hand-over of the
-//! table are gone with the 256-row rule above (handing over as soon as a step fails to halve
+//! table are gone with that rule (handing over as soon as a step fails to halve
 //! the changes had cut strip-partial to 11 factorisations but turned 15 fixtures' 4–7 plain
 //! steps into 7–13); what remains is one numeric factorisation per interior step and per
 //! exact solve, ~4× the floor at m = 2 001 and 20 001 (BENCHMARKS.md) against the issue's

@@ -3,7 +3,7 @@
 //! its bodies.  The contact body most slender against its interface decides how
 //! ill-conditioned the condensed dual is (see [`ContactBody`]).
 
-use crate::{BlockKind, CscMatrix, QpProblem};
+use crate::{row_sets, CscMatrix, QpProblem, RowSet};
 
 /// The connected components of the graph of a symmetric matrix (an edge per stored entry).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -75,7 +75,7 @@ pub struct ContactBody {
     pub dofs: usize,
     /// The interface's size in the body's own resolution: the normal rows touching the body, or
     /// the body's DOFs those rows touch when fewer (a coarse master under a fine slave: many
-    /// rows, few of its own nodes).  Friction's tangential rows ([`BlockKind::Box`]) are not
+    /// rows, few of its own nodes).  Friction's tangential rows ([`RowSet::Box`]) are not
     /// counted: they double the rows of the same interface, not its length.
     pub interface: usize,
 }
@@ -90,63 +90,46 @@ impl ContactBody {
     /// normal rows touch (ties: the first); `None` without normal rows.
     pub fn most_slender(problem: &QpProblem) -> Option<Self> {
         let components = Components::of(&problem.stiffness);
-        let normal = normal_rows(problem);
-        // (component, row) for every nonzero of a normal row, deduplicated: the rows per body.
+        let normal: Vec<bool> = row_sets(&problem.blocks)
+            .map(|set| set == RowSet::NonNegative)
+            .collect();
+        let bodies = components.sizes.len();
+        // One pass over B's columns (DOFs): (body, row) for every nonzero of a normal row, and
+        // the DOFs of each body such a row touches.
         let mut touches: Vec<(usize, usize)> = Vec::with_capacity(problem.constraints.nnz());
+        let mut touched = vec![0usize; bodies];
         for (j, column) in problem.constraints.outer_iterator().enumerate() {
             let Some(&label) = components.label.get(j) else {
                 break;
             };
-            for (i, &v) in column.iter() {
-                if v != 0.0 && normal.get(i).copied().unwrap_or(false) {
-                    touches.push((label, i));
-                }
-            }
+            let before = touches.len();
+            touches.extend(
+                column
+                    .iter()
+                    .filter(|&(i, &v)| v != 0.0 && normal.get(i).copied().unwrap_or(false))
+                    .map(|(i, _)| (label, i)),
+            );
+            touched[label] += usize::from(touches.len() > before);
         }
         touches.sort_unstable();
         touches.dedup();
-        let mut rows = vec![0usize; components.sizes.len()];
+        let mut rows = vec![0usize; bodies];
         for &(label, _) in &touches {
             rows[label] += 1;
         }
-        // The DOFs of each body with a nonzero in some normal row.
-        let mut touched = vec![0usize; components.sizes.len()];
-        for (j, column) in problem.constraints.outer_iterator().enumerate() {
-            let Some(&label) = components.label.get(j) else {
-                break;
-            };
-            if column
-                .iter()
-                .any(|(i, &v)| v != 0.0 && normal.get(i).copied().unwrap_or(false))
-            {
-                touched[label] += 1;
-            }
-        }
-        for (r, t) in rows.iter_mut().zip(&touched) {
-            *r = (*r).min(*t);
-        }
         rows.iter()
+            .zip(&touched)
             .zip(&components.sizes)
-            .filter(|(r, _)| **r > 0)
-            .map(|(&interface, &dofs)| Self { dofs, interface })
+            .map(|((&r, &t), &dofs)| Self {
+                dofs,
+                interface: r.min(t),
+            })
+            .filter(|body| body.interface > 0)
             .fold(None, |best: Option<Self>, body| match best {
                 Some(b) if b.slenderness() >= body.slenderness() => Some(b),
                 _ => Some(body),
             })
     }
-}
-
-/// Whether each row of `problem` is a normal (non-box) row.
-fn normal_rows(problem: &QpProblem) -> Vec<bool> {
-    let mut normal = Vec::with_capacity(problem.rows());
-    for block in &problem.blocks {
-        normal.extend(std::iter::repeat_n(
-            block.kind() != BlockKind::Box,
-            block.rows(),
-        ));
-    }
-    normal.resize(problem.rows(), true);
-    normal
 }
 
 #[cfg(test)]

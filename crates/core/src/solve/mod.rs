@@ -427,8 +427,9 @@ fn floor_factor(
 /// numeric LLᵀ on one thread) in the faster of faer's two kernels as faer judges it
 /// ([`Layout::FaerChoice`]: simplicial where its flop ratio says so, else supernodal — the
 /// solves that must read supernodes, the dual backends', force that layout and pay for it),
-/// timed from the ordering to the end of the solve.  With a known null space (floating bodies) [`floor_matrix`] is factored
-/// instead (built before the clock starts), and so is A + εI when A's own Cholesky breaks down.
+/// timed from the ordering to the end of the solve.  With a known null space (floating bodies)
+/// [`floor_matrix`] is factored instead (built before the clock starts), and so is A + εI when
+/// A's own Cholesky breaks down.
 pub fn floor(qp: &QpProblem) -> Result<Floor, LinalgError> {
     let (time, pattern, shifted) = floor_factor(qp)?;
     let a = shifted.as_ref().unwrap_or(&qp.stiffness);

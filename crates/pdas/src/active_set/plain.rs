@@ -20,15 +20,6 @@ use crate::update::{SetSolver, SetUpdate};
 /// hands over, and strip-partial hands over after its seventh.
 const MIN_PLAIN_STEPS: usize = 6;
 
-/// A step that changes more rows than this hands over to the interior-point iteration at once,
-/// from the first step on (issue 21): the next set could not be reached by a low-rank update
-/// (256 rows, [`crate::PdasSettings::max_update_rank`]'s default) and would cost a
-/// factorisation, and on a long interface such changes are where the plain steps flip.
-/// Measured on strip-partial (51 575 DOFs, 2001 rows, the first step drops 689): 13
-/// factorisations (7 plain steps) before, 5 after; no seed or hard fixture changes this many
-/// rows in a step (m ≤ 301).
-const EARLY_HANDOVER_CHANGES: usize = 256;
-
 /// The plain iteration's state, carried from one step to the next.
 struct Plain {
     /// The current set F_k.
@@ -345,7 +336,14 @@ impl ActiveSet<'_> {
         // Box rows have no interior-point continuation: their plain steps go on while the sets
         // still change without repeating (a contact zone that shrinks a node per side each step
         // changes as many rows as two steps before without flipping).
-        let flipping = (flipping || step.changes > EARLY_HANDOVER_CHANGES) && !self.has_box();
+        // A step that changes more rows than a low-rank update takes
+        // ([`crate::PdasSettings::max_update_rank`]) hands over at once, from the first step on
+        // (issue 21): the next set would cost a factorisation, and on a long interface such
+        // changes are where the plain steps flip.  Measured on strip-partial (51 575 DOFs, 2001
+        // rows, the first step drops 689): 13 factorisations (7 plain steps) before, 5 after; no
+        // seed or hard fixture changes that many rows in a step (m ≤ 301).
+        let wholesale = step.changes > self.settings.max_update_rank;
+        let flipping = (flipping || wholesale) && !self.has_box();
         let restart = ((step.cycling || flipping) && iteration < state.max_iter)
             .then(|| (step.candidate.x.clone(), solution.multipliers.clone()));
         state.best.keep_if_better(step.candidate, step.worst);
