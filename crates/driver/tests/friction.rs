@@ -398,6 +398,31 @@ fn a_frictionless_load_path_ends_where_the_single_step_solve_is() {
     }
 }
 
+/// Found in stop 30: the report's `applied` loads were the full tractions whatever the load
+/// path's last factors, so a path ending at half the press wrote `force_balance` 0.5 for an
+/// answer that balances.  The written results are the last increment's, so `applied` is the
+/// press's traction resultant at its last factor: 0.5 × p × width = 0.5 × 1e-3 × 1 (exact:
+/// a uniform traction on a straight edge), and the three figures balance to the solver's
+/// tolerance (~10 × tol of the load, as above).
+#[test]
+fn the_applied_loads_are_those_of_the_path_s_last_factors() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dragged_with_steps(
+        "friction = 0.3",
+        "[[step]]\nloads = { press = 1.0, push = 1.0 }\nincrements = 2\n\
+         [[step]]\nloads = { press = 0.5, push = 1.0 }\nincrements = 2",
+    );
+    let r = solve(dir.path(), &path, "auto");
+    assert_eq!(r["status"], "solved");
+    let applied = body(&r, "block")["applied"][1].as_f64().unwrap();
+    assert!(
+        (applied + 0.5e-3).abs() < 1e-15,
+        "block's applied y load {applied:e}, expected -5e-4"
+    );
+    let balance = r["force_balance"].as_f64().unwrap();
+    assert!(balance < 1e-8, "force_balance {balance:e}");
+}
+
 #[test]
 fn load_paths_with_bad_names_or_increments_are_refused_naming_the_key() {
     let dir = tempfile::tempdir().unwrap();

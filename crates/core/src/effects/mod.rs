@@ -275,7 +275,7 @@ mod tests {
             .tractions
             .as_ref()
             .unwrap()
-            .add_resultants(&meshes, &mut analytic);
+            .add_resultants(&meshes, |_| 1.0, &mut analytic);
         assert!((analytic[1][1] + 1.0).abs() < 1e-14 && analytic[0] == [0.0, 0.0]);
     }
 }

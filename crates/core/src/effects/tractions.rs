@@ -102,13 +102,20 @@ impl<'a> Tractions<'a> {
     }
 
     /// Adds each traction's resultant ∫ t ds to its body's entry of `applied` (analytic: over
-    /// a straight edge a linear field integrates to length × the mean of its end values).
-    pub fn add_resultants(&self, meshes: &[Mesh], applied: &mut [[f64; 2]]) {
-        let t = self.thickness;
+    /// a straight edge a linear field integrates to length × the mean of its end values), times
+    /// `factor` of the traction's name (`None`: unnamed) — the load path's factor at the state
+    /// reported ([`crate::scene::Scene::final_factor`]; `|_| 1.0` for the full load).
+    pub fn add_resultants(
+        &self,
+        meshes: &[Mesh],
+        factor: impl Fn(Option<&str>) -> f64,
+        applied: &mut [[f64; 2]],
+    ) {
         for nm in &self.list {
             let Some(mesh) = meshes.get(nm.body) else {
                 continue;
             };
+            let t = self.thickness * factor(nm.name);
             for (_, [pa, pb]) in self.edges(nm, mesh) {
                 let len = geometry::distance(pa, pb);
                 let (ta, tb) = (nm.traction.at(pa), nm.traction.at(pb));

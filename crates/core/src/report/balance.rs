@@ -81,7 +81,7 @@ pub fn applied_loads(scene: &Scene, model: &Model) -> Vec<[f64; 2]> {
     let effects = Effects::of(scene);
     let mut applied = vec![[0.0; 2]; model.meshes.len()];
     if let Some(tractions) = &effects.tractions {
-        tractions.add_resultants(&model.meshes, &mut applied);
+        tractions.add_resultants(&model.meshes, |name| scene.final_factor(name), &mut applied);
     }
     if let Some(body_force) = &effects.body_force {
         let outlines: Vec<&[Point]> = scene.bodies.iter().map(|b| b.polygon.as_slice()).collect();

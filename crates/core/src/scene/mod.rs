@@ -113,6 +113,21 @@ impl Scene {
         REGION_TOLERANCE * self.size()
     }
 
+    /// The factor a load or support named `name` (`None`: unnamed) has at the end of the load
+    /// path: 1 for an unnamed one or without `[[step]]`, else the last step's factor for it
+    /// (docs/scene.md, "Load steps").  What the written results — the last increment's — carry.
+    pub fn final_factor(&self, name: Option<&str>) -> f64 {
+        let (Some(name), Some(last)) = (name, self.steps.last()) else {
+            return 1.0;
+        };
+        self.load_names
+            .iter()
+            .position(|n| n == name)
+            .and_then(|k| last.factors.get(k))
+            .copied()
+            .unwrap_or(1.0)
+    }
+
     /// Index of the body with this name.
     pub fn body_index(&self, name: &str) -> Option<usize> {
         self.bodies.iter().position(|b| b.name == name)
