@@ -209,3 +209,25 @@ fn the_getting_started_scene_does_what_the_guide_says() {
     assert!((force - 5.0).abs() < 1e-9 * 5.0 * 100.0, "{force}");
     assert_eq!(r["contacts"][0]["formulation"], "mortar");
 }
+
+/// `--verbose` hands the backend its iteration log: pdas prints one line per active-set step
+/// (exp2b's contact takes at least one), and without the flag it prints none.
+#[test]
+fn verbose_prints_the_backend_s_iteration_log() {
+    let dir = tempfile::tempdir().unwrap();
+    for (flag, want) in [(true, true), (false, false)] {
+        let mut args = vec!["solve", "--backend", "pdas", "--out"];
+        args.push(if flag { "loud" } else { "quiet" });
+        if flag {
+            args.push("--verbose");
+        }
+        let o = signorini(&args, dir.path());
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert_eq!(
+            stderr(&o).contains("pdas: iteration 1:"),
+            want,
+            "--verbose {flag}: {}",
+            stderr(&o)
+        );
+    }
+}

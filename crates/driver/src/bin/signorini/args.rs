@@ -32,6 +32,10 @@ pub(crate) struct SolveFlags {
     /// time-limit.
     #[arg(long, value_parser = parse_time_limit)]
     pub(crate) time_limit: Option<f64>,
+    /// Print the backends' iteration logs to stderr (pdas: one line per active-set step;
+    /// clarabel and OSQP: their own tables).
+    #[arg(long)]
+    pub(crate) verbose: bool,
 }
 
 impl SolveFlags {
@@ -41,6 +45,7 @@ impl SolveFlags {
             tol: self.tol,
             time_limit: time_limit(self.time_limit),
             coulomb: self.coulomb,
+            verbose: self.verbose,
             ..SolveOptions::default()
         }
     }
