@@ -21,6 +21,7 @@
 //! | `RunError` | as its scene, preflight, solve or output error, or a mesh error of its model; else its causes decide |
 //! | `SweepError` | 3 for its output error and for a run error that decides 3, else its causes decide |
 //! | `MergeError` | 3 for its output error, else its causes decide |
+//! | `FclibError` | 1 for a scene FCLIB cannot state (Tresca, a load path, sizes past 32 bits), else 3 |
 //!
 //! Adding an error type is one [`ExitClass`] impl here (a name in `always!` when it always
 //! decides the same code) plus one entry in [`CAUSES`].
@@ -35,6 +36,7 @@ use signorini_core::qp::QpError;
 use signorini_core::scene::SceneError;
 use signorini_core::solve::SolveError;
 
+use crate::fclib::FclibError;
 use crate::output::OutputError;
 use crate::run::RunError;
 use crate::suite::baseline::BaselineError;
@@ -90,6 +92,7 @@ pub const CAUSES: &[Downcaster] = &[
     ask::<RunError>,
     ask::<SweepError>,
     ask::<MergeError>,
+    ask::<FclibError>,
 ];
 
 /// The exit code an error deserves: the code decided by the first cause in its chain that
@@ -121,6 +124,20 @@ macro_rules! always {
 // path), not the machine's.
 always!(Exit::Input => SceneError, SuiteError, BaselineError);
 always!(Exit::Resource => std::io::Error, OutputError, Resource, PreflightError);
+
+/// A scene FCLIB cannot state is the user's input; a file HDF5 could not write, the machine's.
+impl ExitClass for FclibError {
+    fn exit(&self) -> Option<Exit> {
+        Some(match self {
+            FclibError::Tresca { .. } | FclibError::LoadPath | FclibError::TooLarge { .. } => {
+                Exit::Input
+            }
+            FclibError::Rows { .. } | FclibError::Hdf5 { .. } | FclibError::Io { .. } => {
+                Exit::Resource
+            }
+        })
+    }
+}
 
 /// A backend's memory refusal (a KKT factor, a dense H) is the machine's limit.
 impl ExitClass for QpError {

@@ -13,6 +13,7 @@ pub mod contract;
 pub mod digest;
 pub mod exit;
 pub mod export;
+pub mod fclib;
 pub mod outdir;
 pub mod output;
 pub mod plots;

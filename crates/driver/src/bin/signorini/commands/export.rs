@@ -1,10 +1,15 @@
 //! `signorini export`: the scene's QP as Matrix Market files.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
+use signorini::auto::AutoBackend;
 use signorini::exit::Exit;
+use signorini::fclib::{self, FclibGlobal};
 use signorini::run;
+use signorini_core::qp::{QpStatus, SolveOptions};
+use signorini_core::scene::Scene;
+use signorini_core::solve;
 
 use crate::args::{limits, Common};
 use crate::console::Console;
@@ -17,12 +22,19 @@ pub(crate) struct ExportArgs {
     /// Output directory (created if missing).
     #[arg(long, default_value = "out")]
     pub(crate) out: PathBuf,
+    /// Instead of the Matrix Market files, write the problem in FCLIB's global form (HDF5) to
+    /// this file, with the default backend's answer as its solution (docs/comparing-solvers.md).
+    #[arg(long, value_name = "FILE")]
+    pub(crate) fclib: Option<PathBuf>,
 }
 
 pub(crate) fn export(args: &ExportArgs) -> Result<Exit> {
     let (common, out) = (&args.common, args.out.as_path());
     let scene = run::load_scene(common.scene.as_deref())?;
     let prepared = run::prepare(&scene, &limits(common))?;
+    if let Some(file) = &args.fclib {
+        return export_fclib(file, &scene, prepared);
+    }
     let qp = &prepared.qp;
     let written = signorini::export::export(out, &scene, &prepared.model, qp)
         .with_context(|| format!("exporting to {}", out.display()))?;
@@ -38,4 +50,38 @@ pub(crate) fn export(args: &ExportArgs) -> Result<Exit> {
     }
     con.finish()?;
     Ok(Exit::Success)
+}
+
+/// `--fclib FILE`: the FCLIB form (refused before any solve when the scene has no such form),
+/// then the default backend's answer; a problem whose answer is not `solved` is written without
+/// a solution, said on stderr, and exits with its status.
+fn export_fclib(file: &Path, scene: &Scene, prepared: run::Prepared) -> Result<Exit> {
+    let problem = FclibGlobal::of(scene, &prepared.model, &prepared.qp)?;
+    let mut backend = AutoBackend::default();
+    let qp = solve::ScaledQp::new(prepared.qp);
+    let solution =
+        solve::solve_scaled(&prepared.model, &qp, &mut backend, &SolveOptions::default())?;
+    let solved = solution.status == QpStatus::Solved;
+    let answer = solved.then(|| problem.solution(&prepared.model, &solution));
+    fclib::write(file, &problem, answer.as_ref())
+        .with_context(|| format!("exporting to {}", file.display()))?;
+    let mut con = Console::new();
+    con.line(format_args!(
+        "{}: {} unknowns, {} contacts (FCLIB global form, 2D)",
+        scene.title,
+        problem.f.len(),
+        problem.mu.len()
+    ))?;
+    con.line(format_args!("  wrote {}", file.display()))?;
+    con.finish()?;
+    if solved {
+        Ok(Exit::Success)
+    } else {
+        eprintln!(
+            "warning: the default backend ended `{}`: {} has no /solution",
+            solution.status,
+            file.display()
+        );
+        Ok(Exit::NotSolved)
+    }
 }
