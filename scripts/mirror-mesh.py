@@ -9,6 +9,8 @@ body's mesh (body_id 1) from an ASCII solution.vtu of that scene (`signorini sol
 ascii`) and writes it as DIR/lower.msh and its mirror image about y = BASE as DIR/upper.msh
 (linear triangles, no physical groups: region boxes still select the nodes).  The scene then
 names them with `mesh = "lower.msh"` and `mesh = "upper.msh"` instead of polygons.
+crates/driver/tests/mirror/mod.rs builds the same meshes in Rust at test time (the lower slab
+meshed through the library), so the tests need neither this script nor committed meshes.
 
 Usage: python3 scripts/mirror-mesh.py SOLUTION.vtu BASE DIR
 """

@@ -4,12 +4,15 @@
 //! sideways with Coulomb friction μ = 0.3.  Johnson (1985), §7.1, in 2-D: with P and Q < μP per
 //! unit length and a = √(4PR/(πE*)), p₀ = 2P/(πa), the stick zone is |x| < c = a √(1 − Q/(μP))
 //! and the tangential traction q(x) = μ p₀/a (√(a² − x²) − √(c² − x²)) for |x| < c, μ p(x) for
-//! c < |x| < a.  The top of the cap is moved rigidly (prescribed uy, then ux): no tilt.
+//! c < |x| < a.  The top of the cap is moved rigidly (prescribed uy, then ux): no tilt.  The
+//! traction profile's 3 % rms is checked on two equal cylinders instead (mirror images, meshes
+//! built at test time by `mirror/mod.rs`), where the normal and tangential problems decouple.
 
 // Test code: a failed unwrap is a failed test.
 #![allow(clippy::unwrap_used)]
 
 mod common;
+mod mirror;
 
 use common::{json, repo, signorini, succeeded};
 use serde_json::Value;
@@ -90,9 +93,14 @@ fn run(scene: &str) -> Value {
 
 /// (a, p₀, c) of Hertz and Cattaneo for the computed P and Q.
 fn theory(pair: &Value) -> (f64, f64, f64) {
+    theory_for(pair, R)
+}
+
+/// (a, p₀, c) for the relative radius `r_star` (1/R* = 1/R₁ + 1/R₂).
+fn theory_for(pair: &Value, r_star: f64) -> (f64, f64, f64) {
     let p = pair["normal_force"].as_f64().unwrap();
     let q = pair["tangential_force"].as_f64().unwrap().abs();
-    let a = (4.0 * p * R / (std::f64::consts::PI * E_STAR)).sqrt();
+    let a = (4.0 * p * r_star / (std::f64::consts::PI * E_STAR)).sqrt();
     let p0 = 2.0 * p / (std::f64::consts::PI * a);
     (a, p0, a * (1.0 - q / (MU * p)).sqrt())
 }
@@ -166,24 +174,62 @@ fn pressed_then_shifted_the_stick_zone_has_cattaneo_s_half_width() {
     }
 }
 
-#[test]
-#[ignore = "measured 3.6–3.9 % rms (bound 3 %): the part odd in x stays 2–3.5 % (a coupling \
-            of 1.7 % of μp₀ after the press alone, the finite cap and block spreading sideways \
-            differently). Two mirror-image cylinders (hertz-scene.py --mirror, meshes mirrored by \
-            scripts/mirror-mesh.py, R = 10) cut that coupling to 0.5 % but reach 3.10 % rms at \
-            zone h = a/16.6, the error at the cusps ±c (BENCHMARKS, Cattaneo); needs a finer \
-            zone, h ≈ a/25–33, with the arc spacing equal to it"]
-fn pressed_then_shifted_the_tangential_traction_follows_cattaneo_within_3_percent_rms() {
-    let r = run(&scene(PRESS_THEN_SHIFT));
-    let pair = &r["contacts"][0];
-    let (a, p0, c) = theory(pair);
+/// The rms of |q| against Cattaneo's over the nodes with |x| < a (unweighted), with a, p₀ and c
+/// from the pair's own P and Q for the relative radius `r_star`; also c / a.
+fn traction_rms(pair: &Value, r_star: f64) -> (f64, f64) {
+    let (a, p0, c) = theory_for(pair, r_star);
     let (mut err, mut norm) = (0.0, 0.0);
     for (x, _, q, _) in nodes(pair).iter().filter(|n| n.0.abs() < a) {
         let want = cattaneo(*x, a, p0, c);
         err += (q.abs() - want).powi(2);
         norm += want * want;
     }
-    let rms = (err / norm).sqrt();
+    ((err / norm).sqrt(), c / a)
+}
+
+// Two equal cylinders, R = 20 each (R* = 10), mirror images about the contact line with exactly
+// mirrored meshes, built at test time (tests/mirror/mod.rs: the lower slab meshed by the
+// library's mesher, the upper its reflection): equal bodies mirrored about the contact line
+// decouple the normal and tangential problems by symmetry, as Cattaneo's half-spaces do (the
+// cylinder on a block of `scene` does not: the press alone locks in 1.7 % of μp₀, odd in x, and
+// that scene's rms stays at 3.6–3.9 %).  What is left is odd in x and ∝ a/R: mortar's rows act
+// along the slave's reference normals, tilted by x/R, which mixes p·x/R into q — (a/R)/μ = 0.55 %
+// of μp at x = a here (R = 10: twice that, and an rms of 2.2–2.7 % that no longer falls below
+// a/33).  Zone h = a/25 with the arc's polygon spacing equal to it; a ≈ 0.0333, Q/(μP) ≈ 0.52.
+// Measured 1.87 % (BENCHMARKS.md, Cattaneo: 2.55 %, 1.87 %, 1.21 % at a/16.6, a/25, a/33; the
+// error sits on the nodes next to the cusps ±c, where q's slope is infinite); the bound, 3 %, is
+// the issue's.  56 k DOFs; 9 s in release (mesh, write, solve) on the 2-core machine at load 9.
+#[test]
+fn pressed_then_shifted_the_tangential_traction_follows_cattaneo_within_3_percent_rms() {
+    let dir = tempfile::tempdir().unwrap();
+    let params = mirror::Params {
+        radius: 20.0,
+        hmax: 0.016,
+        zone: 0.05,
+        zone_hmax: 0.00133,
+        arc: 0.00133,
+        press: 0.000215,
+        shift: 0.00005,
+        increments: 2,
+        mu: MU,
+        formulation: "mortar",
+    };
+    let (text, _) = mirror::write_scene(&params, dir.path());
+    std::fs::write(dir.path().join("scene.toml"), text).unwrap();
+    succeeded(&signorini(
+        &["solve", "scene.toml", "--out", "out"],
+        dir.path(),
+    ));
+    let r = json(&dir.path().join("out/result.json"));
+    assert_eq!(r["status"], "solved", "{}", r["message"]);
+    let pair = &r["contacts"][0];
+    let (a, _, _) = theory_for(pair, params.radius / 2.0);
+    // The case must be partial slip with a resolved zone, or the bound says nothing: a stick
+    // zone well inside the contact (Q/(μP) ≈ 0.52 here) and ≥ 40 nodes across 2a.
+    let (rms, c_over_a) = traction_rms(pair, params.radius / 2.0);
+    assert!(c_over_a > 0.4 && c_over_a < 0.9, "c/a = {c_over_a}");
+    let across = nodes(pair).iter().filter(|n| n.0.abs() < a).count();
+    assert!(across >= 40, "{across} nodes across the contact");
     assert!(rms < 0.03, "rms {rms}");
 }
 
