@@ -38,11 +38,61 @@ const MORTAR_GRADED_P1: Combination = Combination {
     element: ElementKind::P1,
 };
 
-/// Solves the graded Hertz fixture with mortar at body size `h` (refine boxes scaled alike) and
-/// returns its errors against Johnson's formulas, with the DOFs.
-fn hertz_mortar_graded(h: f64) -> (f64, f64, f64, usize) {
+/// The cap's polygon as `scripts/hertz-scene.py` writes it (R = 1, cap 0.6 high, centre
+/// x = 0.8, contact line y = 0.8): vertices every `fine` of arc length where |x − 0.8| ≤ 0.15
+/// (`--fine-width`), every 0.02 (`--arc-coarse`) beyond, the two ends on the cap's top line.
+fn cap_polygon(fine: f64) -> Vec<[f64; 2]> {
+    let (r, height, cx, base) = (1.0_f64, 0.6_f64, 0.8_f64, 0.8_f64);
+    let phi0 = ((r - height) / r).acos();
+    let phi_f = (0.15 / r).asin();
+    let n_f = (2.0 * phi_f * r / fine).ceil() as usize;
+    let n_c = ((phi0 - phi_f) * r / 0.02).ceil() as usize;
+    let mut t: Vec<f64> = (0..n_c)
+        .map(|i| -phi0 + (phi0 - phi_f) * i as f64 / n_c as f64)
+        .collect();
+    t.extend((0..=n_f).map(|i| -phi_f + 2.0 * phi_f * i as f64 / n_f as f64));
+    t.extend((1..=n_c).map(|i| phi_f + (phi0 - phi_f) * i as f64 / n_c as f64));
+    let mut pts: Vec<[f64; 2]> = t
+        .iter()
+        .map(|t| [cx + r * t.sin(), base + r - r * t.cos()])
+        .collect();
+    let n = pts.len();
+    pts[0][1] = base + height;
+    pts[n - 1][1] = base + height;
+    pts
+}
+
+/// The graded Hertz fixture at body size `h` for mortar: `derive_scene` scales both bodies'
+/// hmax and their refine boxes' (h/8), and the cap's arc is re-sampled at the refine box's
+/// size.  The fixture's arc vertices are every 0.002, its refine boxes' hmax: a polygon kept
+/// at 0.002 would be 4× finer than the elements at h = 0.064, and a boundary finer than its
+/// elements makes the nodal contact forces alternate node to node (BENCHMARKS.md, "Hertz:
+/// mortar on a curved slave": ±2.5 %), which the max nodal pressure reads.
+fn hertz_graded_at(h: f64) -> Scene {
     let scene = Scene::from_path(&fixture("hertz-graded.toml")).unwrap();
-    let s = derive_scene(&scene, &MORTAR_GRADED_P1, h);
+    let mut s = derive_scene(&scene, &MORTAR_GRADED_P1, h);
+    let cap = s.bodies.iter_mut().find(|b| b.name == "cap").unwrap();
+    let zone = cap.refine[0].hmax;
+    assert!((zone / h - 0.125).abs() < 1e-12, "refine box at h/8");
+    // The fixture was written by the same rule (vertices every 0.002 at its own h = 0.016).
+    let written = cap_polygon(0.002);
+    assert_eq!(
+        scene.bodies[0].polygon.len(),
+        written.len(),
+        "the fixture's arc"
+    );
+    for (p, q) in scene.bodies[0].polygon.iter().zip(&written) {
+        assert!((p[0] - q[0]).abs() < 1e-12 && (p[1] - q[1]).abs() < 1e-12);
+    }
+    cap.polygon = cap_polygon(zone);
+    s
+}
+
+/// Solves the graded Hertz fixture with mortar at body size `h` (refine boxes and the arc's
+/// vertex spacing scaled alike, see [`hertz_graded_at`]) and returns its errors against
+/// Johnson's formulas, with the DOFs.
+fn hertz_mortar_graded(h: f64) -> (f64, f64, f64, usize) {
+    let s = hertz_graded_at(h);
     let mut backend = AutoBackend::default();
     let o = run::solve_scene(
         &s,
@@ -93,30 +143,39 @@ fn hertz_mortar_graded(h: f64) -> (f64, f64, f64, usize) {
 /// The fixture as written (bodies hmax 0.016, contact zone 0.002: a/h = 25).  The issue asks
 /// for 1 %.  Budget, each part well below it: the second-moment estimator's bias
 /// (h/a)²/3 = 0.05 % (see `signorini_core::accuracy`); the finite bodies (16a deep, 12a high)
-/// against Hertz's half-spaces: bodies of half these sizes give an a 0.3–0.4 % larger, so
-/// ~0.1 % here; the terms of order (a/R)² = 0.25 % that Hertz's small-slope theory and the
-/// linearised contact conditions neglect; and the discretisation error at a/h = 25.
+/// against Hertz's half-spaces: a 3.2 × 1.6 block with a half-disc cap moves a by 0.001 %
+/// (BENCHMARKS.md, "Hertz convergence, four meshes"); the terms of order (a/R)² = 0.25 % that
+/// Hertz's small-slope theory and the linearised contact conditions neglect; and the
+/// discretisation error at a/h = 25.
 #[test]
 fn hertz_with_mortar_on_a_graded_mesh_is_within_one_percent_of_johnson() {
-    let (ea, ep, _, _) = hertz_mortar_graded(0.016);
+    let (ea, ep, en, _) = hertz_mortar_graded(0.016);
     assert!(ea.abs() <= 0.01, "half-width off by {:.3} %", 100.0 * ea);
     assert!(ep.abs() <= 0.01, "peak pressure off by {:.3} %", 100.0 * ep);
+    assert!(
+        en.abs() <= 0.01,
+        "max nodal pressure off by {:.3} %",
+        100.0 * en
+    );
 }
 
-/// Three meshes, each half the size of the previous (contact zone a/6.25, a/12.5, a/25).
+/// Four meshes, each half the size of the previous (contact zone a/6.25, a/12.5, a/25, a/50;
+/// 6 k to 225 k DOFs), the arc re-sampled at the zone's size at each (see [`hertz_graded_at`]).
 ///
 /// The half-width comes from ∫ s² λ, a smooth functional of the multiplier, so its error is
 /// bounded by the multiplier's H^{-1/2} error, which is bounded by the energy error (inf–sup);
 /// for Signorini problems with linear elements that is proven O(h^{3/4}) without assumptions on
-/// the contact set (Hild & Laborde 2002), O(h) with them (Hüeber & Wohlmuth 2005).  So the
-/// observed rate of the half-width error over the three meshes must be ≥ 3/4, and each
-/// refinement must lower it.  The peak pressure, pointwise, is only required to fall over the
-/// 4× refinement, by the fit and at the nodes.  An h-independent error (the finite bodies,
-/// the (a/R)² terms: ~0.1–0.25 %, see the test above) flattens the curves as the error
-/// approaches it, which is why the meshes stop at a/25.
+/// the contact set (Hild & Laborde 2002), O(h) with them (Hüeber & Wohlmuth 2005): the Hertz
+/// contact set is one interval whose ends the pressure leaves as a square root, the case those
+/// assumptions cover.  So the observed rate of the half-width error over the four meshes must
+/// be ≥ 1, and each refinement must lower it.  The peak pressure, pointwise, is only required
+/// to fall over the 8× refinement, by the fit and at the nodes.  The error left at a/50,
+/// −0.017 %, is about the h-independent part measured on other scenes (BENCHMARKS.md, "Hertz
+/// convergence, four meshes (issue 21)"): bodies twice as large move a by 0.001 %, R = 4 at
+/// the same a/h by ~0.03 % (the (a/R)² terms); the rate is read on the raw errors.
 #[test]
 fn hertz_errors_fall_as_the_graded_mesh_is_refined() {
-    let hs = [0.064, 0.032, 0.016];
+    let hs = [0.064, 0.032, 0.016, 0.008];
     let runs: Vec<(f64, f64, f64, usize)> = hs.iter().map(|&h| hertz_mortar_graded(h)).collect();
     for w in runs.windows(2) {
         assert!(w[1].3 > w[0].3, "DOFs grow as h falls");
@@ -127,12 +186,13 @@ fn hertz_errors_fall_as_the_graded_mesh_is_refined() {
             w[1].0
         );
     }
+    let last = runs.len() - 1;
     for (what, first, last) in [
-        ("peak pressure (fit)", runs[0].1.abs(), runs[2].1.abs()),
+        ("peak pressure (fit)", runs[0].1.abs(), runs[last].1.abs()),
         (
             "peak pressure (max nodal)",
             runs[0].2.abs(),
-            runs[2].2.abs(),
+            runs[last].2.abs(),
         ),
     ] {
         assert!(last < first, "{what} error must fall: {first:e} → {last:e}");
@@ -140,8 +200,8 @@ fn hertz_errors_fall_as_the_graded_mesh_is_refined() {
     let pts: Vec<(f64, f64)> = hs.iter().zip(&runs).map(|(h, r)| (*h, r.0.abs())).collect();
     let rate = signorini::plots::fit_slope(&pts).unwrap();
     assert!(
-        rate >= 0.75,
-        "observed rate of the half-width error {rate:.2} < 3/4"
+        rate >= 1.0,
+        "observed rate of the half-width error {rate:.2} < 1 (Hüeber & Wohlmuth's O(h))"
     );
 }
 
