@@ -104,7 +104,7 @@ fn matrix(path: &Path, m: &HashMap<String, Vec<f64>>, key: &str) -> Result<CscMa
     if shape.len() != 2 {
         return Err(bad(path, format!("{key}_shape is not 2 numbers")));
     }
-    CscMatrix::try_new(
+    CscMatrix::try_new_csc(
         (shape[0], shape[1]),
         ints("indptr")?,
         ints("indices")?,
