@@ -127,9 +127,9 @@ fn matrix(
 
 fn mat_vec(m: &(Vec<usize>, Vec<usize>, Vec<f64>, usize, usize), x: &[f64]) -> Vec<f64> {
     let mut y = vec![0.0; m.3];
-    for j in 0..m.4 {
+    for (j, xj) in x.iter().enumerate().take(m.4) {
         for k in m.0[j]..m.0[j + 1] {
-            y[m.1[k]] += m.2[k] * x[j];
+            y[m.1[k]] += m.2[k] * xj;
         }
     }
     y
