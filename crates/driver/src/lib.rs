@@ -18,6 +18,7 @@ pub mod outdir;
 pub mod output;
 pub mod plots;
 pub mod qp_files;
+pub mod qpset;
 pub mod run;
 pub mod study;
 pub mod suite;

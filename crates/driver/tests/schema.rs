@@ -49,7 +49,7 @@ fn errors(validator: &jsonschema::Validator, instance: &Value) -> Vec<String> {
 fn every_fixture_satisfies_the_scene_schema() {
     let validator = schema("scene");
     let mut checked = 0;
-    for sub in ["seed", "hard", "accuracy", "gmsh", "validation"] {
+    for sub in ["seed", "hard", "accuracy", "gmsh", "validation", "qpset"] {
         let mut here = 0;
         for entry in std::fs::read_dir(fixtures().join(sub)).unwrap() {
             let path = entry.unwrap().path();
@@ -63,9 +63,9 @@ fn every_fixture_satisfies_the_scene_schema() {
         assert!(here > 0, "no fixture in {sub}");
         checked += here;
     }
-    // fixtures/README.md lists 19 seed, 24 hard, 4 accuracy, 1 gmsh and 1 validation scenes
-    // today; fewer would mean the loop missed some.
-    assert!(checked >= 49, "{checked}");
+    // fixtures/README.md lists 19 seed, 24 hard, 4 accuracy, 1 gmsh, 1 validation and 3 qpset
+    // scenes today; fewer would mean the loop missed some.
+    assert!(checked >= 52, "{checked}");
 }
 
 /// The schema refuses what the scene parser refuses: a misspelt key (every table has

@@ -16,6 +16,7 @@ use commands::{
     check::{check, CheckArgs},
     compare::{compare, CompareArgs},
     export::{export, ExportArgs},
+    qpset::{qpset, QpsetArgs},
     schema::{schema, SchemaArgs},
     solve::{solve, SolveArgs},
     study::{study, StudyArgs},
@@ -61,6 +62,10 @@ enum Command {
     Suite(SuiteArgs),
     /// Write the scene's QP (A, f, B, g as Matrix Market) and its DOF and row maps.
     Export(ExportArgs),
+    /// Export every scene under the given directories as a qpbenchmark test set (one .npz per
+    /// problem, the Python module, references from our `auto` backend); see
+    /// docs/qp-benchmark.md.
+    Qpset(QpsetArgs),
     /// Validate a scene exactly as solve does (parse, estimate, mesh, assemble), without solving.
     Check(CheckArgs),
     /// Print the JSON Schema (draft 2020-12) of the scene file, result.json, a suite's
@@ -91,6 +96,7 @@ fn main() -> ExitCode {
         Command::Solve(args) => solve(args),
         Command::Compare(args) => compare(args),
         Command::Export(args) => export(args),
+        Command::Qpset(args) => qpset(args),
         Command::Sweep { args, action } => match action {
             Some(SweepAction::Merge {
                 dirs,

@@ -3,6 +3,7 @@
 pub(crate) mod check;
 pub(crate) mod compare;
 pub(crate) mod export;
+pub(crate) mod qpset;
 pub(crate) mod schema;
 pub(crate) mod solve;
 pub(crate) mod study;
