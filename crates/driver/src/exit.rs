@@ -300,6 +300,16 @@ mod tests {
             ),
             (SweepError::Output(locked()).into(), Exit::Resource),
             (MergeError::Output(locked()).into(), Exit::Resource),
+            (FclibError::LoadPath.into(), Exit::Input),
+            (FclibError::Tresca { pair: 1 }.into(), Exit::Input),
+            (
+                FclibError::Io {
+                    path: "p.hdf5".into(),
+                    source: std::io::Error::other("disk full"),
+                }
+                .into(),
+                Exit::Resource,
+            ),
         ]
     }
 
