@@ -38,30 +38,6 @@ const MORTAR_GRADED_P1: Combination = Combination {
     element: ElementKind::P1,
 };
 
-/// The cap's polygon as `scripts/hertz-scene.py` writes it (R = 1, cap 0.6 high, centre
-/// x = 0.8, contact line y = 0.8): vertices every `fine` of arc length where |x − 0.8| ≤ 0.15
-/// (`--fine-width`), every 0.02 (`--arc-coarse`) beyond, the two ends on the cap's top line.
-fn cap_polygon(fine: f64) -> Vec<[f64; 2]> {
-    let (r, height, cx, base) = (1.0_f64, 0.6_f64, 0.8_f64, 0.8_f64);
-    let phi0 = ((r - height) / r).acos();
-    let phi_f = (0.15 / r).asin();
-    let n_f = (2.0 * phi_f * r / fine).ceil() as usize;
-    let n_c = ((phi0 - phi_f) * r / 0.02).ceil() as usize;
-    let mut t: Vec<f64> = (0..n_c)
-        .map(|i| -phi0 + (phi0 - phi_f) * i as f64 / n_c as f64)
-        .collect();
-    t.extend((0..=n_f).map(|i| -phi_f + 2.0 * phi_f * i as f64 / n_f as f64));
-    t.extend((1..=n_c).map(|i| phi_f + (phi0 - phi_f) * i as f64 / n_c as f64));
-    let mut pts: Vec<[f64; 2]> = t
-        .iter()
-        .map(|t| [cx + r * t.sin(), base + r - r * t.cos()])
-        .collect();
-    let n = pts.len();
-    pts[0][1] = base + height;
-    pts[n - 1][1] = base + height;
-    pts
-}
-
 /// The graded Hertz fixture at body size `h` for mortar: `derive_scene` scales both bodies'
 /// hmax and their refine boxes' (h/8), and the cap's arc is re-sampled at the refine box's
 /// size.  The fixture's arc vertices are every 0.002, its refine boxes' hmax: a polygon kept
@@ -75,7 +51,7 @@ fn hertz_graded_at(h: f64) -> Scene {
     let zone = cap.refine[0].hmax;
     assert!((zone / h - 0.125).abs() < 1e-12, "refine box at h/8");
     // The fixture was written by the same rule (vertices every 0.002 at its own h = 0.016).
-    let written = cap_polygon(0.002);
+    let written = common::hertz_cap_polygon(0.002);
     assert_eq!(
         scene.bodies[0].polygon.len(),
         written.len(),
@@ -84,7 +60,7 @@ fn hertz_graded_at(h: f64) -> Scene {
     for (p, q) in scene.bodies[0].polygon.iter().zip(&written) {
         assert!((p[0] - q[0]).abs() < 1e-12 && (p[1] - q[1]).abs() < 1e-12);
     }
-    cap.polygon = cap_polygon(zone);
+    cap.polygon = common::hertz_cap_polygon(zone);
     s
 }
 

@@ -11,6 +11,8 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
 use signorini::auto::AutoBackend;
 use signorini::run;
 use signorini_core::mesh::MeshLimits;
@@ -21,35 +23,13 @@ const R: f64 = 1.0;
 const A: f64 = 0.05;
 const NU: f64 = 0.3;
 
-/// The arc of hertz-scene.py (cap of height 0.6 on a 1.6 × 0.8 block, centre x = 0.8): angles
-/// every `fine` of arc length where |x − 0.8| ≤ 0.15, every 0.02 beyond.
-fn arc(fine: f64) -> Vec<[f64; 2]> {
-    let phi0 = ((R - 0.6) / R).acos();
-    let phi_f = (0.15 / R).asin();
-    let n_f = (2.0 * phi_f * R / fine).ceil() as usize;
-    let n_c = ((phi0 - phi_f) * R / 0.02).ceil() as usize;
-    let mut t: Vec<f64> = (0..n_c)
-        .map(|i| -phi0 + (phi0 - phi_f) * i as f64 / n_c as f64)
-        .collect();
-    t.extend((0..=n_f).map(|i| -phi_f + 2.0 * phi_f * i as f64 / n_f as f64));
-    t.extend((1..=n_c).map(|i| phi_f + (phi0 - phi_f) * i as f64 / n_c as f64));
-    let mut pts: Vec<[f64; 2]> = t
-        .iter()
-        .map(|t| [0.8 + R * t.sin(), 1.8 - R * t.cos()])
-        .collect();
-    let n = pts.len();
-    pts[0][1] = 1.4;
-    pts[n - 1][1] = 1.4;
-    pts
-}
-
 /// E* of a cylinder of E = 1 on a block of E = `block` (both ν = 0.3).
 fn e_star(block: f64) -> f64 {
     1.0 / ((1.0 - NU * NU) + (1.0 - NU * NU) / block)
 }
 
 fn scene(block: f64, slave: &str) -> String {
-    let pts = arc(0.002);
+    let pts = common::hertz_cap_polygon(0.002);
     let (xl, xr) = (pts[0][0], pts[pts.len() - 1][0]);
     let load = std::f64::consts::PI * A * A * e_star(block) / (4.0 * R);
     let poly: Vec<String> = pts

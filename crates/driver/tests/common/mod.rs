@@ -129,3 +129,27 @@ pub fn patch_scene(
         "#
     )
 }
+
+/// The Hertz cap's polygon as `scripts/hertz-scene.py` writes it (R = 1, cap 0.6 high, centre
+/// x = 0.8, contact line y = 0.8): vertices every `fine` of arc length where |x − 0.8| ≤ 0.15
+/// (`--fine-width`), every 0.02 (`--arc-coarse`) beyond, the two ends on the cap's top line.
+pub fn hertz_cap_polygon(fine: f64) -> Vec<[f64; 2]> {
+    let (r, height, cx, base) = (1.0_f64, 0.6_f64, 0.8_f64, 0.8_f64);
+    let phi0 = ((r - height) / r).acos();
+    let phi_f = (0.15 / r).asin();
+    let n_f = (2.0 * phi_f * r / fine).ceil() as usize;
+    let n_c = ((phi0 - phi_f) * r / 0.02).ceil() as usize;
+    let mut t: Vec<f64> = (0..n_c)
+        .map(|i| -phi0 + (phi0 - phi_f) * i as f64 / n_c as f64)
+        .collect();
+    t.extend((0..=n_f).map(|i| -phi_f + 2.0 * phi_f * i as f64 / n_f as f64));
+    t.extend((1..=n_c).map(|i| phi_f + (phi0 - phi_f) * i as f64 / n_c as f64));
+    let mut pts: Vec<[f64; 2]> = t
+        .iter()
+        .map(|t| [cx + r * t.sin(), base + r - r * t.cos()])
+        .collect();
+    let n = pts.len();
+    pts[0][1] = base + height;
+    pts[n - 1][1] = base + height;
+    pts
+}
