@@ -213,10 +213,9 @@ fn a_foundation_a_million_times_stiffer_gives_the_clamped_plane_s_answer() {
 }
 
 #[test]
-#[ignore = "measured: clarabel's Coulomb fixed point stalls on the uniform grid at tol 1e-9: the \
-            bounds change by 1.4e-8 per outer iteration with contraction 1.07 (the interior-point \
-            answers' own noise), max-iterations after 100 outer iterations in 16 s; at tol 1e-8 \
-            it solves, with the other backends' numbers"]
+// Failed before the fixed point tightened its inner tolerance on a stall (clarabel's Coulomb
+// fixed point at tol 1e-9: bounds moving by 1.4e-8 per outer iteration, contraction 1.07 — the
+// interior-point answers' own noise — max-iterations after 100 outer iterations).
 fn clarabel_solves_the_fixture_at_the_default_tolerance() {
     let dir = tempfile::tempdir().unwrap();
     let r = solve(dir.path(), &fixture(), "clarabel");
