@@ -128,23 +128,7 @@ fn pressed_then_shifted_the_stick_zone_has_cattaneo_s_half_width() {
     // a/16, so a node's position alone resolves c to 0.001 = 4.7 % of it; the midpoint halves
     // that, and the states decide which side of c each node lies.
     for side in [-1.0, 1.0] {
-        let half: Vec<&(f64, String, f64, f64)> =
-            list.iter().filter(|n| n.0 * side >= 0.0).collect();
-        let stick = half
-            .iter()
-            .filter(|n| n.1 == "stick")
-            .map(|n| n.0.abs())
-            .fold(0.0, f64::max);
-        let slip = half
-            .iter()
-            .filter(|n| n.1 == "slip")
-            .map(|n| n.0.abs())
-            .fold(f64::INFINITY, f64::min);
-        assert!(
-            slip > stick,
-            "side {side}: slip inside the stick zone: {list:?}"
-        );
-        let measured = 0.5 * (stick + slip);
+        let measured = stick_half_width(&list, side);
         assert!(
             (measured - c).abs() < 0.02 * c,
             "side {side}: c = {measured}, Cattaneo {c} (a = {a})"
@@ -172,6 +156,27 @@ fn pressed_then_shifted_the_stick_zone_has_cattaneo_s_half_width() {
         }
         assert!(q.abs() <= MU * p * (1.0 + 1e-6) + 1e-12 * p0, "x = {x}");
     }
+}
+
+/// The stick half-width on the side `side` (±1) of x = 0: half-way between the outermost
+/// sticking node and the innermost slipping one (asserting that no node slips inside).
+fn stick_half_width(list: &[(f64, String, f64, f64)], side: f64) -> f64 {
+    let half: Vec<&(f64, String, f64, f64)> = list.iter().filter(|n| n.0 * side >= 0.0).collect();
+    let stick = half
+        .iter()
+        .filter(|n| n.1 == "stick")
+        .map(|n| n.0.abs())
+        .fold(0.0, f64::max);
+    let slip = half
+        .iter()
+        .filter(|n| n.1 == "slip")
+        .map(|n| n.0.abs())
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        slip > stick,
+        "side {side}: slip inside the stick zone: {list:?}"
+    );
+    0.5 * (stick + slip)
 }
 
 /// The rms of |q| against Cattaneo's over the nodes with |x| < a (unweighted), with a, p₀ and c
@@ -231,6 +236,18 @@ fn pressed_then_shifted_the_tangential_traction_follows_cattaneo_within_3_percen
     let across = nodes(pair).iter().filter(|n| n.0.abs() < a).count();
     assert!(across >= 40, "{across} nodes across the contact");
     assert!(rms < 0.03, "rms {rms}");
+    // The stick half-width within the 2 % on both sides (Cattaneo's c from the pair's
+    // own P and Q; the zone's node spacing a/25 = 0.058 c resolves it to ±2.9 % by a node's
+    // position, the midpoint between the last sticking and first slipping node to about half).
+    let (_, _, c) = theory_for(pair, params.radius / 2.0);
+    let list = nodes(pair);
+    for side in [-1.0, 1.0] {
+        let measured = stick_half_width(&list, side);
+        assert!(
+            (measured - c).abs() < 0.02 * c,
+            "side {side}: c = {measured}, Cattaneo {c}"
+        );
+    }
 }
 
 /// Proportional loading (press and shift together, Q/P = const < μ): Cattaneo's continuous path
