@@ -65,18 +65,12 @@ pub struct Limits {
     pub deadline: Option<Instant>,
 }
 
-/// Solves K z = [f − B_Iᵀ λ_I; g_F] with the current factor, without refinement: λ_I the
-/// fixed multipliers of the inactive rows (`fixed`: 0 on a one-sided row, ±s on a slipping
-/// box row; `None`: all 0), which K's zeroed rows leave to the right-hand side.
-pub fn first_solve(
-    problem: &QpProblem,
-    active: &[bool],
-    fixed: Option<&[f64]>,
-    solver: &mut SetSolver<'_>,
-) -> SetSolution {
-    let n = problem.dofs();
+/// The right-hand side of a set's first solve, [f − B_Iᵀ λ_I; g_F]: λ_I the fixed multipliers
+/// of the inactive rows (`fixed`: 0 on a one-sided row, ±s on a slipping box row; `None`: all
+/// 0), which K's zeroed rows leave to the right-hand side.
+pub fn first_rhs(problem: &QpProblem, active: &[bool], fixed: Option<&[f64]>) -> Vec<f64> {
     let known = fixed.map(|l| signorini_qp::mat_t_vec(&problem.constraints, l));
-    let mut z: Vec<f64> = problem
+    problem
         .load
         .iter()
         .enumerate()
@@ -88,8 +82,31 @@ pub fn first_solve(
                 .zip(active)
                 .map(|(g, &on)| if on { *g } else { 0.0 }),
         )
-        .collect();
+        .collect()
+}
+
+/// Solves K z = [`first_rhs`] with the current factor, without refinement.
+pub fn first_solve(
+    problem: &QpProblem,
+    active: &[bool],
+    fixed: Option<&[f64]>,
+    solver: &mut SetSolver<'_>,
+) -> SetSolution {
+    let mut z = first_rhs(problem, active, fixed);
     solver.solve_in_place(&mut z);
+    first_solution(problem, active, fixed, solver, z)
+}
+
+/// The set's solution from z = K⁻¹ [`first_rhs`] (solved by [`first_solve`], or in one batch
+/// with an update's columns): the inactive rows' multipliers set to their fixed values.
+pub fn first_solution(
+    problem: &QpProblem,
+    active: &[bool],
+    fixed: Option<&[f64]>,
+    solver: &SetSolver<'_>,
+    mut z: Vec<f64>,
+) -> SetSolution {
+    let n = problem.dofs();
     clear_inactive(&mut z[n..], active);
     if let Some(fixed) = fixed {
         for ((l, &on), v) in z[n..].iter_mut().zip(active).zip(fixed) {

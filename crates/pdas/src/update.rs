@@ -88,15 +88,17 @@ struct Singular;
 
 impl ColumnCache {
     /// Solves, in one batch with the factor, for the columns of the `removed` rows and of the
-    /// `added` rows (B rows `added_rows`) not stored yet, and stores them.
+    /// `added` rows (B rows `added_rows`) not stored yet, and stores them; `extra` (length
+    /// n + m), when given, joins the batch and is overwritten with K_f⁻¹ `extra` (one pass
+    /// over the factor for all of them: faer's triangular solves take up to four columns per
+    /// pass).
     fn fill(
         &mut self,
         factor: &mut KktFactor,
-        n: usize,
-        dim: usize,
-        removed: &[usize],
-        added: &[usize],
+        (n, dim): (usize, usize),
+        (removed, added): (&[usize], &[usize]),
         added_rows: &[Vec<(usize, f64)>],
+        extra: Option<&mut [f64]>,
     ) -> Result<(), PdasError> {
         let missing_removed: Vec<usize> = removed
             .iter()
@@ -106,10 +108,14 @@ impl ColumnCache {
         let missing_added: Vec<usize> = (0..added.len())
             .filter(|&a| !self.added.contains_key(&added[a]))
             .collect();
-        let batch = missing_removed.len() + missing_added.len();
-        if batch == 0 {
+        let columns = missing_removed.len() + missing_added.len();
+        if columns == 0 {
+            if let Some(extra) = extra {
+                factor.solve_in_place(extra);
+            }
             return Ok(());
         }
+        let batch = columns + usize::from(extra.is_some());
         let mut block = vec![0.0; dim * batch];
         for (c, &i) in missing_removed.iter().enumerate() {
             block[c * dim + n + i] = 1.0;
@@ -120,8 +126,16 @@ impl ColumnCache {
                 column[j] = v;
             }
         }
+        if let Some(extra) = &extra {
+            block[columns * dim..].copy_from_slice(extra);
+        }
         factor.solve_many_in_place(&mut block)?;
-        let mut columns = block.chunks_exact(dim).map(|c| Arc::new(c.to_vec()));
+        if let Some(extra) = extra {
+            extra.copy_from_slice(&block[columns * dim..]);
+        }
+        let mut columns = block[..columns * dim]
+            .chunks_exact(dim)
+            .map(|c| Arc::new(c.to_vec()));
         for &i in &missing_removed {
             if let Some(c) = columns.next() {
                 self.removal.insert(i, c);
@@ -139,14 +153,17 @@ impl ColumnCache {
 impl SetUpdate {
     /// Prepares the update from the factored set `factored` to `active`, solving (in one
     /// batch) for the columns `cache` does not hold yet; `Ok(None)` when a small dense system
-    /// is singular (then the set is factorised instead).
+    /// is singular (then the set is factorised instead).  `rhs` (length n + m), when given,
+    /// joins the batch: on `Ok(Some(_))` it is overwritten with K_F⁻¹ `rhs` for the updated
+    /// set F — the set's first solve at the cost of one more column (on `Ok(None)` or an error
+    /// its content is undefined).
     pub fn new(
         problem: &QpProblem,
         factor: &mut KktFactor,
         cache: &mut ColumnCache,
-        factored: &[bool],
-        active: &[bool],
+        (factored, active): (&[bool], &[bool]),
         delta: f64,
+        rhs: Option<&mut [f64]>,
     ) -> Result<Option<Self>, PdasError> {
         let n = problem.dofs();
         let dim = n + problem.rows();
@@ -157,8 +174,17 @@ impl SetUpdate {
             .filter(|&i| !factored[i] && active[i])
             .collect();
         let added_rows = b_rows(problem, &added);
-        cache.fill(factor, n, dim, &removed, &added, &added_rows)?;
-        Ok(Self::assemble(n, cache, removed, added, added_rows, delta).ok())
+        let Some(rhs) = rhs else {
+            cache.fill(factor, (n, dim), (&removed, &added), &added_rows, None)?;
+            return Ok(Self::assemble(n, cache, removed, added, added_rows, delta).ok());
+        };
+        let b_added = take_changed(n, (&removed, &added), rhs);
+        cache.fill(factor, (n, dim), (&removed, &added), &added_rows, Some(rhs))?;
+        let Ok(update) = Self::assemble(n, cache, removed, added, added_rows, delta) else {
+            return Ok(None);
+        };
+        update.complete(rhs, &b_added);
+        Ok(Some(update))
     }
 
     /// The update from the cached columns: the removal correction (LU of PᵀY), the added
@@ -224,25 +250,23 @@ impl SetUpdate {
         }
     }
 
-    /// v ← K_RR⁻¹ v for v that is zero on every changed row.
-    fn rr_solve(&self, factor: &mut KktFactor, v: &mut [f64]) {
-        factor.solve_in_place(v);
-        self.correct_removed(v);
-    }
-
     /// rhs ← K_F⁻¹ rhs for the updated set F.
     pub fn solve_in_place(&self, factor: &mut KktFactor, rhs: &mut [f64]) {
+        let b_added = take_changed(self.dofs, (&self.removed, &self.added), rhs);
+        factor.solve_in_place(rhs);
+        self.complete(rhs, &b_added);
+    }
+
+    /// Ends [`SetUpdate::solve_in_place`] from rhs = K_f⁻¹ v, v the right-hand side with its
+    /// changed rows taken out (their added part `b_added`, see [`take_changed`]).
+    fn complete(&self, rhs: &mut [f64], b_added: &[f64]) {
         let n = self.dofs;
-        let b_added: Vec<f64> = self.added.iter().map(|&i| rhs[n + i]).collect();
-        for &i in self.removed.iter().chain(&self.added) {
-            rhs[n + i] = 0.0;
-        }
-        self.rr_solve(factor, rhs);
+        self.correct_removed(rhs);
         if let Some(lu) = &self.schur {
             let mut lambda: Vec<f64> = self
                 .added_rows
                 .iter()
-                .zip(&b_added)
+                .zip(b_added)
                 .map(|(row, b)| b - row.iter().map(|&(j, v)| v * rhs[j]).sum::<f64>())
                 .collect();
             lu.solve_in_place(&mut lambda);
@@ -254,6 +278,16 @@ impl SetUpdate {
             }
         }
     }
+}
+
+/// Takes the changed rows out of a right-hand side: returns its entries on the `added` rows
+/// and zeroes them and the `removed` rows' (multiplier rows n + i).
+fn take_changed(n: usize, (removed, added): (&[usize], &[usize]), rhs: &mut [f64]) -> Vec<f64> {
+    let b_added = added.iter().map(|&i| rhs[n + i]).collect();
+    for &i in removed.iter().chain(added) {
+        rhs[n + i] = 0.0;
+    }
+    b_added
 }
 
 /// The B rows of the `added` rows as (column, value) lists.
@@ -374,7 +408,7 @@ mod tests {
         kkt.set_values(&factored, 0.0, delta, inactive);
         old.factor(kkt.matrix(), 1e-20, 1e-17).unwrap();
         let mut cache = ColumnCache::default();
-        let update = SetUpdate::new(&p, &mut old, &mut cache, &factored, &active, delta)
+        let update = SetUpdate::new(&p, &mut old, &mut cache, (&factored, &active), delta, None)
             .unwrap()
             .unwrap();
         assert_eq!(cache.len(), 6);
@@ -409,5 +443,62 @@ mod tests {
             diff <= 1e-10 * scale,
             "update differs by {diff:e} (scale {scale:e})"
         );
+    }
+
+    /// The set's first solve batched with the update's columns gives the same K_F⁻¹ v as a
+    /// fresh factorisation of F (same bound and reason as above), and stores the same columns.
+    #[test]
+    fn a_right_hand_side_solved_in_the_update_s_batch_matches_a_fresh_factorisation() {
+        let p = laplacian_with_bounds(80, 20);
+        let (n, m) = (p.dofs(), p.rows());
+        let delta = 1e-2;
+        let factored: Vec<bool> = (0..m).map(|i| i % 2 == 0).collect();
+        let mut active = factored.clone();
+        active[2] = false; // removed
+        active[5] = true; // added
+        let mut kkt = KktMatrix::new(&p).unwrap();
+        let mut old = KktFactor::analyse(kkt.matrix(), n).unwrap();
+        kkt.set_values(&factored, 0.0, delta, 1.0);
+        old.factor(kkt.matrix(), 1e-20, 1e-17).unwrap();
+        let rhs: Vec<f64> = (0..n + m)
+            .map(|k| {
+                if k >= n && !active[k - n] {
+                    0.0
+                } else {
+                    (k as f64 * 0.71).cos()
+                }
+            })
+            .collect();
+        let mut batched = rhs.clone();
+        let mut cache = ColumnCache::default();
+        let update = SetUpdate::new(
+            &p,
+            &mut old,
+            &mut cache,
+            (&factored, &active),
+            delta,
+            Some(&mut batched),
+        )
+        .unwrap()
+        .unwrap();
+        assert_eq!(cache.len(), 2);
+        let mut fresh = KktFactor::analyse(kkt.matrix(), n).unwrap();
+        kkt.set_values(&active, 0.0, delta, 1.0);
+        fresh.factor(kkt.matrix(), 1e-20, 1e-17).unwrap();
+        let mut want = rhs.clone();
+        fresh.solve_in_place(&mut want);
+        let mut again = rhs;
+        update.solve_in_place(&mut old, &mut again);
+        let scale = want.iter().fold(0.0_f64, |s, v| s.max(v.abs()));
+        for got in [&batched, &again] {
+            let diff = got
+                .iter()
+                .zip(&want)
+                .fold(0.0_f64, |s, (x, y)| s.max((x - y).abs()));
+            assert!(
+                diff <= 1e-10 * scale,
+                "differs by {diff:e} (scale {scale:e})"
+            );
+        }
     }
 }

@@ -10,7 +10,7 @@ use signorini_qp::{QpProblem, QpStatus};
 
 use super::{count, no_certificate, ActiveSet, Best, Measured, Outcome, Phase1, Timing};
 use crate::error::PdasError;
-use crate::refine::{first_solve, refine, SetSolution};
+use crate::refine::{first_rhs, first_solution, first_solve, refine, SetSolution};
 use crate::update::{SetSolver, SetUpdate};
 
 /// Plain active-set steps before a step that does not reduce the changes hands over to the
@@ -84,6 +84,8 @@ struct SetSolve {
     update: Option<SetUpdate>,
     /// Whether the set was factorised this step.
     fresh: bool,
+    /// The set's first solve, K_F⁻¹ [`first_rhs`], when it was solved in the update's batch.
+    first: Option<Vec<f64>>,
 }
 
 impl ActiveSet<'_> {
@@ -128,7 +130,7 @@ impl ActiveSet<'_> {
                 "time limit reached before the next factorisation".into(),
             ));
         }
-        let set_solve = match self.prepare_solve(state) {
+        let mut set_solve = match self.prepare_solve(state) {
             Ok(s) => s,
             Err(e) => {
                 return Flow::Done(self.finish(
@@ -139,7 +141,7 @@ impl ActiveSet<'_> {
                 ))
             }
         };
-        let (solution, next, signs) = self.solve_set(state, &set_solve);
+        let (solution, next, signs) = self.solve_set(state, &mut set_solve);
         if !solution.is_finite() {
             if set_solve.update.is_some() {
                 state.force_factor = true;
@@ -164,27 +166,39 @@ impl ActiveSet<'_> {
     fn prepare_solve(&mut self, state: &mut Plain) -> Result<SetSolve, PdasError> {
         let p = self.problem;
         let delta = self.delta();
+        let mut first = None;
         let update = match &state.factored {
             Some(f)
                 if !state.force_factor && self.prefer_update(f, &state.active, &state.timing) =>
             {
                 let (_, missing) = self.cache.need(f, &state.active);
+                // The set's first solve joins the batch of the missing columns (one pass over
+                // the factor for both), except with Coulomb's coupling, whose solves iterate.
+                first = self
+                    .coupling(&state.active, &state.signs)
+                    .is_none()
+                    .then(|| first_rhs(p, &state.active, self.fixed_of(state).as_deref()));
                 let clock = Instant::now();
                 let update = SetUpdate::new(
                     p,
                     &mut self.factor,
                     &mut self.cache,
-                    f,
-                    &state.active,
+                    (f, &state.active),
                     delta,
+                    first.as_deref_mut(),
                 );
                 if missing > 0 {
-                    state.timing.column = clock.elapsed() / missing as u32;
+                    let columns = missing + usize::from(first.is_some());
+                    state.timing.column = clock.elapsed() / columns as u32;
                 }
                 update?
             }
             _ => None,
         };
+        if update.is_none() {
+            // Solved (if at all) for an update that did not come about.
+            first = None;
+        }
         let fresh = update.is_none() && state.factored.as_ref() != Some(&state.active);
         state.force_factor = false;
         if fresh {
@@ -195,7 +209,17 @@ impl ActiveSet<'_> {
         if update.is_some() {
             self.updates += 1;
         }
-        Ok(SetSolve { update, fresh })
+        Ok(SetSolve {
+            update,
+            fresh,
+            first,
+        })
+    }
+
+    /// The fixed multipliers of the current set's inactive rows, when the problem has box rows.
+    fn fixed_of(&self, state: &Plain) -> Option<Vec<f64>> {
+        self.has_box()
+            .then(|| self.fixed(&state.active, &state.signs))
     }
 
     /// Solves the current set (timing the solve of a fresh factor), refines the solution when
@@ -203,13 +227,11 @@ impl ActiveSet<'_> {
     fn solve_set(
         &mut self,
         state: &mut Plain,
-        set_solve: &SetSolve,
+        set_solve: &mut SetSolve,
     ) -> (SetSolution, Vec<bool>, Vec<f64>) {
         let p = self.problem;
         let limits = self.limits();
-        let fixed = self
-            .has_box()
-            .then(|| self.fixed(&state.active, &state.signs));
+        let fixed = self.fixed_of(state);
         let coupling = self.coupling(&state.active, &state.signs);
         let mut solver = SetSolver {
             factor: &mut self.factor,
@@ -217,7 +239,10 @@ impl ActiveSet<'_> {
             coupling: coupling.as_ref(),
         };
         let clock = Instant::now();
-        let mut solution = first_solve(p, &state.active, fixed.as_deref(), &mut solver);
+        let mut solution = match set_solve.first.take() {
+            Some(z) => first_solution(p, &state.active, fixed.as_deref(), &solver, z),
+            None => first_solve(p, &state.active, fixed.as_deref(), &mut solver),
+        };
         if set_solve.fresh {
             state.timing.solve = clock.elapsed();
             if state.timing.column.is_zero() {
