@@ -184,6 +184,19 @@ fn small_dir(root: &Path) -> std::path::PathBuf {
     dir
 }
 
+/// `signorini qpset DIR --out SET`, run in `cwd`.
+fn export(dir: &Path, set: &Path, cwd: &Path) -> std::process::Output {
+    signorini(
+        &[
+            "qpset",
+            dir.to_str().unwrap(),
+            "--out",
+            set.to_str().unwrap(),
+        ],
+        cwd,
+    )
+}
+
 /// The in-process QP a scene's problem must equal: the nondimensionalised A, f, B, g.
 fn scaled_qp(scene: &Path) -> QpProblem {
     let scene = signorini::run::load_scene(Some(scene)).unwrap();
@@ -196,15 +209,7 @@ fn a_small_directory_gives_one_problem_per_qp_scene_equal_to_the_in_process_qp()
     let tmp = tempfile::tempdir().unwrap();
     let dir = small_dir(tmp.path());
     let set = tmp.path().join("set");
-    let o = signorini(
-        &[
-            "qpset",
-            dir.to_str().unwrap(),
-            "--out",
-            set.to_str().unwrap(),
-        ],
-        tmp.path(),
-    );
+    let o = export(&dir, &set, tmp.path());
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{stderr}");
     // Progress names every scene; the Coulomb one and the broken one are said and skipped.
@@ -357,15 +362,7 @@ fn a_tresca_scene_goes_through_the_auxiliary_form_with_our_solve_s_x() {
     let scene = dir.join("tresca-nts.toml");
     std::fs::copy(repo("fixtures/qpset/tresca-nts.toml"), &scene).unwrap();
     let set = tmp.path().join("set");
-    common::succeeded(&signorini(
-        &[
-            "qpset",
-            dir.to_str().unwrap(),
-            "--out",
-            set.to_str().unwrap(),
-        ],
-        tmp.path(),
-    ));
+    common::succeeded(&export(&dir, &set, tmp.path()));
     let npz = read_npz(&set.join("data/scenes-tresca-nts.npz"));
     let qp = scaled_qp(&scene);
     let boxes = signorini_core::qp::row_sets(&qp.blocks)
@@ -432,7 +429,7 @@ fn refusals_leave_nothing_behind() {
     let set = tmp.path().join("set");
     let out = set.to_str().unwrap();
     // A missing directory: usage error, nothing created.
-    let o = signorini(&["qpset", "no-such-dir", "--out", out], tmp.path());
+    let o = export(Path::new("no-such-dir"), &set, tmp.path());
     assert_eq!(
         o.status.code(),
         Some(1),
@@ -445,7 +442,7 @@ fn refusals_leave_nothing_behind() {
     let bad = tmp.path().join("bad");
     std::fs::create_dir_all(&bad).unwrap();
     std::fs::write(bad.join("a.toml"), "[[body]]\n").unwrap();
-    let o = signorini(&["qpset", bad.to_str().unwrap(), "--out", out], tmp.path());
+    let o = export(&bad, &set, tmp.path());
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("no scene gave a QP"));
     assert!(!set.exists());
@@ -455,10 +452,7 @@ fn refusals_leave_nothing_behind() {
     let scenes = tmp.path().join("scenes");
     std::fs::create_dir_all(&scenes).unwrap();
     std::fs::copy(repo("fixtures/seed/exp2b.toml"), scenes.join("exp2b.toml")).unwrap();
-    let o = signorini(
-        &["qpset", scenes.to_str().unwrap(), "--out", out],
-        tmp.path(),
-    );
+    let o = export(&scenes, &set, tmp.path());
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--force"));
     assert_eq!(
@@ -490,15 +484,7 @@ fn qpbenchmark_loads_the_set() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = small_dir(tmp.path());
     let set = tmp.path().join("set");
-    common::succeeded(&signorini(
-        &[
-            "qpset",
-            dir.to_str().unwrap(),
-            "--out",
-            set.to_str().unwrap(),
-        ],
-        tmp.path(),
-    ));
+    common::succeeded(&export(&dir, &set, tmp.path()));
     let python = std::env::var("QPSET_PYTHON").unwrap_or_else(|_| "python3".into());
     let script = r#"
 import sys
