@@ -509,3 +509,88 @@ print(",".join(sorted(names)))
     let stdout = common::succeeded(&o);
     assert_eq!(stdout.trim(), "scenes-exp2b,scenes-tresca-nts,sub-floating");
 }
+
+/// `signorini qpset --solve SET --settings S --backends B --out CSV` and its rows, one map of
+/// column → value per row.
+fn solve_rows(
+    set: &Path,
+    settings: &str,
+    backends: &str,
+    cwd: &Path,
+) -> Vec<HashMap<String, String>> {
+    let csv_path = cwd.join(format!("ours-{settings}.csv"));
+    common::succeeded(&signorini(
+        &[
+            "qpset",
+            "--solve",
+            set.to_str().unwrap(),
+            "--settings",
+            settings,
+            "--backends",
+            backends,
+            "--out",
+            csv_path.to_str().unwrap(),
+        ],
+        cwd,
+    ));
+    let mut reader = csv::Reader::from_path(&csv_path).unwrap();
+    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+    reader
+        .records()
+        .map(|r| {
+            header
+                .iter()
+                .cloned()
+                .zip(r.unwrap().iter().map(String::from))
+                .collect()
+        })
+        .collect()
+}
+
+/// A set of the seed scene exp2b and the Tresca scene, written to `root/set`.
+fn seed_and_tresca_set(root: &Path) -> std::path::PathBuf {
+    let dir = root.join("scenes");
+    std::fs::create_dir_all(&dir).unwrap();
+    for f in ["fixtures/seed/exp2b.toml", "fixtures/qpset/tresca-nts.toml"] {
+        let name = Path::new(f).file_name().unwrap();
+        std::fs::copy(repo(f), dir.join(name)).unwrap();
+    }
+    let set = root.join("set");
+    common::succeeded(&export(&dir, &set, root));
+    set
+}
+
+/// The dual-* backends on the Tresca problem of a set (auxiliary form: the unknowns tᵢ have no
+/// stiffness, and the file declares no kernel): each refuses at once, saying why — before each
+/// factored A and ended `numerical-error`, its message blaming rigid-body modes.  pdas solves
+/// the same file (the problem is sound).
+#[test]
+fn dual_backends_refuse_tresca_s_auxiliary_unknowns_saying_why() {
+    let tmp = tempfile::tempdir().unwrap();
+    let set = seed_and_tresca_set(tmp.path());
+    let rows = solve_rows(
+        &set,
+        "default",
+        "dual-pgs,dual-uzawa,dual-ssn,pdas",
+        tmp.path(),
+    );
+    let tresca: Vec<_> = rows
+        .iter()
+        .filter(|r| r["problem"] == "scenes-tresca-nts")
+        .collect();
+    assert_eq!(tresca.len(), 4);
+    for row in tresca {
+        if row["solver"] == "signorini-pdas" {
+            assert_eq!(row["status"], "solved", "{row:?}");
+            continue;
+        }
+        assert_eq!(row["found"], "false");
+        let status = &row["status"];
+        assert!(
+            status.starts_with("error: ")
+                && status.contains("have no stiffness")
+                && status.contains("no declared kernel vector"),
+            "{row:?}"
+        );
+    }
+}
