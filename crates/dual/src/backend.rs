@@ -9,6 +9,7 @@ use signorini_qp::{
 
 use crate::dual::{DualData, Outcome};
 use crate::error::DualError;
+use crate::kernel::undeclared_unstiff_unknowns;
 use crate::methods::{pgs, ssn, uzawa};
 use crate::monitor::Monitor;
 use crate::settings::{Condensation, DualMethod, DualSettings};
@@ -81,6 +82,7 @@ impl DualBackend {
         options: &SolveOptions,
         start: Instant,
     ) -> Result<Outcome, QpError> {
+        refuse_unstiff(problem, self.name())?;
         let contact_last = self.settings.method != DualMethod::Uzawa
             && self.settings.condensation == Condensation::TrailingBlock
             && problem.rows() > 0;
@@ -169,6 +171,23 @@ impl QpBackend for DualBackend {
         }
         Ok(solution)
     }
+}
+
+/// Refuses at once, before any factorisation, a problem with unknowns that have no stiffness
+/// and no declared kernel vector: every dual method needs A⁻¹ (or A⁺ with the kernel of A), and
+/// factoring such an A only ends in a zero pivot.
+fn refuse_unstiff(problem: &QpProblem, backend: &'static str) -> Result<(), QpError> {
+    let loose = undeclared_unstiff_unknowns(problem);
+    let Some(first) = loose.first() else {
+        return Ok(());
+    };
+    Err(QpError::Unavailable {
+        backend,
+        reason: format!(
+            "A is singular: {} unknown(s) (the first: {first}) have no stiffness (a zero column of A) and no declared kernel vector, and the dual methods need A⁻¹ or the kernel of A (`QpProblem::kernel`); auxiliary unknowns of Tresca rows written one-sided are such unknowns — give a dual-* backend the box rows themselves",
+            loose.len()
+        ),
+    })
 }
 
 /// m = 0: x = A⁺ f (the kernel component is arbitrary and set to zero).

@@ -85,6 +85,22 @@ impl RigidModes {
     }
 }
 
+/// The unknowns with no stiffness that no kernel vector touches, sorted.  Column j of A holding
+/// no nonzero puts e_j in the kernel of A, so a basis of that kernel has a vector with rⱼ ≠ 0;
+/// when none of the problem's kernel vectors has one, A is singular on j and nothing declares
+/// it (the auxiliary unknowns tᵢ of Tresca rows written one-sided,
+/// [`signorini_qp::AuxiliaryForm`]).  One pass over A's entries and the kernel.
+pub fn undeclared_unstiff_unknowns(problem: &QpProblem) -> Vec<usize> {
+    problem
+        .stiffness
+        .outer_iterator()
+        .enumerate()
+        .filter(|(_, col)| col.iter().all(|(_, v)| *v == 0.0))
+        .map(|(j, _)| j)
+        .filter(|&j| problem.kernel.iter().all(|r| r[j] == 0.0))
+        .collect()
+}
+
 /// Chooses k DOFs such that the k × k block of R on them is well conditioned: greedy
 /// Gram–Schmidt with pivoting on the rows of R (QR with column pivoting of Rᵀ).
 pub fn fixing_dofs(basis: &[Vec<f64>]) -> Result<Vec<usize>, DualError> {

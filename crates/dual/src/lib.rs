@@ -122,7 +122,9 @@
 //! H + c GᵀG, multiplier μ updated when the inner residual falls below the equality residual;
 //! α = −μ) or directly in the Newton system (active set).  A rigid mode that no contact row sees
 //! but the load drives gives `dual-infeasible`; a singular A without (enough) kernel vectors gives
-//! `numerical-error` with a message — never NaN.
+//! `numerical-error` with a message — never NaN.  An unknown with no stiffness at all (a zero
+//! column of A: the auxiliary unknowns of Tresca rows written one-sided) that no kernel vector
+//! touches is refused at once, before any factorisation (`QpError::Unavailable`, naming why).
 //!
 //! # Where the time goes (measured, release build, 2-core machine shared with other builds)
 //! 5-point Laplacian, n ≈ 1e4 and 1e5, m bound rows (1 DOF each) or 3-DOF rows

@@ -238,3 +238,40 @@ fn coupled_chain(bounds: [f64; 2]) {
         }
     }
 }
+
+/// The pressed block's box row written one-sided ([`signorini_qp::AuxiliaryForm`]: unknowns
+/// (u_n, u_t, t), rows u_t − t ≤ 0 and −u_t − t ≤ 0): t has no stiffness and no kernel vector
+/// is declared, so A is singular and A⁻¹, which every dual method needs, does not exist.  Each
+/// dual backend refuses it at once with a reason that names the unknown without stiffness —
+/// before, each factored A, met the zero pivot and ended `numerical-error` with a message
+/// about rigid-body modes.  The problem itself is sound: the same answer, solved on the box
+/// rows, is checked by `a_pressed_block_sticks_below_the_bound_and_slides_above_it`.
+#[test]
+fn an_unknown_without_stiffness_and_no_kernel_is_refused_at_once_with_why() {
+    let form = signorini_qp::AuxiliaryForm::of(&pressed_block(2.5, 1.0)).unwrap();
+    assert_eq!(form.problem.dofs(), 3);
+    for mut backend in [
+        DualBackend::pgs(DualSettings::default()),
+        DualBackend::uzawa(DualSettings::default()),
+        DualBackend::active_set(DualSettings::default()),
+    ] {
+        let answer = backend.solve(&form.problem, &SolveOptions::default());
+        let Err(signorini_qp::QpError::Unavailable { reason, .. }) = &answer else {
+            panic!("{}: {answer:?}", backend.name());
+        };
+        assert!(
+            reason.contains("1 unknown(s) (the first: 2) have no stiffness")
+                && reason.contains("no declared kernel vector"),
+            "{}: {reason}",
+            backend.name()
+        );
+    }
+    // With t's kernel vector e_t declared the refusal does not apply (A⁺ exists on (u_n, u_t)).
+    let declared = form
+        .problem
+        .clone()
+        .with_kernel(vec![vec![0.0, 0.0, 1.0]])
+        .unwrap();
+    let mut ssn = DualBackend::active_set(DualSettings::default());
+    assert!(ssn.solve(&declared, &SolveOptions::default()).is_ok());
+}

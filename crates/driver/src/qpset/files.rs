@@ -261,8 +261,7 @@ fn write_problem(path: &Path, p: &ContactQp) -> Result<(), QpsetError> {
     arrays.push(arr("z_ref", NpyData::F64(&r.z), vec![r.z.len()]));
     arrays.push(arr("objective_ref", NpyData::F64(&objective), vec![]));
     let file = std::fs::File::create(path).map_err(io(path))?;
-    let mut w = BufWriter::new(file);
-    write_npz(&mut w, &arrays).map_err(io(path))?;
+    let mut w = write_npz(BufWriter::new(file), &arrays).map_err(io(path))?;
     w.flush().map_err(io(path))
 }
 

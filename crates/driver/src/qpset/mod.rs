@@ -27,10 +27,10 @@ mod texts;
 use std::path::{Path, PathBuf};
 
 pub use files::{write_set, SetOptions, SetSummary};
-pub use npz::{crc32, npy_bytes, write_npz, NpyArray, NpyData};
+pub use npz::{read_npz, write_npz, NpyArray, NpyData, NpyValues};
 pub use problem::{build, csc, refined, Built, ContactQp, ProblemKind, Reference};
 pub use read::{read_problem, SetProblem};
-pub use solve::{qpsolvers_residuals, run_set, set_files, RunRow};
+pub use solve::{qpsolvers_residuals, run_set, set_files, settings_eps_abs, RunRow, TOL_FLOOR};
 pub use texts::{MODULE_FILE, TEST_SET_CLASS};
 
 /// Why a set could not be written (a scene that fails is reported and skipped, not this).

@@ -29,7 +29,10 @@ pub(crate) struct QpsetArgs {
     /// With `--solve`: comma-separated backends [default: every one compiled in, both forms].
     #[arg(long, value_delimiter = ',', value_parser = ChoiceParser::<BackendKind>::new())]
     pub(crate) backends: Vec<BackendKind>,
-    /// With `--solve`: the settings name the rows are filed under.
+    /// With `--solve`: the settings name the rows are filed under, which also decides the run
+    /// as qpbenchmark's settings do: `high_accuracy` (`mid_accuracy`, `low_accuracy`) drives
+    /// each backend to qpbenchmark's absolute residuals of 1e-9 (1e-6, 1e-3), tightening `--tol`
+    /// as needed; any other name solves at `--tol`.
     #[arg(long, default_value = "default")]
     pub(crate) settings: String,
     /// With `--solve`: seconds each backend may take per problem.
@@ -46,7 +49,8 @@ pub(crate) struct QpsetArgs {
     /// unknowns; `--large` alone: 10⁶.
     #[arg(long, value_name = "DOFS", num_args = 0..=1, default_missing_value = "1000000")]
     pub(crate) large: Option<usize>,
-    /// Relative KKT tolerance of the reference solve (our `auto` backend).
+    /// Relative KKT tolerance of the reference solve (our `auto` backend); with `--solve`, of
+    /// every backend's (first) solve.
     #[arg(long, default_value_t = 1e-9, value_parser = parse_tol)]
     pub(crate) tol: f64,
     /// Largest total number of elements a scene may ask for before it is refused.
