@@ -11,6 +11,9 @@
 // Helpers are test code too: a failed unwrap is a failed test.
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
+use common::probe;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 
@@ -203,15 +206,6 @@ fn assert_no_penetration(case: &Case) {
             s.residuals.max_penetration
         );
     }
-}
-
-fn probe(report: &RunReport, name: &str) -> [f64; 2] {
-    report
-        .probes
-        .iter()
-        .find(|p| p.name == name)
-        .unwrap()
-        .displacement
 }
 
 fn body<'a>(report: &'a RunReport, name: &str) -> &'a report::BodyReport {

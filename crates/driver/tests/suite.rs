@@ -113,7 +113,19 @@ fn the_hard_suite_passes_through_the_library() {
         BackendKind::DualSsn,
         BackendKind::Pdas,
     ];
-    let report = suite::run(&repo("fixtures/hard"), &settings(&backends), |_| {}).unwrap();
+    // The partial-contact strip runs apart (below): osqp and dual-pgs spend their whole 10 s
+    // limit on it and would double this test's time.
+    let mut cases: Vec<String> = std::fs::read_dir(repo("fixtures/hard"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .filter(|name| name != PARTIAL)
+        .collect();
+    cases.sort();
+    let mut most = settings(&backends);
+    most.only = cases;
+    let report = suite::run(&repo("fixtures/hard"), &most, |_| {}).unwrap();
     assert_eq!(report.cases.len(), 24);
     assert!(
         report.regressions().is_empty(),
@@ -149,6 +161,37 @@ fn the_hard_suite_passes_through_the_library() {
     assert_eq!(inert.runs.len(), 1);
     assert_eq!(inert.runs[0].backend, "cholesky");
     assert_eq!(inert.runs[0].verdict, Verdict::Pass);
+}
+
+/// The long interface in partial contact (issue 21), a hard case run apart.
+const PARTIAL: &str = "strip-thin-partial";
+
+/// The partial-contact strip through the backends that end well within the limit (pdas
+/// solves it, clarabel and dual-ssn fail as expected): osqp and dual-pgs reach the 10 s limit
+/// there (their expected failures are checked by the CLI run of `signorini suite
+/// fixtures/hard`).
+#[test]
+fn the_partial_contact_strip_passes_through_the_library() {
+    let backends = [
+        BackendKind::Clarabel,
+        BackendKind::DualSsn,
+        BackendKind::Pdas,
+    ];
+    let mut only = settings(&backends);
+    only.only = vec![PARTIAL.to_string()];
+    let report = suite::run(&repo("fixtures/hard"), &only, |_| {}).unwrap();
+    assert_eq!(report.cases.len(), 1);
+    assert!(
+        report.regressions().is_empty(),
+        "{}",
+        suite::table::table(&report)
+    );
+    let pdas = report.cases[0]
+        .runs
+        .iter()
+        .find(|r| r.backend == "pdas")
+        .unwrap();
+    assert_eq!(pdas.verdict, Verdict::Pass);
 }
 
 /// Multiplies the objective of `dir/NAME.expected.json` by `factor`.

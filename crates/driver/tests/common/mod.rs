@@ -153,3 +153,13 @@ pub fn hertz_cap_polygon(fine: f64) -> Vec<[f64; 2]> {
     pts[n - 1][1] = base + height;
     pts
 }
+
+/// The displacement of the report's probe `name` (the probe must exist).
+pub fn probe(report: &signorini_core::report::RunReport, name: &str) -> [f64; 2] {
+    report
+        .probes
+        .iter()
+        .find(|p| p.name == name)
+        .expect("the scene names this probe")
+        .displacement
+}

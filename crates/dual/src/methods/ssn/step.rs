@@ -52,6 +52,7 @@ pub(super) fn dense_step(
         gradient,
         residual: f64::NAN,
         refinements: 0,
+        contraction: f64::NAN,
     })
 }
 
@@ -79,6 +80,10 @@ pub(super) struct Step {
     pub residual: f64,
     /// Corrections taken.
     pub refinements: usize,
+    /// The first correction's ratio of residuals (new / old; infinite when it did not shrink
+    /// the residual or could not be solved, NaN when none was tried): how well the dense factor
+    /// serves as a preconditioner of the exact Newton system.
+    pub contraction: f64,
 }
 
 /// The primal point of (λ, μ) and its residuals on the active rows.
@@ -154,8 +159,12 @@ pub(super) fn refined_step(
     let mut low = vec![0.0; data.rows()];
     let mut current = evaluate(data, &rows, &lambda, &low, &mu, corrections);
     let mut refinements = 0;
+    let mut contraction = f64::NAN;
     while refinements < MAX_REFINEMENT && current.norm > 0.0 && !monitor.out_of_time() {
         let Some((dl, dmu)) = solve(&current.rows, &current.kernel) else {
+            if refinements == 0 {
+                contraction = f64::INFINITY;
+            }
             break;
         };
         let mut trial = lambda.clone();
@@ -167,6 +176,14 @@ pub(super) fn refined_step(
         }
         let trial_mu: Vec<f64> = mu.iter().zip(&dmu).map(|(a, b)| a + b).collect();
         let next = evaluate(data, &rows, &trial, &trial_low, &trial_mu, corrections);
+        if refinements == 0 {
+            // NaN (a non-finite residual) counts as no contraction.
+            contraction = if next.norm < current.norm {
+                next.norm / current.norm
+            } else {
+                f64::INFINITY
+            };
+        }
         if next.norm.is_nan() || next.norm >= current.norm {
             break;
         }
@@ -187,5 +204,6 @@ pub(super) fn refined_step(
         gradient: current.gradient,
         residual: current.norm,
         refinements,
+        contraction,
     })
 }
