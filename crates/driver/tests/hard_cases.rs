@@ -21,7 +21,7 @@ use signorini::backends::{make_backend, BackendKind};
 use signorini::run::{self, Prepared};
 use signorini_core::mesh::MeshLimits;
 use signorini_core::qp::{norm_inf, QpBackend, QpStatus, SolveOptions};
-use signorini_core::report::{self, RunReport, Timings};
+use signorini_core::report::{self, RunReport};
 use signorini_core::scene::Scene;
 use signorini_core::solve::{self, Solution};
 
@@ -112,15 +112,7 @@ fn solve_all(dir: &str, name: &str) -> Case {
             }))
             .unwrap_or_else(|_| panic!("{name}: backend {expected_name} panicked"))
             .unwrap_or_else(|e| panic!("{name}: backend {expected_name} could not run: {e}"));
-            let fields = report::body_fields(&prepared.model, &solution);
-            let report = report::run_report(
-                &scene,
-                &prepared.model,
-                &solution,
-                &fields,
-                TOL,
-                Timings::default(),
-            );
+            let report = common::report_of(&scene, &prepared.model, &solution, TOL);
             Run {
                 backend: expected_name,
                 solution,

@@ -51,7 +51,7 @@ use signorini::backends::{make_backend, BackendKind};
 use signorini::run::{self, Prepared};
 use signorini_core::mesh::MeshLimits;
 use signorini_core::qp::{norm_inf, QpStatus, ResidualScales, SolveOptions};
-use signorini_core::report::{self, RunReport, Timings};
+use signorini_core::report::{self, RunReport};
 use signorini_core::scene::{Body, Scene, Traction};
 use signorini_core::solve::{self, ScaledQp, Solution};
 
@@ -199,15 +199,7 @@ fn solve_with(strip: &'static Strip, kinds: &[BackendKind]) -> Case {
             .unwrap_or_else(|_| panic!("{}: backend {name} panicked", strip.name))
             .unwrap_or_else(|e| panic!("{}: backend {name} could not run: {e}", strip.name));
             let wall = start.elapsed();
-            let fields = report::body_fields(&prepared.model, &solution);
-            let report = report::run_report(
-                &scene,
-                &prepared.model,
-                &solution,
-                &fields,
-                TOL,
-                Timings::default(),
-            );
+            let report = common::report_of(&scene, &prepared.model, &solution, TOL);
             eprintln!(
                 "{}: {name}: {} in {:.2} s, {} iterations, residuals {:?}",
                 strip.name,
@@ -370,15 +362,7 @@ fn check_agreement(case: &Case) {
 /// The report of `solution` (used to rebuild it after a deliberate perturbation).
 fn report_of(case: &Case, solution: &Solution) -> RunReport {
     let scene = run::load_scene(Some(&fixture(case.strip))).unwrap();
-    let fields = report::body_fields(&case.prepared.model, solution);
-    report::run_report(
-        &scene,
-        &case.prepared.model,
-        solution,
-        &fields,
-        TOL,
-        Timings::default(),
-    )
+    common::report_of(&scene, &case.prepared.model, solution, TOL)
 }
 
 /// How far an answer is from the analytic physics.

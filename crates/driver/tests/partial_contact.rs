@@ -31,7 +31,7 @@ use signorini::backends::{make_backend, BackendKind};
 use signorini::run::{self, Prepared};
 use signorini_core::mesh::MeshLimits;
 use signorini_core::qp::{QpStatus, SolveOptions};
-use signorini_core::report::{self, ContactNodeReport, RunReport, Timings};
+use signorini_core::report::{ContactNodeReport, RunReport};
 use signorini_core::scene::Traction;
 use signorini_core::solve::{self, ScaledQp};
 
@@ -103,15 +103,7 @@ fn solve_with(kind: BackendKind, tol: f64) -> Answer {
     let scaled = ScaledQp::new(prepared.qp.clone());
     let solution =
         solve::solve_scaled(&prepared.model, &scaled, backend.as_mut(), &options).unwrap();
-    let fields = report::body_fields(&prepared.model, &solution);
-    let report = report::run_report(
-        &scene,
-        &prepared.model,
-        &solution,
-        &fields,
-        tol,
-        Timings::default(),
-    );
+    let report = common::report_of(&scene, &prepared.model, &solution, tol);
     Answer {
         status: solution.status,
         objective: report.objective,

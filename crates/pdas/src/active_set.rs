@@ -421,7 +421,15 @@ impl<'p> ActiveSet<'p> {
 
     /// Whether to reach `active` from the factored set by a low-rank update rather than a
     /// factorisation: few changed rows, and their solves cheaper than a factorisation.
-    fn prefer_update(&self, factored: &[bool], active: &[bool], timing: &Timing) -> bool {
+    /// `batched`: the set's first solve joins the batch of the missing columns (no Coulomb
+    /// coupling), so it costs a column rather than a solve of its own.
+    fn prefer_update(
+        &self,
+        factored: &[bool],
+        active: &[bool],
+        timing: &Timing,
+        batched: bool,
+    ) -> bool {
         let (rank, missing) = self.cache.need(factored, active);
         let dim = self.kkt.dim() as f64;
         // Memory: the stored columns never outgrow the factor itself, nor half of what the
@@ -433,9 +441,15 @@ impl<'p> ActiveSet<'p> {
         // Time: the missing columns (one batched solve), then the solves of the iteration
         // (one, and one or two of refinement once the set settles: two on average) with the
         // correction of `rank` dense columns each, against a factorisation and plain solves.
+        // A batched first solve is one more column of the batch instead of a solve.
         let solve = timing.solve.as_secs_f64();
-        let cost =
-            missing as f64 * timing.column.as_secs_f64() + 2.0 * (solve + rank as f64 * dim * 1e-9);
+        let column = timing.column.as_secs_f64();
+        let correction = rank as f64 * dim * 1e-9;
+        let cost = if batched {
+            (missing + 1) as f64 * column + solve + 2.0 * correction
+        } else {
+            missing as f64 * column + 2.0 * (solve + correction)
+        };
         rank > 0
             && rank <= self.settings.max_update_rank
             && fits

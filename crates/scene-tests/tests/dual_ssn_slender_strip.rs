@@ -8,47 +8,21 @@
 
 mod common;
 
-use signorini_core::mesh::MeshLimits;
-use signorini_core::model::{assemble, mesh_scene};
-use signorini_core::scene::Scene;
 use signorini_core::solve::ScaledQp;
 use signorini_dual::{DualBackend, DualSettings};
 use signorini_qp::{QpProblem, QpStatus};
 
 /// The strip of the module docs, as the driver hands it to a backend (nondimensionalised).
 fn slender_strip() -> QpProblem {
-    let toml = r#"
-title = "slender strip"
-[[body]]
-name = "strip"
-polygon = [[0, 1], [100, 1], [100, 1.05], [0, 1.05]]
-hmax = 0.05
-young = 1
-poisson = 0.3
-[[body]]
-name = "foundation"
-polygon = [[0, 0.9], [100, 0.9], [100, 1], [0, 1]]
-hmax = 0.05
-young = 1
-poisson = 0.3
-[[dirichlet]]
-body = "foundation"
-region = [0, 100, 0.9, 0.9]
-[[dirichlet]]
-body = "strip"
-region = [0, 0, 1, 1.05]
-components = ["x"]
-[[neumann]]
-body = "strip"
-region = [0, 100, 1.05, 1.05]
-traction = [0, -0.001]
-[[contact]]
-bodies = ["strip", "foundation"]
-region = [0, 100, 0.9875, 1.0125]
-"#;
-    let scene = Scene::from_toml(toml).unwrap();
-    let meshes = mesh_scene(&scene, &MeshLimits::default()).unwrap();
-    ScaledQp::new(assemble(&scene, meshes).unwrap().qp).problem
+    let sizes = common::StripSizes {
+        length: 100.0,
+        hmax: 0.05,
+        strip: 0.05,
+        foundation: 0.1,
+        band: 0.0125,
+    };
+    let scene = common::strip_scene_of(sizes, false, (0.0, 100.0));
+    ScaledQp::new(common::qp_of(&scene)).problem
 }
 
 /// dual-ssn either solves the strip (then pdas, whose sparse KKT steps do not go through the

@@ -163,3 +163,22 @@ pub fn probe(report: &signorini_core::report::RunReport, name: &str) -> [f64; 2]
         .expect("the scene names this probe")
         .displacement
 }
+
+/// The run report of `solution` as `signorini solve` writes it (no timings), its residual
+/// verdicts judged at `tol`.
+pub fn report_of(
+    scene: &signorini_core::scene::Scene,
+    model: &signorini_core::model::Model,
+    solution: &signorini_core::solve::Solution,
+    tol: f64,
+) -> signorini_core::report::RunReport {
+    let fields = signorini_core::report::body_fields(model, solution);
+    signorini_core::report::run_report(
+        scene,
+        model,
+        solution,
+        &fields,
+        tol,
+        signorini_core::report::Timings::default(),
+    )
+}

@@ -9,6 +9,7 @@ use std::time::Instant;
 use signorini_qp::{QpProblem, QpStatus};
 
 use super::{count, no_certificate, ActiveSet, Best, Measured, Outcome, Phase1, Timing};
+use crate::coupling::Coupling;
 use crate::error::PdasError;
 use crate::refine::{first_rhs, first_solution, first_solve, refine, SetSolution};
 use crate::update::{SetSolver, SetUpdate};
@@ -86,6 +87,8 @@ struct SetSolve {
     fresh: bool,
     /// The set's first solve, K_F⁻¹ [`first_rhs`], when it was solved in the update's batch.
     first: Option<Vec<f64>>,
+    /// Coulomb's coupling of the set's slipping rows (none without them), built once per step.
+    coupling: Option<Coupling>,
 }
 
 impl ActiveSet<'_> {
@@ -167,15 +170,16 @@ impl ActiveSet<'_> {
         let p = self.problem;
         let delta = self.delta();
         let mut first = None;
+        let coupling = self.coupling(&state.active, &state.signs);
         let update = match &state.factored {
             Some(f)
-                if !state.force_factor && self.prefer_update(f, &state.active, &state.timing) =>
+                if !state.force_factor
+                    && self.prefer_update(f, &state.active, &state.timing, coupling.is_none()) =>
             {
                 let (_, missing) = self.cache.need(f, &state.active);
                 // The set's first solve joins the batch of the missing columns (one pass over
                 // the factor for both), except with Coulomb's coupling, whose solves iterate.
-                first = self
-                    .coupling(&state.active, &state.signs)
+                first = coupling
                     .is_none()
                     .then(|| first_rhs(p, &state.active, self.fixed_of(state).as_deref()));
                 let clock = Instant::now();
@@ -213,6 +217,7 @@ impl ActiveSet<'_> {
             update,
             fresh,
             first,
+            coupling,
         })
     }
 
@@ -232,11 +237,10 @@ impl ActiveSet<'_> {
         let p = self.problem;
         let limits = self.limits();
         let fixed = self.fixed_of(state);
-        let coupling = self.coupling(&state.active, &state.signs);
         let mut solver = SetSolver {
             factor: &mut self.factor,
             update: set_solve.update.as_ref(),
-            coupling: coupling.as_ref(),
+            coupling: set_solve.coupling.as_ref(),
         };
         let clock = Instant::now();
         let mut solution = match set_solve.first.take() {
@@ -255,7 +259,7 @@ impl ActiveSet<'_> {
             let mut solver = SetSolver {
                 factor: &mut self.factor,
                 update: set_solve.update.as_ref(),
-                coupling: coupling.as_ref(),
+                coupling: set_solve.coupling.as_ref(),
             };
             refine(
                 p,
