@@ -95,3 +95,104 @@ fn where_the_time_goes_on_the_strip() {
         );
     }
 }
+
+/// K's ordering from A's: AMD of A, each multiplier placed right after the last of its DOFs.
+fn ordering_after_dofs(p: &QpProblem) -> signorini_qp::linalg::FillOrdering {
+    ordering_after(p, &fill_reducing_order(&p.stiffness).unwrap())
+}
+
+/// K's ordering from the AMD of A + BᵀB (the pattern a penalty coupling would have), each
+/// multiplier right after the last of its DOFs.
+fn ordering_penalty(p: &QpProblem) -> signorini_qp::linalg::FillOrdering {
+    let b = p.constraints.to_csc();
+    let bt = b.transpose_view().to_csc();
+    let btb = &bt * &b;
+    let coupled = &p.stiffness + &btb;
+    ordering_after(p, &fill_reducing_order(&coupled).unwrap())
+}
+
+/// Each multiplier placed right after the last of its DOFs in `a_order` (an ordering of n DOFs).
+fn ordering_after(
+    p: &QpProblem,
+    a_order: &signorini_qp::linalg::FillOrdering,
+) -> signorini_qp::linalg::FillOrdering {
+    let n = p.dofs();
+    let m = p.rows();
+    let b = p.constraints.to_csr();
+    let mut keys: Vec<(usize, usize)> = (0..n).map(|j| (2 * a_order.inverse[j], j)).collect();
+    for (r, row) in b.outer_iterator().enumerate() {
+        let last = row
+            .iter()
+            .map(|(j, _)| a_order.inverse[j])
+            .max()
+            .unwrap_or(n);
+        keys.push((2 * last + 1, n + r));
+    }
+    keys.sort_unstable();
+    let forward: Vec<usize> = keys.into_iter().map(|(_, i)| i).collect();
+    let mut inverse = vec![0; n + m];
+    for (new, &old) in forward.iter().enumerate() {
+        inverse[old] = new;
+    }
+    signorini_qp::linalg::FillOrdering {
+        forward,
+        inverse,
+        method: signorini_qp::linalg::OrderingMethod::Amd,
+    }
+}
+
+#[test]
+#[ignore = "measurement, run by hand"]
+fn kkt_orderings_on_the_tresca_strip() {
+    use signorini_core::scene::Friction;
+    use signorini_qp::linalg::{CholeskyPattern, Layout};
+    for tresca in [false, true] {
+        let mut scene = common::strip_scene(20.0, false, (0.0, 20.0));
+        if tresca {
+            scene.contacts[0].friction = Some(Friction::Tresca(1e-4));
+        }
+        let p = signorini_core::solve::ScaledQp::new(common::qp_of(&scene)).problem;
+        let kkt = KktMatrix::new(&p).unwrap();
+        let k = kkt.matrix();
+        let amd_a = median(|| timed(|| drop(fill_reducing_order(&p.stiffness).unwrap())));
+        let amd_k = median(|| timed(|| drop(fill_reducing_order(k).unwrap())));
+        let after = median(|| timed(|| drop(ordering_after_dofs(&p))));
+        let nnz = |o: &signorini_qp::linalg::FillOrdering| {
+            CholeskyPattern::analyse_laid_out(k, o, Layout::FaerChoice)
+                .unwrap()
+                .stored_values()
+        };
+        let exact = |o: &signorini_qp::linalg::FillOrdering| {
+            signorini_qp::linalg::column_counts(k, &o.inverse)
+                .unwrap()
+                .iter()
+                .sum::<usize>()
+        };
+        let penalty = median(|| timed(|| drop(ordering_penalty(&p))));
+        let o_pen = ordering_penalty(&p);
+        println!(
+            "  penalty-graph ordering {penalty:.1} ms: stored {:.3e} exact {:.3e}",
+            nnz(&o_pen) as f64,
+            exact(&o_pen) as f64
+        );
+        let o_k = fill_reducing_order(k).unwrap();
+        let o_after = ordering_after_dofs(&p);
+        let a_pattern = CholeskyPattern::analyse_laid_out(
+            &p.stiffness,
+            &fill_reducing_order(&p.stiffness).unwrap(),
+            Layout::FaerChoice,
+        )
+        .unwrap();
+        println!(
+            "tresca {tresca}: n {} m {}; AMD(A) {amd_a:.1} ms, AMD(K) {amd_k:.1} ms, after-DOFs {after:.1} ms; \
+             nnz(L_A) {:.3e}; K by AMD(K): stored {:.3e} exact {:.3e}; by after-DOFs: stored {:.3e} exact {:.3e}",
+            p.dofs(),
+            p.rows(),
+            a_pattern.stored_values() as f64,
+            nnz(&o_k) as f64,
+            exact(&o_k) as f64,
+            nnz(&o_after) as f64,
+            exact(&o_after) as f64,
+        );
+    }
+}
