@@ -261,3 +261,27 @@ fn clarabel_agrees_where_its_tolerance_binds() {
         assert!((a[1] - b[1]).abs() <= 1e-6 * settle, "{name}: {a:?} {b:?}");
     }
 }
+
+/// A tolerance below what double precision can certify here (this strip's residuals settle at
+/// ~1e-12, the round-off of forming them): pdas's interior-point steps find the contact set,
+/// its crossover solves and refines that set, the set reproduces itself — and then pdas says
+/// so (`inaccurate`, "settled") instead of taking interior steps towards the same answer until
+/// its iteration cap (before: `max-iterations` after 100 iterations; on a 1000 × 0.05 strip with
+/// m = 20 001 rows, 40 s).
+#[test]
+fn pdas_stops_at_a_settled_set_that_cannot_meet_the_tolerance() {
+    let tol = 1e-15;
+    let answer = solve_with(BackendKind::Pdas, tol);
+    let message = answer.report.message.clone().unwrap_or_default();
+    assert_eq!(answer.status, QpStatus::Inaccurate, "{message}");
+    assert!(message.contains("settled"), "{message}");
+    // 3 plain steps, the interior steps (2 at the default tolerance) and the crossover's
+    // exact solves: far below the cap of 100 it ran into before.
+    assert!(
+        answer.report.iterations <= 20,
+        "{}",
+        answer.report.iterations
+    );
+    // The answer is the contact set of the default tolerance's answer (403 rows).
+    assert_eq!(answer.report.active_constraints, 403);
+}

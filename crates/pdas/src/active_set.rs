@@ -575,6 +575,22 @@ fn primal_ray(problem: &QpProblem, multipliers: &[f64]) -> Option<FarkasRay> {
 /// "; why the multipliers are no certificate" when gᵀλ⁺ < 0 but λ⁺ does not certify
 /// infeasibility (nor did the last correction, or [`ActiveSet::certificate`] would have
 /// stopped), else "".
+/// The message of a set that reproduces itself while its refined answer misses the tolerance
+/// (the refinement stopped at the round-off of forming the residuals, or stalled): `rows`
+/// active rows, the answer's worst scaled KKT residual `worst`, the refined KKT system's
+/// residual `system`, and why no infeasibility certificate was issued.
+fn settled_message(
+    problem: &QpProblem,
+    rows: usize,
+    (worst, system): (f64, f64),
+    multipliers: &[f64],
+) -> String {
+    format!(
+        "active set of {rows} rows settled but the KKT residuals ({worst:.1e}, refined KKT system {system:.1e}) miss the tolerance{}",
+        no_certificate(problem, multipliers)
+    )
+}
+
 fn no_certificate(problem: &QpProblem, multipliers: &[f64]) -> String {
     primal_ray(problem, multipliers)
         .filter(|ray| ray.gap_fraction > 0.0)

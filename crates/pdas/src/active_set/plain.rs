@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use signorini_qp::{QpProblem, QpStatus};
 
-use super::{count, no_certificate, ActiveSet, Best, Measured, Outcome, Phase1, Timing};
+use super::{count, settled_message, ActiveSet, Best, Measured, Outcome, Phase1, Timing};
 use crate::coupling::Coupling;
 use crate::error::PdasError;
 use crate::refine::{first_rhs, first_solution, first_solve, refine, SetSolution};
@@ -378,12 +378,11 @@ impl ActiveSet<'_> {
             ));
         }
         if stalled {
-            let message = format!(
-                "active set of {} rows settled but the KKT residuals ({:.1e}, refined KKT system {:.1e}) miss the tolerance{}",
+            let message = settled_message(
+                p,
                 count(&state.active),
-                step.worst,
-                solution.residual,
-                no_certificate(p, &solution.multipliers)
+                (step.worst, solution.residual),
+                &solution.multipliers,
             );
             return Flow::Done(self.finish(
                 state.best.take(),
