@@ -22,6 +22,9 @@ use crate::output::OutputError;
 use crate::qp_files::{self, QpFileError};
 use crate::run::{self, RunError};
 
+mod fclib;
+pub use fclib::compare_fclib;
+
 /// One backend's row of the comparison.
 #[derive(Debug, Clone, Serialize)]
 pub struct CompareRow {
@@ -49,6 +52,10 @@ pub struct CompareRow {
     /// The backend's note, if any.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub message: Option<String>,
+    /// `compare --fclib`: how far this answer lies from the file's stored `/solution`
+    /// (absent without one, and for a scene or QP files).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stored: Option<crate::fclib_import::StoredDifference>,
 }
 
 /// `compare.json`.
@@ -123,6 +130,7 @@ pub fn compare(
         difference: nodal_difference,
         // solve's own verdict, derived numbers (stresses, reactions) included.
         check: &|s| run::checked(scene, model, s, options.tol),
+        stored: None,
     };
     let runs = run_backends(model, &qp, kinds, options, &judge, progress)?;
     Ok(CompareReport {
@@ -163,6 +171,8 @@ struct Judge<'a> {
     /// The verdict `solve` would give the answer ([`run::checked`] for a scene; the core's own,
     /// already applied, for a QP from files, which has no derived numbers).
     check: &'a dyn Fn(Solution) -> Solution,
+    /// `compare --fclib` with a stored solution: how far an answer lies from it.
+    stored: Option<&'a dyn Fn(&Solution) -> crate::fclib_import::StoredDifference>,
 }
 
 /// The floor, then every backend of `kinds` on `qp`, each answer checked by `judge.check`, each
@@ -218,6 +228,7 @@ fn run_backends(
                     .count(),
                 residuals: s.residuals,
                 message: s.message.clone(),
+                stored: judge.stored.map(|f| f(s)),
             }
         })
         .collect();
@@ -349,6 +360,9 @@ pub enum QpCompareError {
     /// The QP has no constraint row: nothing for the backends to compete on.
     #[error("{0}: B has no row, so the QP is one linear solve and no QP backend runs: nothing to compare")]
     NoRows(String),
+    /// The FCLIB file was refused (exit code 1).
+    #[error(transparent)]
+    Fclib(#[from] crate::fclib::FclibError),
     /// The factor of A would not fit in memory (exit code 3).
     #[error(transparent)]
     Preflight(#[from] signorini_core::preflight::PreflightError),
@@ -388,6 +402,7 @@ pub fn compare_qp(
         force_scale,
         difference: componentwise_difference,
         check: &std::convert::identity,
+        stored: None,
     };
     let mut runs = run_backends(&model, &qp, kinds, options, &judge, progress)?;
     // A dual-form backend needs A⁻¹, or A's null space when A is singular (a body held by
@@ -417,16 +432,36 @@ pub fn compare_qp(
         }
     }
     let source = files.dir.display().to_string();
-    Ok(CompareReport {
+    let scene = match &files.title {
+        Some(title) => format!("QP from {source} (exported from \"{title}\")"),
+        None => format!("QP from {source}"),
+    };
+    Ok(file_report(
+        scene,
+        source,
+        (dofs, constraints),
+        options.tol,
+        read_s,
+        runs,
+    ))
+}
+
+/// The report of a comparison on a problem read from files (no mesh, no assembly).
+fn file_report(
+    scene: String,
+    source: String,
+    (dofs, constraints): (usize, usize),
+    tolerance: f64,
+    read_s: f64,
+    runs: Runs,
+) -> CompareReport {
+    CompareReport {
         provenance: None,
-        scene: match &files.title {
-            Some(title) => format!("QP from {source} (exported from \"{title}\")"),
-            None => format!("QP from {source}"),
-        },
+        scene,
         source: Some(source),
         dofs,
         constraints,
-        tolerance: options.tol,
+        tolerance,
         mesh_s: None,
         assemble_s: None,
         read_s: Some(read_s),
@@ -436,7 +471,7 @@ pub fn compare_qp(
         floor_regularised: runs.floor_regularised,
         reference: runs.reference,
         backends: runs.backends,
-    })
+    }
 }
 
 /// The comparison as a fixed-width text table.
@@ -497,6 +532,14 @@ pub fn table(report: &CompareReport) -> String {
             r.residuals.complementarity,
             r.residuals.min_multiplier
         ));
+    }
+    for r in &report.backends {
+        if let Some(d) = r.stored {
+            t.push_str(&format!(
+                "  {:<11} against the file's /solution: max|Δv|/max|v| {:.1e}, max|Δr|/max|r| {:.1e}\n",
+                r.backend, d.v, d.r
+            ));
+        }
     }
     if let Some(eps) = report.floor_regularised {
         t.push_str(&format!(
@@ -579,5 +622,6 @@ fn error_row(backend: &str, message: &str) -> CompareRow {
         active: 0,
         residuals: signorini_core::qp::KktResiduals::UNMEASURABLE,
         message: Some(message.to_string()),
+        stored: None,
     }
 }

@@ -21,7 +21,7 @@
 //! | `RunError` | as its scene, preflight, solve or output error, or a mesh error of its model; else its causes decide |
 //! | `SweepError` | 3 for its output error and for a run error that decides 3, else its causes decide |
 //! | `MergeError` | 3 for its output error, else its causes decide |
-//! | `FclibError` | 1 for a scene FCLIB cannot state (Tresca, a load path, sizes past 32 bits), else 3 |
+//! | `FclibError` | 1 for a scene FCLIB cannot state (Tresca, sizes past 32 bits) and a file that cannot be read or states what our QP cannot, else 3 |
 //!
 //! Adding an error type is one [`ExitClass`] impl here (a name in `always!` when it always
 //! decides the same code) plus one entry in [`CAUSES`].
@@ -129,9 +129,11 @@ always!(Exit::Resource => std::io::Error, OutputError, Resource, PreflightError)
 impl ExitClass for FclibError {
     fn exit(&self) -> Option<Exit> {
         Some(match self {
-            FclibError::Tresca { .. } | FclibError::LoadPath | FclibError::TooLarge { .. } => {
-                Exit::Input
-            }
+            FclibError::Tresca { .. }
+            | FclibError::LoadPath
+            | FclibError::TooLarge { .. }
+            | FclibError::Read { .. }
+            | FclibError::Format { .. } => Exit::Input,
             FclibError::Rows { .. } | FclibError::Hdf5 { .. } | FclibError::Io { .. } => {
                 Exit::Resource
             }
@@ -302,6 +304,14 @@ mod tests {
             (MergeError::Output(locked()).into(), Exit::Resource),
             (FclibError::LoadPath.into(), Exit::Input),
             (FclibError::Tresca { pair: 1 }.into(), Exit::Input),
+            (
+                FclibError::Format {
+                    path: "p.hdf5".into(),
+                    reason: "spacedim = 3".into(),
+                }
+                .into(),
+                Exit::Input,
+            ),
             (
                 FclibError::Io {
                     path: "p.hdf5".into(),

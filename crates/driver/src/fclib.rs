@@ -16,8 +16,16 @@
 //! gap, u_T = −(Bₜx − gₜ) the slip seen from the master, r = (λₙ, λₜ), and stationarity
 //! A x = f − Bᵀλ is M v = H r + f.  A contact without friction has μ = 0 and a zero tangential
 //! column.  The unknowns are the free DOFs, the values the user's units (as the Matrix Market
-//! export).  Tresca's fixed bound is not a Coulomb cone, and a load path's slip is measured from
-//! the previous increment: both are refused rather than written as a different problem.
+//! export).  Tresca's fixed bound is not a Coulomb cone: it is refused rather than written as a
+//! different problem.
+//!
+//! A load path (`[[step]]`) is written as FCLIB's libraries hold sequences of problems (LMGC90's
+//! and Siconos' dumps: one file per solved problem, its number the last `-`-separated field of
+//! the name, e.g. `LMGC_Cubes_H8-i00012-361-00041.hdf5`): one file per increment,
+//! `STEM-00001.hdf5`, `STEM-00002.hdf5`, … beside FILE ([`numbered`]).  Each is the increment's
+//! own problem: f and the normal gaps of its loads and prescribed values, and on each tangential
+//! entry of w the tangential gap B_t u_prev of the previous converged increment, so that u_T is
+//! this increment's slip (friction's history, docs/scene.md "Load steps").
 //!
 //! Layout (as FCLIB's `fclib_write_global` and `fclib_write_solution` write it): `/fclib_global`
 //! with `spacedim` (int), the groups `M` and `H` (CSparse compressed columns: `nzmax`, `m`, `n`,
@@ -44,7 +52,7 @@ pub enum FclibError {
         pair: usize,
     },
     /// A load path.
-    #[error("the scene has [[step]] tables: FCLIB holds one problem, and a load path's slip is measured from the previous increment; export a single-step scene")]
+    #[error("the scene has [[step]] tables: one FCLIB problem holds one increment (its slip measured from the previous one); write one file per increment (`FclibGlobal::increment`, `numbered`)")]
     LoadPath,
     /// The model and its QP disagree (a bug, reported rather than written).
     #[error("the QP has {qp} rows, the model {model}: nothing written")]
@@ -69,6 +77,22 @@ pub enum FclibError {
         path: PathBuf,
         /// HDF5's error.
         source: hdf5::Error,
+    },
+    /// Reading an FCLIB file: it is missing, not HDF5, or lacks a dataset FCLIB requires.
+    #[error("reading {path}: {source}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// HDF5's error.
+        source: hdf5::Error,
+    },
+    /// An FCLIB file whose contents our QP cannot state or that contradict each other.
+    #[error("{path}: {reason}")]
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
     },
     /// Moving the finished file into place.
     #[error("moving the finished file to {path}: {source}")]
@@ -153,11 +177,13 @@ pub struct FclibSolution {
     pub r: Vec<f64>,
 }
 
+/// Refuses a model FCLIB cannot state (a Tresca pair): to check before any solve.
+pub fn check_laws(model: &Model) -> Result<(), FclibError> {
+    contacts(model).map(|_| ())
+}
+
 /// Per contact (normal row): its tangential row and μ, if the node has friction.
-fn contacts(scene: &Scene, model: &Model) -> Result<Vec<Option<(usize, f64)>>, FclibError> {
-    if !scene.steps.is_empty() {
-        return Err(FclibError::LoadPath);
-    }
+fn contacts(model: &Model) -> Result<Vec<Option<(usize, f64)>>, FclibError> {
     let first = model.normal_rows();
     let mut links = vec![None; first];
     for (slot, t) in model.tangential.iter().enumerate() {
@@ -174,15 +200,41 @@ fn contacts(scene: &Scene, model: &Model) -> Result<Vec<Option<(usize, f64)>>, F
 }
 
 impl FclibGlobal {
-    /// The FCLIB form of `qp`, the reduced problem of `model` (see the module docs).
+    /// The FCLIB form of `qp`, the reduced problem of `model` (see the module docs); a scene
+    /// with a load path is refused (see [`FclibGlobal::increment`]).
     pub fn of(scene: &Scene, model: &Model, qp: &QpProblem) -> Result<Self, FclibError> {
+        if !scene.steps.is_empty() {
+            return Err(FclibError::LoadPath);
+        }
+        Self::of_increment(scene, model, qp, None)
+    }
+
+    /// The FCLIB form of one increment of a load path: `qp` is that increment's problem
+    /// ([`signorini_core::solve::increment_problem`]: its w holds the gaps of this increment
+    /// and, on each tangential entry, B_t u of the previous converged increment, so that u_T is
+    /// this increment's slip); `label` (step, increment) goes into the title.
+    pub fn increment(
+        scene: &Scene,
+        model: &Model,
+        qp: &QpProblem,
+        label: (usize, usize),
+    ) -> Result<Self, FclibError> {
+        Self::of_increment(scene, model, qp, Some(label))
+    }
+
+    fn of_increment(
+        scene: &Scene,
+        model: &Model,
+        qp: &QpProblem,
+        label: Option<(usize, usize)>,
+    ) -> Result<Self, FclibError> {
         if qp.rows() != model.gap.len() {
             return Err(FclibError::Rows {
                 qp: qp.rows(),
                 model: model.gap.len(),
             });
         }
-        let links = contacts(scene, model)?;
+        let links = contacts(model)?;
         let b = qp.constraints.to_csr();
         let n = qp.dofs();
         let mut h = sprs::TriMat::new((n, 2 * links.len()));
@@ -210,7 +262,12 @@ impl FclibGlobal {
             f: qp.load.clone(),
             w,
             mu,
-            title: scene.title.clone(),
+            title: match label {
+                Some((step, increment)) => {
+                    format!("{} (step {step}, increment {increment})", scene.title)
+                }
+                None => scene.title.clone(),
+            },
             description: format!(
                 "signorini: 2D linear-elastic contact, plane {}, {} unknowns (free DOFs), {} contacts; \
                  M is the stiffness (quasi-static: v is the displacement), r = (normal, tangential) \
@@ -256,6 +313,20 @@ impl FclibGlobal {
         }
         FclibSolution { v, u, r }
     }
+}
+
+/// The file of increment `k` (1-based) of a load path exported to `file`: `STEM-0000k.EXT`
+/// beside it (five digits, more when k needs them; `.hdf5` when `file` has no extension).
+pub fn numbered(file: &Path, k: usize) -> PathBuf {
+    let stem = file
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let ext = file
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "hdf5".to_string());
+    file.with_file_name(format!("{stem}-{k:05}.{ext}"))
 }
 
 /// Up to 1024 ASCII characters of `text` (others become `?`), as FCLIB's fixed-length strings.

@@ -14,6 +14,7 @@ pub mod digest;
 pub mod exit;
 pub mod export;
 pub mod fclib;
+pub mod fclib_import;
 pub mod outdir;
 pub mod output;
 pub mod plots;

@@ -10,14 +10,14 @@ use std::time::{Duration, Instant};
 use crate::linalg::{
     fill_reducing_order, CholeskyPattern, FactorInfo, Layout, LinalgError, SparseCholesky,
 };
-use crate::model::{Model, ModelError};
+use crate::model::{Increment, Model, ModelError};
 use crate::qp::{
     checked_status, kkt_residuals, mat_t_vec, CscMatrix, KktResiduals, QpBackend, QpError,
     QpProblem, QpScaling, QpSolution, QpStatus, SolveOptions,
 };
 
 pub use coulomb::{CoulombRun, MAX_OUTER};
-pub use path::StepRecord;
+pub use path::{increment_problem, StepRecord};
 
 /// Name reported when no QP was needed.
 pub const DIRECT: &str = "cholesky";
@@ -120,8 +120,23 @@ pub fn solve_scaled(
     backend: &mut dyn QpBackend,
     options: &SolveOptions,
 ) -> Result<Solution, SolveError> {
+    solve_scaled_each(model, qp, backend, options, &mut |_, _| {})
+}
+
+/// [`solve_scaled`], handing `each` every increment of a load path and its answer (prescribed
+/// values included) as soon as it is known; `each` is not called without a load path of more
+/// than one increment.  (`signorini export --fclib` writes one problem per increment this way.)
+pub fn solve_scaled_each(
+    model: &Model,
+    qp: &ScaledQp,
+    backend: &mut dyn QpBackend,
+    options: &SolveOptions,
+    each: &mut dyn FnMut(&Increment, &Solution),
+) -> Result<Solution, SolveError> {
     match &model.path {
-        Some(path) if path.increments.len() > 1 => path::along(model, path, qp, backend, options),
+        Some(path) if path.increments.len() > 1 => {
+            path::along(model, path, qp, backend, options, each)
+        }
         _ => solve_one(model, qp, backend, options),
     }
 }

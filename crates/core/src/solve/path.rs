@@ -15,7 +15,7 @@ use serde::Serialize;
 
 use super::{solve_one, ScaledQp, Solution, SolveError};
 use crate::model::{Increment, LoadPath, Model};
-use crate::qp::{mat_vec, QpBackend, QpStatus, SolveOptions, WarmStart};
+use crate::qp::{mat_vec, QpBackend, QpProblem, QpStatus, SolveOptions, WarmStart};
 
 /// What one increment did (`result.json`'s `steps`).
 #[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
@@ -34,13 +34,15 @@ pub struct StepRecord {
     pub outer_iterations: Option<usize>,
 }
 
-/// Solves every increment of `path` in order (see the module docs).
+/// Solves every increment of `path` in order (see the module docs); `each` sees every
+/// increment's answer (prescribed values included) as soon as it is known.
 pub(super) fn along(
     model: &Model,
     path: &LoadPath,
     qp: &ScaledQp,
     backend: &mut dyn QpBackend,
     options: &SolveOptions,
+    each: &mut dyn FnMut(&Increment, &Solution),
 ) -> Result<Solution, SolveError> {
     let mut records = Vec::with_capacity(path.increments.len());
     let mut previous: Option<Vec<f64>> = None;
@@ -57,6 +59,7 @@ pub(super) fn along(
         for (&d, &v) in model.fixed_dofs.iter().zip(&prescribed) {
             solution.displacement[d] = v;
         }
+        each(increment, &solution);
         elapsed += solution.solve_time;
         iterations += solution.iterations;
         records.push(StepRecord {
@@ -115,6 +118,52 @@ fn increment_qp(
 ) -> ScaledQp {
     let units = qp.scaling;
     let force = units.stiffness * units.displacement;
+    let (load, gap) = increment_data(
+        model,
+        path,
+        increment,
+        prescribed,
+        previous,
+        (units.displacement, force),
+    );
+    let mut problem = qp.problem.clone();
+    problem.load = load;
+    problem.gap = gap;
+    ScaledQp {
+        problem,
+        scaling: units,
+    }
+}
+
+/// The QP of one increment in the scene's units: `qp` (the model's QP, in the scene's units;
+/// A and B are every increment's) with this increment's f̃ = f_F − K_FD u_D and g̃ = g − B_D u_D,
+/// each tangential row's gap B_t u_prev (`previous`: the full displacement of the increment
+/// before, `None` for the first), so that the row's value B_t u − g_t is this increment's slip.
+/// What an increment of [`solve_scaled`](super::solve_scaled) solves, before scaling.
+pub fn increment_problem(
+    model: &Model,
+    path: &LoadPath,
+    qp: &QpProblem,
+    increment: &Increment,
+    previous: Option<&[f64]>,
+) -> QpProblem {
+    let prescribed = path.prescribed_at(&increment.factors);
+    let (load, gap) = increment_data(model, path, increment, &prescribed, previous, (1.0, 1.0));
+    let mut problem = qp.clone();
+    problem.load = load;
+    problem.gap = gap;
+    problem
+}
+
+/// f̃ / force unit and g̃ / length unit of one increment (see [`increment_problem`]).
+fn increment_data(
+    model: &Model,
+    path: &LoadPath,
+    increment: &Increment,
+    prescribed: &[f64],
+    previous: Option<&[f64]>,
+    (length, force): (f64, f64),
+) -> (Vec<f64>, Vec<f64>) {
     let dofs = model.dofs.len();
     let load = path.load_at(&increment.factors);
     // K_FD u_D on every DOF (the support columns times the prescribed values).
@@ -133,7 +182,7 @@ fn increment_qp(
             } else {
                 slip_from.as_ref().map_or(0.0, |bu| bu[i])
             };
-            (g - b_d[i]) / units.displacement
+            (g - b_d[i]) / length
         })
         .collect();
     let f: Vec<f64> = model
@@ -141,11 +190,5 @@ fn increment_qp(
         .iter()
         .map(|&d| (load[d] - lift[d]) / force)
         .collect();
-    let mut problem = qp.problem.clone();
-    problem.load = f;
-    problem.gap = gap;
-    ScaledQp {
-        problem,
-        scaling: units,
-    }
+    (f, gap)
 }

@@ -31,6 +31,11 @@ pub(crate) struct CompareArgs {
     /// B.mtx, g.mtx (the layout `export` writes; docs/scene.md), from this or another code.
     #[arg(long, value_name = "DIR", conflicts_with_all = ["scene", "max_elements"])]
     pub(crate) qp: Option<PathBuf>,
+    /// Instead of a scene: an FCLIB global problem (HDF5, spacedim 2: M, H, f, w, mu), as
+    /// `export --fclib` writes it or another code (Siconos, LMGC90) does; each backend's answer
+    /// is also measured against the file's stored /solution (docs/comparing-solvers.md).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "max_elements", "qp"])]
+    pub(crate) fclib: Option<PathBuf>,
 }
 
 pub(crate) fn compare(args: &CompareArgs) -> Result<Exit> {
@@ -45,21 +50,25 @@ pub(crate) fn compare(args: &CompareArgs) -> Result<Exit> {
         bar.set_message(name.to_string());
         bar.inc(1);
     };
-    let report = match qp {
-        Some(dir) => {
-            use signorini::compare::QpCompareError;
-            // Each cause as its own error, so that `classify` sees it (a transparent wrapper
-            // would hide it): refused files exit 1, a factor that does not fit exits 3.
-            signorini::compare::compare_qp(dir, &kinds, &options, progress).map_err(
-                |e| match e {
-                    QpCompareError::Files(e) => anyhow::Error::new(e),
-                    QpCompareError::Preflight(e) => anyhow::Error::new(e),
-                    QpCompareError::Run(e) => anyhow::Error::new(e),
-                    e @ QpCompareError::NoRows(_) => anyhow::Error::new(e),
-                },
-            )?
+    use signorini::compare::QpCompareError;
+    // Each cause as its own error, so that `classify` sees it (a transparent wrapper would hide
+    // it): refused files exit 1, a factor that does not fit exits 3.
+    let cause = |e: QpCompareError| match e {
+        QpCompareError::Files(e) => anyhow::Error::new(e),
+        QpCompareError::Fclib(e) => anyhow::Error::new(e),
+        QpCompareError::Preflight(e) => anyhow::Error::new(e),
+        QpCompareError::Run(e) => anyhow::Error::new(e),
+        e @ QpCompareError::NoRows(_) => anyhow::Error::new(e),
+    };
+    let fclib = args.fclib.as_deref();
+    let report = match (qp, fclib) {
+        (Some(dir), _) => {
+            signorini::compare::compare_qp(dir, &kinds, &options, progress).map_err(cause)?
         }
-        None => {
+        (None, Some(file)) => {
+            signorini::compare::compare_fclib(file, &kinds, &options, progress).map_err(cause)?
+        }
+        (None, None) => {
             let scene = run::load_scene(common.scene.as_deref())?;
             signorini::compare::compare(&scene, &kinds, &options, &limits(common), progress)?
         }
@@ -79,10 +88,12 @@ pub(crate) fn compare(args: &CompareArgs) -> Result<Exit> {
         chain: Vec::new(),
         coulomb: options.coulomb,
     };
-    report.provenance = Some(match qp {
-        Some(dir) => signorini::contract::qp_provenance(dir, settings)
+    report.provenance = Some(match (qp, fclib) {
+        (Some(dir), _) => signorini::contract::qp_provenance(dir, settings)
             .with_context(|| format!("reading {} for its hash", dir.display()))?,
-        None => signorini::contract::provenance(common.scene.as_deref(), settings)?,
+        (None, Some(file)) => signorini::contract::provenance(Some(file), settings)
+            .with_context(|| format!("reading {} for its hash", file.display()))?,
+        (None, None) => signorini::contract::provenance(common.scene.as_deref(), settings)?,
     });
     let written = signorini::compare::write(out, &report)
         .with_context(|| format!("writing comparison to {}", out.display()))?;

@@ -7,9 +7,10 @@ use signorini::auto::AutoBackend;
 use signorini::exit::Exit;
 use signorini::fclib::{self, FclibGlobal};
 use signorini::run;
+use signorini_core::model::{Increment, LoadPath};
 use signorini_core::qp::{QpStatus, SolveOptions};
 use signorini_core::scene::Scene;
-use signorini_core::solve;
+use signorini_core::solve::{self, Solution};
 
 use crate::args::{limits, Common};
 use crate::console::Console;
@@ -56,6 +57,9 @@ pub(crate) fn export(args: &ExportArgs) -> Result<Exit> {
 /// then the default backend's answer; a problem whose answer is not `solved` is written without
 /// a solution, said on stderr, and exits with its status.
 fn export_fclib(file: &Path, scene: &Scene, prepared: run::Prepared) -> Result<Exit> {
+    if let Some(path) = &prepared.model.path {
+        return export_fclib_path(file, scene, &prepared, path);
+    }
     let problem = FclibGlobal::of(scene, &prepared.model, &prepared.qp)?;
     let mut backend = AutoBackend::default();
     let qp = solve::ScaledQp::new(prepared.qp);
@@ -81,6 +85,77 @@ fn export_fclib(file: &Path, scene: &Scene, prepared: run::Prepared) -> Result<E
             "warning: the default backend ended `{}`: {} has no /solution",
             solution.status,
             file.display()
+        );
+        Ok(Exit::NotSolved)
+    }
+}
+
+/// `--fclib FILE` of a scene with a load path: the whole path solved by the default backend,
+/// then one FCLIB file per increment (`STEM-00001.hdf5`, … beside FILE: see
+/// [`fclib::numbered`]), each its increment's own problem with that increment's answer.  A path
+/// stops at the first increment not `solved` (later ones depend on its state): its file is
+/// written without a solution, later ones not at all, and the exit is its status.
+fn export_fclib_path(
+    file: &Path,
+    scene: &Scene,
+    prepared: &run::Prepared,
+    path: &LoadPath,
+) -> Result<Exit> {
+    let model = &prepared.model;
+    // Refused (Tresca) before any solve.
+    fclib::check_laws(model)?;
+    let mut backend = AutoBackend::default();
+    let qp = solve::ScaledQp::new(prepared.qp.clone());
+    let mut answers: Vec<(Increment, Solution)> = Vec::with_capacity(path.increments.len());
+    let last = solve::solve_scaled_each(
+        model,
+        &qp,
+        &mut backend,
+        &SolveOptions::default(),
+        &mut |increment, solution| answers.push((increment.clone(), solution.clone())),
+    )?;
+    if answers.is_empty() {
+        // One increment: solved as the only QP, without the per-increment hook.
+        if let Some(only) = path.increments.first() {
+            answers.push((only.clone(), last.clone()));
+        }
+    }
+    let mut con = Console::new();
+    let mut previous: Option<&[f64]> = None;
+    for (k, (increment, solution)) in answers.iter().enumerate() {
+        let step_qp = solve::increment_problem(model, path, &prepared.qp, increment, previous);
+        let label = (increment.step, increment.increment);
+        let problem = FclibGlobal::increment(scene, model, &step_qp, label)?;
+        let solved = solution.status == QpStatus::Solved;
+        let answer = solved.then(|| problem.solution(model, solution));
+        let target = fclib::numbered(file, k + 1);
+        fclib::write(&target, &problem, answer.as_ref())
+            .with_context(|| format!("exporting to {}", target.display()))?;
+        con.line(format_args!(
+            "  wrote {} (step {}, increment {}{})",
+            target.display(),
+            increment.step,
+            increment.increment,
+            if solved { "" } else { ", no solution" }
+        ))?;
+        previous = Some(&solution.displacement);
+    }
+    con.line(format_args!(
+        "{}: {} unknowns, {} contacts, {} of {} increments (FCLIB global form, 2D, one file each)",
+        scene.title,
+        prepared.qp.dofs(),
+        model.normal_rows(),
+        answers.len(),
+        path.increments.len()
+    ))?;
+    con.finish()?;
+    if last.status == QpStatus::Solved {
+        Ok(Exit::Success)
+    } else {
+        eprintln!(
+            "warning: the default backend ended `{}`: the path stopped at file {}",
+            last.status,
+            answers.len()
         );
         Ok(Exit::NotSolved)
     }
