@@ -192,7 +192,7 @@ fn refuse_unstiff(problem: &QpProblem, backend: &'static str) -> Result<(), QpEr
 
 /// m = 0: x = A⁺ f (the kernel component is arbitrary and set to zero).
 fn plain_solve(data: &DualData<'_>, tol: f64) -> Outcome {
-    let x = data.base.clone();
+    let x = data.base().to_vec();
     let r = kkt_residuals(data.problem, &x, &[]);
     let (status, message) = if r.meet(tol) {
         (QpStatus::Solved, "no contact rows: one solve".to_string())

@@ -13,6 +13,8 @@
 //! and the gradient of the inner objective is exactly g − B x(λ).  Without a kernel, c = 0 and
 //! x(λ) = A⁻¹(f − Bᵀλ).
 
+use std::cell::OnceCell;
+
 use signorini_qp::{dot, mat_t_vec, mat_vec, norm_inf, QpProblem, QpStatus};
 
 use crate::error::DualError;
@@ -28,8 +30,11 @@ pub struct DualData<'p> {
     pub inverse: StiffnessInverse,
     /// Rigid modes (empty when A is positive definite).
     pub modes: RigidModes,
-    /// A⁺ f.
-    pub base: Vec<f64>,
+    /// A⁺ f, formed when first asked for ([`DualData::base`]).
+    base: OnceCell<Vec<f64>>,
+    /// z = L⁻¹ P f, the forward half of A⁺ f, when the contact DOFs are ordered last: then
+    /// every x(λ) costs one backward substitution ([`StiffnessInverse::solve_shifted`]).
+    forward_load: Option<Vec<f64>>,
     /// c, the augmented-Lagrangian penalty (0 without kernel).
     pub penalty: f64,
     /// μ, the multiplier of G λ = e (length k).
@@ -54,13 +59,16 @@ impl<'p> DualData<'p> {
             contact_last.then_some(&problem.constraints),
             backend,
         )?;
-        let base = inverse.solve(&problem.load);
+        let forward_load = inverse
+            .contact_last()
+            .then(|| inverse.forward(&problem.load));
         let multiplier = vec![0.0; modes.count()];
         Ok(Self {
             problem,
             inverse,
             modes,
-            base,
+            base: OnceCell::new(),
+            forward_load,
             penalty: 0.0,
             multiplier,
         })
@@ -86,9 +94,24 @@ impl<'p> DualData<'p> {
         };
     }
 
-    /// d = B A⁺ f − g.
+    /// A⁺ f (one solve, or its backward half after the forward half made at the start, the
+    /// first time).
+    pub fn base(&self) -> &[f64] {
+        self.base
+            .get_or_init(|| self.free_part(&vec![0.0; self.rows()]))
+    }
+
+    /// d = B A⁺ f − g.  With the contact DOFs last, B A⁺ f needs A⁺ f on them alone:
+    /// L_cc⁻ᵀ z_c, a dense triangular solve ([`StiffnessInverse::contact_part`]).
     pub fn dual_load(&self) -> Vec<f64> {
-        let mut d = mat_vec(&self.problem.constraints, &self.base);
+        let contact = self
+            .forward_load
+            .as_ref()
+            .and_then(|z| self.inverse.contact_part(z));
+        let mut d = match contact {
+            Some(u) => mat_vec(&self.problem.constraints, &u),
+            None => mat_vec(&self.problem.constraints, self.base()),
+        };
         d.iter_mut()
             .zip(&self.problem.gap)
             .for_each(|(di, gi)| *di -= gi);
@@ -109,8 +132,22 @@ impl<'p> DualData<'p> {
         d
     }
 
-    /// u(λ) = A⁺(f − Bᵀλ): one solve.
+    /// u(λ) = A⁺(f − Bᵀλ): one solve, or only its backward half when the contact DOFs are
+    /// ordered last.
     pub fn free_part(&self, multipliers: &[f64]) -> Vec<f64> {
+        let shifted = self.forward_load.as_ref().and_then(|z| {
+            self.inverse
+                .solve_shifted(z, &self.problem.constraints, multipliers)
+        });
+        if let Some(u) = shifted {
+            return u;
+        }
+        self.free_part_full(multipliers)
+    }
+
+    /// u(λ) = A⁺(f − Bᵀλ) by a whole solve of the assembled right-hand side (what
+    /// [`DualData::free_part`] shortens).
+    pub fn free_part_full(&self, multipliers: &[f64]) -> Vec<f64> {
         let mut rhs = mat_t_vec(&self.problem.constraints, multipliers);
         rhs.iter_mut()
             .zip(&self.problem.load)

@@ -161,6 +161,7 @@ mod backend;
 mod dual;
 mod error;
 mod factor;
+mod half_solve_tests;
 mod hessian;
 mod kernel;
 mod measure;

@@ -11,6 +11,10 @@
 //!
 //! which is all the FETI-style dual needs.  This keeps the factor as sparse as A's own.
 
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
+use faer::{Mat, Par};
 use signorini_qp::memory;
 use signorini_qp::CscMatrix;
 
@@ -185,12 +189,71 @@ impl StiffnessInverse {
         self.factor.solve_many_in_place(block);
     }
 
-    /// A⁺ rhs for a full-length right-hand side (zero on fixed DOFs).
-    pub fn solve(&self, rhs: &[f64]) -> Vec<f64> {
+    /// The forward half of A⁺ rhs for a full-length right-hand side (fixed DOFs dropped):
+    /// z = L⁻¹ P rhs_f, in the factor's order.  With the contact DOFs last,
+    /// [`StiffnessInverse::solve_shifted`] then gives A⁺(rhs − Bᵀλ) for any λ with one backward
+    /// substitution.
+    pub fn forward(&self, rhs: &[f64]) -> Vec<f64> {
+        self.factor.forward(&self.reduce(rhs))
+    }
+
+    /// A⁺(rhs − Bᵀλ) from z = [`StiffnessInverse::forward`]`(rhs)`, when the contact DOFs are
+    /// ordered last (`None` otherwise): Bᵀλ lives on the trailing DOFs only, so
+    /// L⁻¹ P Bᵀλ = [0; L_cc⁻¹ (Bᵀλ)_c] — a dense |c| × |c| triangular solve — and the rest is
+    /// one backward substitution, half the sparse work of [`StiffnessInverse::solve`].
+    pub fn solve_shifted(
+        &self,
+        forward_rhs: &[f64],
+        constraints: &CscMatrix,
+        multipliers: &[f64],
+    ) -> Option<Vec<f64>> {
+        if !self.contact_last {
+            return None;
+        }
+        let trailing = self.factor.trailing();
+        let c = self.trailing.len();
+        let mut shift = Mat::<f64>::zeros(c, 1);
+        for (k, &j) in self.trailing.iter().enumerate() {
+            if let Some(col) = constraints.outer_view(j) {
+                shift[(k, 0)] = col.iter().map(|(i, &b)| b * multipliers[i]).sum();
+            }
+        }
+        solve_lower_triangular_in_place(trailing, shift.as_mut(), Par::Seq);
+        let mut w = forward_rhs.to_vec();
+        let first = w.len() - c;
+        for k in 0..c {
+            w[first + k] -= shift[(k, 0)];
+        }
+        Some(self.expand(self.factor.backward(w)))
+    }
+
+    /// A⁺ rhs on the contact DOFs alone, zero elsewhere (a full-length vector B can multiply),
+    /// from z = [`StiffnessInverse::forward`]`(rhs)` when the contact DOFs are ordered last
+    /// (`None` otherwise): the backward substitution's last |c| rows are L_cc⁻ᵀ z_c and need
+    /// nothing before them.
+    pub fn contact_part(&self, forward_rhs: &[f64]) -> Option<Vec<f64>> {
+        if !self.contact_last {
+            return None;
+        }
+        let c = self.trailing.len();
+        let first = forward_rhs.len() - c;
+        let mut tail = Mat::<f64>::from_fn(c, 1, |k, _| forward_rhs[first + k]);
+        solve_upper_triangular_in_place(
+            self.factor.trailing().transpose(),
+            tail.as_mut(),
+            Par::Seq,
+        );
+        let mut u = vec![0.0; self.n];
+        for (k, &j) in self.trailing.iter().enumerate() {
+            u[j] = tail[(k, 0)];
+        }
+        Some(u)
+    }
+
+    /// The reduced right-hand side (fixed DOFs dropped).
+    fn reduce(&self, rhs: &[f64]) -> Vec<f64> {
         if self.reduced.is_empty() {
-            let mut x = rhs.to_vec();
-            self.factor.solve_many_in_place(&mut x);
-            return x;
+            return rhs.to_vec();
         }
         let mut y = vec![0.0; self.reduced_dim()];
         for (i, &r) in self.reduced.iter().enumerate() {
@@ -198,7 +261,14 @@ impl StiffnessInverse {
                 y[r] = rhs[i];
             }
         }
-        self.factor.solve_many_in_place(&mut y);
+        y
+    }
+
+    /// The full-length vector of a reduced one (zero on fixed DOFs).
+    fn expand(&self, y: Vec<f64>) -> Vec<f64> {
+        if self.reduced.is_empty() {
+            return y;
+        }
         let mut x = vec![0.0; self.n];
         for (i, &r) in self.reduced.iter().enumerate() {
             if r != FIXED {
@@ -206,6 +276,13 @@ impl StiffnessInverse {
             }
         }
         x
+    }
+
+    /// A⁺ rhs for a full-length right-hand side (zero on fixed DOFs).
+    pub fn solve(&self, rhs: &[f64]) -> Vec<f64> {
+        let mut y = self.reduce(rhs);
+        self.factor.solve_many_in_place(&mut y);
+        self.expand(y)
     }
 }
 

@@ -13,13 +13,21 @@
 //! factor path ([`CholeskyPattern`], [`SparseCholesky`]).  The same factor serves every later
 //! solve with A.
 
+use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
 use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
-use faer::{Mat, MatRef};
+use faer::{Conj, Mat, MatMut, MatRef, Par};
 use signorini_qp::linalg::{
     fill_reducing_order, CholeskyPattern, FillOrdering, LinalgError, OrderingMethod, SparseCholesky,
 };
 use signorini_qp::CscMatrix;
+
+/// Which half of a solve [`TrailingCholesky::substitute`] makes: L z = b, or Lᵀ x = z.
+#[derive(Debug, Clone, Copy)]
+enum Half {
+    Forward,
+    Backward,
+}
 
 /// A Cholesky factor of A with the `touched` DOFs last, and its dense trailing block.
 #[derive(Debug)]
@@ -34,6 +42,8 @@ pub struct TrailingCholesky {
     ordering: OrderingMethod,
     /// Whether the touched DOFs are last (else the trailing block is empty).
     has_trailing: bool,
+    /// The factor's permutation, new → old.
+    forward: Vec<usize>,
 }
 
 /// Whether ordering the |c| touched DOFs last pays for `rows` contact rows: it adds a dense
@@ -124,6 +134,7 @@ impl TrailingCholesky {
             min_pivot_ratio,
             ordering: method,
             has_trailing,
+            forward,
         })
     }
 
@@ -162,17 +173,77 @@ impl TrailingCholesky {
     pub fn solve_many_in_place(&self, rhs: &mut [f64]) {
         self.factor.solve_many_in_place(rhs);
     }
+
+    /// z = L⁻¹ P rhs, in the factor's order (the first half of a solve: A⁻¹ rhs =
+    /// Pᵀ L⁻ᵀ z, [`TrailingCholesky::backward`]).  Its last |c| entries belong to the trailing
+    /// DOFs, in their order.
+    pub fn forward(&self, rhs: &[f64]) -> Vec<f64> {
+        let mut z: Vec<f64> = self.permutation().iter().map(|&old| rhs[old]).collect();
+        self.substitute(&mut z, Half::Forward);
+        z
+    }
+
+    /// Pᵀ L⁻ᵀ w for w in the factor's order (the second half of a solve, after
+    /// [`TrailingCholesky::forward`]), in the original order.
+    pub fn backward(&self, mut w: Vec<f64>) -> Vec<f64> {
+        self.substitute(&mut w, Half::Backward);
+        let mut x = vec![0.0; w.len()];
+        for (new, &old) in self.permutation().iter().enumerate() {
+            x[old] = w[new];
+        }
+        x
+    }
+
+    /// One triangular substitution through the supernodal L, in place, in the factor's order.
+    fn substitute(&self, v: &mut [f64], half: Half) {
+        let n = v.len();
+        if n == 0 {
+            return;
+        }
+        let llt = self.llt();
+        let req = llt.symbolic().solve_in_place_scratch::<f64>(1, Par::Seq);
+        let mut buffer = MemBuffer::new(req);
+        let rhs = MatMut::from_column_major_slice_mut(v, n, 1);
+        let stack = MemStack::new(&mut buffer);
+        match half {
+            Half::Forward => llt.l_solve_with_conj(Conj::No, rhs, Par::Seq, stack),
+            Half::Backward => llt.l_transpose_solve_with_conj(Conj::No, rhs, Par::Seq, stack),
+        }
+    }
+
+    /// The factor's supernodal view (the factor is supernodal by construction).
+    fn llt(&self) -> SupernodalLltRef<'_, usize, f64> {
+        let (symbolic, values) = self.factor.raw();
+        match symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(supernodal) => {
+                SupernodalLltRef::new(supernodal, values)
+            }
+            SymbolicCholeskyRaw::Simplicial(_) => {
+                unreachable!("TrailingCholesky::factor refuses a simplicial factor")
+            }
+        }
+    }
+
+    /// P as new → old (`forward` of the ordering the factor was analysed with).
+    fn permutation(&self) -> &[usize] {
+        &self.forward
+    }
 }
 
-/// minⱼ Lⱼⱼ² / A_{fwd(j) fwd(j)}.
+/// minⱼ Lⱼⱼ² / A_{fwd(j) fwd(j)}.  A's diagonal is read in one pass in its own order first
+/// (a lookup per pivot in the factor's order would search a column in a random place each).
 fn pivot_ratio(llt: SupernodalLltRef<'_, usize, f64>, a: &CscMatrix, forward: &[usize]) -> f64 {
+    let diagonal: Vec<f64> = a
+        .outer_iterator()
+        .enumerate()
+        .map(|(j, col)| col.get(j).copied().unwrap_or(0.0))
+        .collect();
     let mut ratio = 1.0_f64;
     for s in 0..llt.symbolic().n_supernodes() {
         let node = llt.supernode(s);
         let val = node.val();
         for local in 0..val.ncols() {
-            let old = forward[node.start() + local];
-            let a_jj = a.get(old, old).copied().unwrap_or(0.0);
+            let a_jj = diagonal[forward[node.start() + local]];
             let l_jj = val[(local, local)];
             if a_jj > 0.0 {
                 ratio = ratio.min(l_jj * l_jj / a_jj);

@@ -97,7 +97,7 @@ fn sparse_objective(data: &DualData<'_>, lambda: &[f64], free: &[f64]) -> (f64, 
     let btl = mat_t_vec(&data.problem.constraints, lambda);
     let (mut value, mut scale) =
         btl.iter()
-            .zip(&data.base)
+            .zip(data.base())
             .zip(free)
             .fold((0.0, 0.0), |(v, s), ((b, a), u)| {
                 (
@@ -143,7 +143,7 @@ pub fn run(
         hessian.add_penalty(&data.modes, data.penalty);
     }
     let mut pgs = Pgs::start(data, settings, hessian);
-    monitor.calibrate(&data.base);
+    monitor.calibrate(data.base());
     loop {
         if let Some((status, message)) = monitor.limit(pgs.iter) {
             let lambda = std::mem::take(&mut pgs.lambda);

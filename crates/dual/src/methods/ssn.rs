@@ -39,12 +39,15 @@ use crate::hessian::{dense_bytes, dual_hessian, DenseSym};
 use crate::monitor::{finish_at_limit, Monitor, Next};
 use crate::settings::DualSettings;
 
+mod budget;
 mod step;
 
+use budget::CheckBudget;
 use step::{dense_step, refined_step, Step};
 
 /// From this many active-set steps on, an iterate whose set still moves is checked against
-/// the tolerance (one sparse solve) before the next step: the set can move on round-off alone.
+/// the tolerance (one sparse solve) before the next step, once the steps have paid for the
+/// check ([`budget`]): the set can move on round-off alone.
 const CHECK_MOVING_FROM: usize = 3;
 
 /// Runs the active-set method until the set repeats or the monitor stops it.
@@ -101,6 +104,8 @@ struct Newton {
     bounds: Vec<Option<f64>>,
     /// Per row, the interval of λ ([`intervals::of`]): what the answer is projected onto.
     sets: Vec<(f64, f64)>,
+    /// Flops of one check of a moving set's iterate ([`CheckBudget::check_flops`]).
+    check_flops: f64,
 }
 
 /// The iteration's state, carried from one step to the next.
@@ -128,6 +133,8 @@ struct State {
     accurate: bool,
     /// The next step solves the same set again (not counted as a step).
     redo: bool,
+    /// What the steps so far have paid for the checks of a moving set.
+    budget: CheckBudget,
 }
 
 impl State {
@@ -155,6 +162,7 @@ impl State {
             dense_phase: newton.hessian.is_some(),
             accurate: false,
             redo: false,
+            budget: CheckBudget::new(newton.check_flops),
         }
     }
 }
@@ -188,6 +196,12 @@ impl Newton {
         };
         let bounds = intervals::box_bounds(data.problem);
         let sets = intervals::of(data.problem);
+        let check_flops = CheckBudget::check_flops(
+            data.inverse.factor().factor_entries(),
+            data.inverse.contact_last(),
+            data.problem.stiffness.nnz(),
+            data.problem.constraints.nnz(),
+        );
         let mode = if hessian.is_some() {
             "dense Newton steps"
         } else {
@@ -200,6 +214,7 @@ impl Newton {
             mode,
             bounds,
             sets,
+            check_flops,
         })
     }
 
@@ -265,6 +280,9 @@ impl Newton {
         step: Step,
     ) -> Option<Outcome> {
         state.refinements += step.refinements;
+        state
+            .budget
+            .earn(self.step_flops(data, state, step.refinements));
         let (contraction, step_residual) = (step.contraction, step.residual);
         state.lambda = step.lambda;
         data.multiplier = step.mu;
@@ -295,7 +313,7 @@ impl Newton {
             let refined = (step.residual, step.refinements);
             return self.settled(data, monitor, state, step.x, refined);
         }
-        if state.iter >= CHECK_MOVING_FROM {
+        if state.iter >= CHECK_MOVING_FROM && state.budget.spend() {
             if let Some(outcome) = self.check_moving(data, monitor, state, &next_active) {
                 return Some(outcome);
             }
@@ -329,6 +347,26 @@ impl Newton {
         None
     }
 
+    /// The flops of the step just taken on `state`'s set: its dense factorisation and products
+    /// with H (none without H), and one check's worth for each sparse solve it made (the
+    /// refined and matrix-free steps: the first evaluation and each correction; a matrix-free
+    /// step makes many more, so it always pays for a check).
+    fn step_flops(&self, data: &DualData<'_>, state: &State, refinements: usize) -> f64 {
+        let solves = if state.dense_phase {
+            0.0
+        } else {
+            1.0 + refinements as f64
+        };
+        let dense = match &self.hessian {
+            Some(_) => {
+                let active = state.active.iter().filter(|a| **a).count();
+                CheckBudget::dense_step_flops(active, data.modes.count(), data.rows())
+            }
+            None => 0.0,
+        };
+        dense + solves * self.check_flops
+    }
+
     /// λ projected onto each row's set: [0, ∞), or [−s, s] on a box row ([`intervals::project`],
     /// the projected methods' own).
     fn clamp(&self, lambda: &[f64]) -> Vec<f64> {
@@ -358,23 +396,24 @@ impl Newton {
             state.redo = true;
             return None;
         }
+        let mut verdict = None;
         if !state.accurate {
-            let solved = !self.outside(&state.lambda)
-                && matches!(
-                    monitor.check(data, state.iter, &state.lambda, &x),
-                    Next::Stop(QpStatus::Solved, _)
-                );
-            if !solved {
+            // Inside every row's set, λ is its own clipped value: the verdict of this check
+            // is the answer's (no second check of the same (x, λ)).
+            verdict = (!self.outside(&state.lambda))
+                .then(|| monitor.check(data, state.iter, &state.lambda, &x));
+            if !matches!(verdict, Some(Next::Stop(QpStatus::Solved, _))) {
                 state.accurate = true;
                 state.redo = true;
                 return None;
             }
         }
-        Some(self.answer(data, monitor, state, x, refined))
+        Some(self.answer(data, monitor, state, x, refined, verdict))
     }
 
     /// The settled set's answer: λ clipped at zero (x formed again if that changed λ), judged
-    /// by the monitor.
+    /// by the monitor — or by `verdict`, the monitor's check of this very (x, λ) when λ needed
+    /// no clipping.
     fn answer(
         &self,
         data: &DualData<'_>,
@@ -382,6 +421,7 @@ impl Newton {
         state: &State,
         x: Vec<f64>,
         (residual, corrections): (f64, usize),
+        verdict: Option<Next>,
     ) -> Outcome {
         let iter = state.iter;
         let clipped = self.outside(&state.lambda);
@@ -391,7 +431,11 @@ impl Newton {
         } else {
             x
         };
-        let (status, message) = match monitor.check(data, iter, &lambda_clipped, &x) {
+        let verdict = match verdict {
+            Some(verdict) if !clipped => verdict,
+            _ => monitor.check(data, iter, &lambda_clipped, &x),
+        };
+        let (status, message) = match verdict {
             Next::Stop(status, message) => (status, message),
             _ => (
                 QpStatus::Inaccurate,
@@ -533,7 +577,7 @@ fn checked_iterate(
 /// A finite answer (x = A⁺f) with a verdict and no iterations.
 fn stopped(data: &DualData<'_>, status: QpStatus, message: String) -> Outcome {
     Outcome {
-        x: data.base.clone(),
+        x: data.base().to_vec(),
         multipliers: vec![0.0; data.rows()],
         status,
         iterations: 0,

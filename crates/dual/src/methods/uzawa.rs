@@ -36,7 +36,7 @@ pub fn solve(
         }
         // H v = B A⁺ Bᵀ v = B (A⁺ f − A⁺(f − Bᵀ v)).
         let free = data.free_part(v);
-        let diff: Vec<f64> = data.base.iter().zip(&free).map(|(b, u)| b - u).collect();
+        let diff: Vec<f64> = data.base().iter().zip(&free).map(|(b, u)| b - u).collect();
         mat_vec(&data.problem.constraints, &diff)
     });
     data.set_penalty(hessian_norm, settings.equality_penalty);
@@ -48,10 +48,10 @@ pub fn solve(
     let bounds = intervals::of(data.problem);
     let mut lambda = vec![0.0; m];
     let mut previous = lambda.clone();
-    let mut free = data.base.clone();
+    let mut free = data.base().to_vec();
     let mut free_previous = free.clone();
     let mut momentum = 1.0_f64;
-    monitor.calibrate(&data.base);
+    monitor.calibrate(data.base());
     let mut iter = 0;
     loop {
         if let Some((status, message)) = monitor.limit(iter) {
