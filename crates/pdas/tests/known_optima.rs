@@ -188,14 +188,11 @@ fn updates_and_factorisations_agree(units: common::Units) {
 /// Four points on a plane (FCLIB's hand-written 2-D test problem, frictionless): A = 2I over
 /// (x_a, y_a), each point pressed by −f_y onto y_a ≥ −g_a and pulled sideways by f_x, its x_a
 /// touched by no row.  Exact answer: x_a = f_x/2, y_a = max(−f_y/2, −g_a), λ_a = max(f_y − 2g_a, 0).
-/// pdas finds the right set and solves it to a KKT system residual of 1e-16, but a point
-/// pressed onto its obstacle does not move (y_a = 0): the residuals judge its round-off
+/// pdas found the right set and solved it to a KKT system residual of 1e-16, but a point
+/// pressed onto its obstacle does not move (y_a = 0): the residuals judged its round-off
 /// penetration (≈ 1e-17) against the pair's own motion (the same 1e-17), relative penetration
-/// 1, so the answer cannot be certified.  A floor on that motion relative to the row's scale
-/// Xᵢ re-opens issue 18 (a far load inflates Xᵢ: `a_body_pulled_away_from_a_pair_does_not_loosen_its_rows`);
-/// one relative to the row's own bodies' compliance-weighted load would not — next session.
+/// 1, and the answer was `inaccurate` (fixed by `signorini_qp::BODY_MOTION_FLOOR`).
 #[test]
-#[ignore = "the residuals' own-motion tightening cannot certify a body that does not move (relative penetration = round-off / round-off); see the doc comment"]
 fn four_points_with_untouched_dofs() {
     let mut a = sprs::TriMat::new((8, 8));
     for j in 0..8 {

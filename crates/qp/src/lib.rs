@@ -60,7 +60,7 @@ pub use ops::{csc_parts, dot, mat_t_vec, mat_vec, norm_inf};
 pub use problem::{CscMatrix, QpError, QpProblem};
 pub use residuals::{
     kkt_residuals, kkt_residuals_in, kkt_residuals_with, KktResiduals, ResidualScales,
-    BODY_FORCE_FLOOR,
+    BODY_FORCE_FLOOR, BODY_MOTION_FLOOR,
 };
 pub use scaling::QpScaling;
 pub use status::{checked_status, QpStatus};

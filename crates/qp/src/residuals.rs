@@ -18,8 +18,10 @@ use super::scales::TINY;
 /// answer shows acts on each body b (a connected component of A alone) — only ever downwards,
 /// so a wrong answer cannot loosen its own test:
 /// * the motion of the row's bodies Mᵢ = max |xⱼ| over the DOFs of the bodies row i touches,
-///   and the row's length X̃ᵢ = max(max(0, −gᵢ), min(Xᵢ, Mᵢ)) (a penetration is judged against
-///   the pair's own motion, or the row's initial overlap, whichever is larger);
+///   and the row's length X̃ᵢ = max(max(0, −gᵢ), min(Xᵢ, max(Mᵢ, δ Wᵢ))) (a penetration is
+///   judged against the pair's own motion, or the row's initial overlap, whichever is larger),
+///   with Wᵢ the largest W_b = Σⱼ∈b |fⱼ| / Aⱼⱼ of the row's bodies (the motion their own loads
+///   could give them) and δ = [`BODY_MOTION_FLOOR`];
 /// * the force on body b, F_b = max |fⱼ| and |(Bᵀλ)ⱼ| over its DOFs (its loads and the contact
 ///   forces the answer puts on it), and the DOF's force F̃ⱼ = min(F_c(j), max(F_b, δ F_c(j)))
 ///   with δ = [`BODY_FORCE_FLOOR`] (a body in equilibrium under its own forces, judged against
@@ -172,12 +174,15 @@ pub fn kkt_residuals_in(
         let work = (force * xi).max(TINY);
         match set {
             RowSet::NonNegative => {
-                let moved = scales
-                    .bodies_of_row(i)
+                let bodies = scales.bodies_of_row(i);
+                let moved = bodies.iter().map(|&b| motion[b]).fold(0.0, f64::max);
+                let own_loads = bodies
                     .iter()
-                    .map(|&b| motion[b])
+                    .map(|&b| scales.body_motions[b])
                     .fold(0.0, f64::max);
-                let own_length = (-gi).max(xi.min(moved)).max(TINY);
+                let own_length = (-gi)
+                    .max(xi.min(moved.max(BODY_MOTION_FLOOR * own_loads)))
+                    .max(TINY);
                 max_penetration = max_penetration.max(-slack);
                 relative_penetration = relative_penetration.max(-slack / own_length);
                 complementarity = complementarity.max((li * slack).abs() / work);
@@ -210,6 +215,16 @@ pub fn kkt_residuals_in(
 /// system); a body whose forces the answer gets wrong by more than 1e-4 of its component's
 /// scale (a load left unbalanced, a contact force without a counterpart) is still caught.
 pub const BODY_FORCE_FLOOR: f64 = 1e-4;
+
+/// δ of a row's length in [`KktResiduals`]: a penetration is judged against the pair's own
+/// motion Mᵢ down to this fraction of the motion the row's bodies' own loads could give them
+/// (Wᵢ, fixed by the data).  Without it a body that does not move at all (a point pressed onto
+/// an obstacle, its exact answer xⱼ = 0) judged the round-off of its contact, 1e-17, against
+/// its motion, 1e-17: relative penetration 1, and an exact answer could not be certified
+/// (FCLIB's four points on a plane through pdas).  Only the row's own bodies count: a load on a
+/// body the answer separates from the pair cannot raise the floor (issue 18).  At a tolerance of
+/// 1e-8 a penetration of 1e-12 Wᵢ is still caught.
+pub const BODY_MOTION_FLOOR: f64 = 1e-4;
 
 /// Per body: the motion max |xⱼ| and the force max(|fⱼ|, |(Bᵀλ)ⱼ|) over its DOFs.
 fn body_motion_and_force(

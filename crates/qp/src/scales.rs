@@ -71,6 +71,10 @@ pub struct ResidualScales {
     /// Number of bodies.
     #[serde(skip)]
     pub bodies: usize,
+    /// W_b = Σ |fⱼ| / Aⱼⱼ over the DOFs of each body: the motion its own loads could give it,
+    /// the floor of its rows' own-motion tightening ([`crate::BODY_MOTION_FLOOR`]).
+    #[serde(skip)]
+    pub body_motions: Vec<f64>,
 }
 
 impl ResidualScales {
@@ -303,6 +307,12 @@ impl ResidualScales {
                 stiffness * length
             }
         };
+        let mut body_motions = vec![0.0_f64; bodies];
+        for ((&b, &d), &f) in body_of_dof.iter().zip(&diag).zip(&problem.load) {
+            if d > 0.0 {
+                body_motions[b] += f.abs() / d;
+            }
+        }
         let rows = Self::row_lengths(problem, &diag, &of_row, &parts, length);
         let component_forces: Vec<f64> = parts.iter().map(|c| c.force(stiffness, length)).collect();
         let row_forces = of_row
@@ -320,6 +330,7 @@ impl ResidualScales {
             row_body_starts,
             row_bodies,
             bodies,
+            body_motions,
         }
     }
 

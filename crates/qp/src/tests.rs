@@ -685,3 +685,21 @@ fn a_scaled_problem_is_unit() {
         assert!(QpScaling::of(&s.scale(&p)).is_unit(), "{s:?}");
     }
 }
+
+#[test]
+fn a_body_that_does_not_move_is_judged_against_its_own_loads() {
+    // A point (DOF 0, stiffness 2) pressed by 2 onto an obstacle at 0 (row −x₀ ≤ 0): x₀ = 0,
+    // λ = 2.  An answer with the round-off of a refined solve, x₀ = −1e-17, was judged against
+    // the point's own motion, the same 1e-17: relative penetration 1, never `solved` (FCLIB's
+    // four points on a plane through pdas).  The floor is δ W₀ = 1e-4 · |f₀| / A₀₀ = 1e-4.
+    let p = springs(&[2.0], &[-2.0], &[(&[(0, -1.0)], 0.0)]);
+    let exact = kkt_residuals(&p, &[-1e-17], &[2.0]);
+    assert!(exact.meet(1e-12), "{exact:?}");
+    assert!(
+        (exact.relative_penetration - 1e-13).abs() < 1e-25,
+        "{exact:?}"
+    );
+    // A real penetration is still caught at that scale: 1e-9 of the load's own motion.
+    let sunk = kkt_residuals(&p, &[-1e-9], &[2.0]);
+    assert!(!sunk.meet(1e-9), "{sunk:?}");
+}
