@@ -66,34 +66,15 @@ impl StiffnessInverse {
             },
             e => e,
         };
-        let mut reduced = Vec::new();
-        let mut sub = None;
-        if !fixed.is_empty() {
-            reduced = vec![0; n];
-            for &i in fixed {
-                reduced[i] = FIXED;
-            }
-            let mut next = 0;
-            for r in reduced.iter_mut() {
-                if *r != FIXED {
-                    *r = next;
-                    next += 1;
-                }
-            }
-            sub = Some(submatrix(a, &reduced, next)?);
-        }
+        let (reduced, kept) = reduced_numbering(n, fixed);
+        let sub = if reduced.is_empty() {
+            None
+        } else {
+            Some(submatrix(a, &reduced, kept)?)
+        };
         let matrix = sub.as_ref().unwrap_or(a);
-        let mut trailing = Vec::new();
-        let mut touched_reduced = Vec::new();
-        if let Some(constraints) = trailing_for {
-            for (j, col) in constraints.outer_iterator().enumerate() {
-                let r = if reduced.is_empty() { j } else { reduced[j] };
-                if col.nnz() > 0 && r != FIXED {
-                    trailing.push(j);
-                    touched_reduced.push(r);
-                }
-            }
-        }
+        let (mut trailing, mut touched_reduced) =
+            trailing_for.map_or_else(Default::default, |b| touched_dofs(b, &reduced));
         // The dense trailing block (|c|² entries) is an optimisation: when it does not fit, the
         // contact DOFs are simply not ordered last.
         let block_fits = || {
@@ -287,6 +268,41 @@ impl StiffnessInverse {
 }
 
 /// The rows and columns of `a` whose `reduced` index is not `FIXED`, renumbered.
+/// The full → reduced index map with the DOFs in `fixed` removed (`FIXED` for them) and the
+/// number of DOFs kept; an empty map when nothing is fixed.
+fn reduced_numbering(n: usize, fixed: &[usize]) -> (Vec<usize>, usize) {
+    if fixed.is_empty() {
+        return (Vec::new(), n);
+    }
+    let mut reduced = vec![0; n];
+    for &i in fixed {
+        reduced[i] = FIXED;
+    }
+    let mut next = 0;
+    for r in reduced.iter_mut() {
+        if *r != FIXED {
+            *r = next;
+            next += 1;
+        }
+    }
+    (reduced, next)
+}
+
+/// The DOFs the constraints touch and are not fixed: their full indices and their indices in
+/// the reduced numbering `reduced` (empty: nothing fixed).
+fn touched_dofs(constraints: &CscMatrix, reduced: &[usize]) -> (Vec<usize>, Vec<usize>) {
+    let mut full = Vec::new();
+    let mut in_reduced = Vec::new();
+    for (j, col) in constraints.outer_iterator().enumerate() {
+        let r = if reduced.is_empty() { j } else { reduced[j] };
+        if col.nnz() > 0 && r != FIXED {
+            full.push(j);
+            in_reduced.push(r);
+        }
+    }
+    (full, in_reduced)
+}
+
 fn submatrix(a: &CscMatrix, reduced: &[usize], size: usize) -> Result<CscMatrix, DualError> {
     let mut indptr = Vec::with_capacity(size + 1);
     let mut indices = Vec::with_capacity(a.nnz());
