@@ -130,15 +130,11 @@ fn ordering_after(
     }
     keys.sort_unstable();
     let forward: Vec<usize> = keys.into_iter().map(|(_, i)| i).collect();
-    let mut inverse = vec![0; n + m];
-    for (new, &old) in forward.iter().enumerate() {
-        inverse[old] = new;
-    }
-    signorini_qp::linalg::FillOrdering {
+    debug_assert_eq!(forward.len(), n + m);
+    signorini_qp::linalg::FillOrdering::from_forward(
         forward,
-        inverse,
-        method: signorini_qp::linalg::OrderingMethod::Amd,
-    }
+        signorini_qp::linalg::OrderingMethod::Amd,
+    )
 }
 
 /// AMD of K's graph with the runs of identical neighbourhoods (a node's two DOFs) merged.
@@ -162,15 +158,10 @@ fn ordering_compressed(k: &signorini_qp::CscMatrix) -> signorini_qp::linalg::Fil
     for &grp in &order.forward {
         forward.extend(g.start[grp]..g.start[grp + 1]);
     }
-    let mut inverse = vec![0; forward.len()];
-    for (new, &old) in forward.iter().enumerate() {
-        inverse[old] = new;
-    }
-    signorini_qp::linalg::FillOrdering {
+    signorini_qp::linalg::FillOrdering::from_forward(
         forward,
-        inverse,
-        method: signorini_qp::linalg::OrderingMethod::Amd,
-    }
+        signorini_qp::linalg::OrderingMethod::Amd,
+    )
 }
 
 #[test]

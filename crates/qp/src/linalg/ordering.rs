@@ -118,7 +118,8 @@ pub struct FillOrdering {
 }
 
 impl FillOrdering {
-    fn from_forward(forward: Vec<usize>, method: OrderingMethod) -> Self {
+    /// The ordering whose `forward[new] = old` is given (a permutation), its inverse computed.
+    pub fn from_forward(forward: Vec<usize>, method: OrderingMethod) -> Self {
         let mut inverse = vec![0; forward.len()];
         for (new, &old) in forward.iter().enumerate() {
             inverse[old] = new;
