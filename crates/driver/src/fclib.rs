@@ -71,7 +71,7 @@ pub enum FclibError {
         value: usize,
     },
     /// The HDF5 library refused.
-    #[error("writing {path}: {source}")]
+    #[error("writing {path}")]
     Hdf5 {
         /// The file.
         path: PathBuf,
@@ -79,7 +79,7 @@ pub enum FclibError {
         source: hdf5::Error,
     },
     /// Reading an FCLIB file: it is missing, not HDF5, or lacks a dataset FCLIB requires.
-    #[error("reading {path}: {source}")]
+    #[error("reading {path}")]
     Read {
         /// The file.
         path: PathBuf,
@@ -95,7 +95,7 @@ pub enum FclibError {
         reason: String,
     },
     /// Moving the finished file into place.
-    #[error("moving the finished file to {path}: {source}")]
+    #[error("moving the finished file to {path}")]
     Io {
         /// The file.
         path: PathBuf,

@@ -170,6 +170,15 @@ fn problems_our_qp_cannot_state_are_refused_with_the_reason() {
         assert_eq!(o.status.code(), Some(1), "{}", text(&o));
         assert!(text(&o).contains(word), "{word}: {}", text(&o));
     }
+    // HDF5's own words once: the error's chain prints its source after the context, so the
+    // context must not repeat it (it did, "…signature not found: …signature not found").
+    let (o, _) = compare_fclib(dir.path(), &junk, "pdas");
+    assert_eq!(
+        text(&o).matches("file signature not found").count(),
+        1,
+        "{}",
+        text(&o)
+    );
 }
 
 /// Export → import: `compare --fclib` of our own export of a Coulomb scene runs the scene's QP

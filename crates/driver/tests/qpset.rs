@@ -438,6 +438,14 @@ fn refusals_leave_nothing_behind() {
     );
     assert!(String::from_utf8_lossy(&o.stderr).contains("no-such-dir"));
     assert!(!set.exists());
+    // A SET whose parent is a file: refused, the OS's reason said once (the error's chain
+    // prints its source after the context; the context repeated it before).
+    let file = tmp.path().join("a-file");
+    std::fs::write(&file, "").unwrap();
+    let o = export(&repo("fixtures/seed"), &file.join("set"), tmp.path());
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_ne!(o.status.code(), Some(0), "{stderr}");
+    assert_eq!(stderr.matches("os error").count(), 1, "{stderr}");
     // Every scene fails: nothing written, no staging left.
     let bad = tmp.path().join("bad");
     std::fs::create_dir_all(&bad).unwrap();

@@ -230,3 +230,40 @@ fn kkt_orderings_on_the_tresca_strip() {
         );
     }
 }
+
+/// One ordering, 20 times, chosen by `VARIANT` (`amd_a`: A as stored, both triangles;
+/// `lower_a`: A's lower triangle, as K stores it; `amd_k`: K; anything else: none, the
+/// baseline), on the Tresca strip, for `perf stat -e task-clock` (CPU time moves less with the
+/// machine's load than wall time; this machine exposes no instruction counters):
+///
+/// ```text
+/// VARIANT=amd_k perf stat -e task-clock target/release/deps/pdas_measure-* \
+///   --ignored --exact amd_variant_for_perf_stat
+/// ```
+#[test]
+#[ignore = "measurement, run by hand"]
+fn amd_variant_for_perf_stat() {
+    use signorini_core::scene::Friction;
+    let mut scene = common::strip_scene(20.0, false, (0.0, 20.0));
+    scene.contacts[0].friction = Some(Friction::Tresca(1e-4));
+    let p = signorini_core::solve::ScaledQp::new(common::qp_of(&scene)).problem;
+    let kkt = KktMatrix::new(&p).unwrap();
+    let k = kkt.matrix();
+    let n = p.dofs();
+    let mut lower = sprs::TriMat::new((n, n));
+    for (v, (i, j)) in p.stiffness.iter() {
+        if i >= j {
+            lower.add_triplet(i, j, *v);
+        }
+    }
+    let lower_a: signorini_qp::CscMatrix = lower.to_csc();
+    let variant = std::env::var("VARIANT").unwrap_or_default();
+    for _ in 0..20 {
+        match variant.as_str() {
+            "amd_a" => drop(fill_reducing_order(&p.stiffness).unwrap()),
+            "lower_a" => drop(fill_reducing_order(&lower_a).unwrap()),
+            "amd_k" => drop(fill_reducing_order(k).unwrap()),
+            _ => {}
+        }
+    }
+}

@@ -65,7 +65,7 @@ pub enum QpsetError {
     #[error("auxiliary form: {0}")]
     Auxiliary(String),
     /// Writing failed.
-    #[error("cannot write {}: {source}", path.display())]
+    #[error("cannot write {}", path.display())]
     Io {
         /// The file or directory.
         path: PathBuf,
