@@ -6,7 +6,10 @@
 //! assert_eq!((k.x[0], k.multipliers[0]), (1.0, 2.0));
 //! ```
 
-use crate::{CscMatrix, QpProblem};
+use crate::{
+    checked_status, kkt_residuals, CscMatrix, QpBackend, QpError, QpProblem, QpSolution, QpStatus,
+    SolveOptions,
+};
 use sprs::TriMat;
 
 /// A QP with its known optimum.
@@ -307,4 +310,35 @@ pub fn eliminated_nnz(a: &CscMatrix, forward_inverse: &[usize]) -> usize {
         }
     }
     nnz
+}
+
+/// The units a test solves in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Units {
+    /// [`QpBackend::solve`]: nondimensionalised first (what the driver hands every backend).
+    Own,
+    /// [`QpBackend::solve_in_given_units`]: the problem as built.
+    Given,
+}
+
+/// Solves `problem` with `backend` at `tol` in `units` and returns the solution with the status
+/// the residual contract gives it ([`checked_status`] of its [`kkt_residuals`]): what the
+/// backends' tests compare with known answers.
+pub fn solve_checked(
+    backend: &mut dyn QpBackend,
+    problem: &QpProblem,
+    tol: f64,
+    units: Units,
+) -> Result<(QpSolution, QpStatus), QpError> {
+    let options = SolveOptions {
+        tol,
+        ..SolveOptions::default()
+    };
+    let sol = match units {
+        Units::Own => backend.solve(problem, &options),
+        Units::Given => backend.solve_in_given_units(problem, &options),
+    }?;
+    let r = kkt_residuals(problem, &sol.x, &sol.multipliers);
+    let status = checked_status(sol.status, &r, tol);
+    Ok((sol, status))
 }

@@ -2,9 +2,7 @@
 #![allow(dead_code, unused_imports, clippy::unwrap_used)]
 
 use signorini_pdas::{PdasBackend, PdasSettings};
-use signorini_qp::{
-    checked_status, kkt_residuals, QpBackend, QpProblem, QpSolution, QpStatus, SolveOptions,
-};
+use signorini_qp::{QpProblem, QpSolution, QpStatus};
 
 pub use signorini_qp::examples::{csc_from_triplets as csc, rel_diff};
 
@@ -25,40 +23,25 @@ pub fn solve_with(settings: PdasSettings, problem: &QpProblem, tol: f64) -> (QpS
     solve_in(settings, problem, tol, Units::Own)
 }
 
-/// The units a test solves in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Units {
-    /// `QpBackend::solve`: nondimensionalised first.
-    Own,
-    /// `QpBackend::solve_in_given_units`: the problem as built.
-    Given,
-}
+pub use signorini_qp::examples::Units;
 
-/// [`solve_with`] in the chosen units.
+/// [`solve_with`] in the chosen units; the answer must be finite with multipliers ≥ 0 whatever
+/// its status.
 pub fn solve_in(
     settings: PdasSettings,
     problem: &QpProblem,
     tol: f64,
     units: Units,
 ) -> (QpSolution, QpStatus) {
-    let options = SolveOptions {
-        tol,
-        ..SolveOptions::default()
-    };
     let mut backend = PdasBackend::new(settings);
-    let sol = match units {
-        Units::Own => backend.solve(problem, &options),
-        Units::Given => backend.solve_in_given_units(problem, &options),
-    }
-    .unwrap();
+    let (sol, status) =
+        signorini_qp::examples::solve_checked(&mut backend, problem, tol, units).unwrap();
     assert!(
         sol.x.iter().chain(&sol.multipliers).all(|v| v.is_finite()),
         "non-finite answer: {:?}",
         sol.message
     );
     assert!(sol.multipliers.iter().all(|l| *l >= 0.0));
-    let r = kkt_residuals(problem, &sol.x, &sol.multipliers);
-    let status = checked_status(sol.status, &r, tol);
     (sol, status)
 }
 

@@ -6,23 +6,14 @@ use signorini_core::mesh::MeshLimits;
 use signorini_core::model::{assemble, mesh_scene};
 use signorini_core::scene::Scene;
 use signorini_core::solve::ScaledQp;
-use signorini_qp::{
-    checked_status, kkt_residuals, QpBackend, QpProblem, QpSolution, QpStatus, SolveOptions,
-};
+use signorini_qp::{QpBackend, QpProblem, QpSolution, QpStatus};
 
 /// Solves with `backend` at `tol` and returns the solution with the checked status.
 pub fn solve(backend: &mut dyn QpBackend, problem: &QpProblem, tol: f64) -> (QpSolution, QpStatus) {
     solve_in(backend, problem, tol, Units::Own)
 }
 
-/// The units a test solves in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Units {
-    /// `QpBackend::solve`: nondimensionalised first (what the driver hands every backend).
-    Own,
-    /// `QpBackend::solve_in_given_units`: the problem as built, in the scene's units.
-    Given,
-}
+pub use signorini_qp::examples::Units;
 
 /// [`solve`] in the chosen units.
 pub fn solve_in(
@@ -31,18 +22,7 @@ pub fn solve_in(
     tol: f64,
     units: Units,
 ) -> (QpSolution, QpStatus) {
-    let options = SolveOptions {
-        tol,
-        ..SolveOptions::default()
-    };
-    let sol = match units {
-        Units::Own => backend.solve(problem, &options),
-        Units::Given => backend.solve_in_given_units(problem, &options),
-    }
-    .unwrap();
-    let r = kkt_residuals(problem, &sol.x, &sol.multipliers);
-    let status = checked_status(sol.status, &r, tol);
-    (sol, status)
+    signorini_qp::examples::solve_checked(backend, problem, tol, units).unwrap()
 }
 
 /// max |x − reference| / max |reference|.
