@@ -190,9 +190,7 @@ impl<'p> ActiveSet<'p> {
         .map_err(SetupError::TooLarge)?;
         factor.allocate()?;
         let n = problem.dofs();
-        let diagonal_sum: f64 = (0..n)
-            .map(|j| problem.stiffness.get(j, j).copied().unwrap_or(0.0).abs())
-            .sum();
+        let diagonal_sum: f64 = kkt.a_diagonal().iter().map(|a| a.abs()).sum();
         let stiffness = if n > 0 && diagonal_sum > 0.0 && diagonal_sum.is_finite() {
             diagonal_sum / n as f64
         } else {

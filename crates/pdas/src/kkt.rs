@@ -128,6 +128,11 @@ impl KktMatrix {
         self.dofs
     }
 
+    /// A's diagonal (0 where A stores none), in DOF order.
+    pub fn a_diagonal(&self) -> &[f64] {
+        &self.a_diagonal
+    }
+
     /// Fills the values for the active set `active` (length m): B rows and −δ on the diagonal
     /// of active rows, zeros and −`inactive` on inactive ones, A + ρI on the primal block.
     pub fn set_values(&mut self, active: &[bool], rho: f64, delta: f64, inactive: f64) {
