@@ -115,7 +115,7 @@ struct State {
     /// The multipliers of the inactive rows: 0, or ±s on a slipping box row.
     fixed: Vec<f64>,
     /// The sets stepped from so far, with their fixed multipliers' signs (one that comes back
-    /// is a cycle).
+    /// is a cycle); only the refined steps' once they take over ([`State::leave_dense_phase`]).
     seen: HashSet<Vec<i8>>,
     /// λ of the last step.
     lambda: Vec<f64>,
@@ -164,6 +164,20 @@ impl State {
             redo: false,
             budget: CheckBudget::new(newton.check_flops),
         }
+    }
+
+    /// From now on the sets are decided by the exact dual gradient (refined steps).  The sets
+    /// the dense steps visited were decided by the dense H, whose round-off can be far larger
+    /// than the answer (A's pivot ratio 3e-11 on a 100 × 0.05 floating strip: the first dense
+    /// step on every row gives λ down to −3.7 where the answer's are all ≥ 0.47): the
+    /// refined steps going back to one of them is no cycle of the exact rule, so they are
+    /// forgotten.  Without this, a refined step that returned to the right set (every row, the
+    /// dense phase's first) was taken for a cycle and the set given up.
+    fn leave_dense_phase(&mut self) {
+        if self.dense_phase {
+            self.seen.clear();
+        }
+        self.dense_phase = false;
     }
 }
 
@@ -325,7 +339,7 @@ impl Newton {
             // the mixed-precision solves.
             if state.dense_phase || !state.accurate {
                 state.accurate = !state.dense_phase;
-                state.dense_phase = false;
+                state.leave_dense_phase();
                 state.redo = true;
                 return None;
             }
@@ -392,7 +406,7 @@ impl Newton {
         refined: (f64, usize),
     ) -> Option<Outcome> {
         if state.dense_phase {
-            state.dense_phase = false;
+            state.leave_dense_phase();
             state.redo = true;
             return None;
         }
