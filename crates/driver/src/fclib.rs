@@ -24,7 +24,8 @@
 //! the name, e.g. `LMGC_Cubes_H8-i00012-361-00041.hdf5`): one file per increment,
 //! `STEM-00001.hdf5`, `STEM-00002.hdf5`, … beside FILE ([`numbered`]).  Each is the increment's
 //! own problem: f and the normal gaps of its loads and prescribed values, and on each tangential
-//! entry of w the tangential gap B_t u_prev of the previous converged increment, so that u_T is
+//! entry of w the tangential row's stick value after the previous converged increment
+//! (`TangentialRow::stick_value`: B_t u_prev for a node in contact), so that u_T is
 //! this increment's slip (friction's history, docs/scene.md "Load steps").
 //!
 //! Layout (as FCLIB's `fclib_write_global` and `fclib_write_solution` write it): `/fclib_global`

@@ -374,6 +374,8 @@ impl FclibFile {
                     pair: 0,
                     law: Friction::Coulomb(mu),
                     tributary: 1.0,
+                    // FCLIB gives the rows' gaps (w) directly: no pairing to account for.
+                    pairing_slope: 0.0,
                 })
                 .collect();
         let mut blocks = vec![ConstraintBlock::NonNegative { rows: contacts }];

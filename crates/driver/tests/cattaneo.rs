@@ -223,13 +223,11 @@ fn mirror_run(radius: f64, press: f64, shift: f64) -> Value {
 // library's mesher, the upper its reflection): equal bodies mirrored about the contact line
 // decouple the normal and tangential problems by symmetry, as Cattaneo's half-spaces do (the
 // cylinder on a block of `scene` does not: the press alone locks in 1.7 % of μp₀, odd in x, and
-// that scene's rms stays at 3.6–3.9 %).  What is left is odd in x and ∝ a/R: mortar's rows act
-// along the slave's reference normals, tilted by x/R, which mixes p·x/R into q — (a/R)/μ = 0.55 %
-// of μp at x = a here (R = 10: twice that, and an rms of 2.2–2.7 % that no longer falls below
-// a/33).  Zone h = a/25 with the arc's polygon spacing equal to it; a ≈ 0.0333, Q/(μP) ≈ 0.52.
-// Measured 1.87 % (BENCHMARKS.md, Cattaneo: 2.55 %, 1.87 %, 1.21 % at a/16.6, a/25, a/33; the
-// error sits on the nodes next to the cusps ±c, where q's slope is infinite); the bound, 3 %, is
-// the issue's.  56 k DOFs; 9 s in release (mesh, write, solve) on the 2-core machine at load 9.
+// that scene's rms stays at 3.6–3.9 %).  Zone h = a/25 with the arc's polygon spacing equal to
+// it; a ≈ 0.0333, Q/(μP) ≈ 0.52.  Measured 1.61 % (even 1.50 %, odd 0.57 %) with the rows along
+// the mean of the two sides' normals; 1.87 % along the slave's normals, tilted by x/R, which
+// mixed p·x/R into q (BENCHMARKS.md, Cattaneo; the error sits on the nodes next to the cusps
+// ±c, where q's slope is infinite); the bound, 3 %, is the issue's.  56 k DOFs; 9 s in release (mesh, write, solve) on the 2-core machine at load 9.
 #[test]
 fn pressed_then_shifted_the_tangential_traction_follows_cattaneo_within_3_percent_rms() {
     let radius = 20.0;
@@ -301,13 +299,10 @@ fn parity_split(pair: &Value, r_star: f64) -> (f64, f64) {
 // normals add an odd part that no mesh removes: along the slave's normals (before) the odd
 // part was 2.2 % rms of Cattaneo's q against an even part of 1.5 % (BENCHMARKS.md, Cattaneo,
 // R = 10, a/25).  So: odd rms ≤ even rms, both measured on the same run.  ≈ 55 k DOFs, 15 s.
-// Ignored: frictional mortar rows still act along the slave's normals (docs/scene.md).  Moving
-// them to the master's normals with the paired points' tangential offset as reference passed
-// this test (odd 0.95 %) but broke `study_cattaneo`'s convergence on the cylinder-on-block
-// scene (the curved master's normals tilt by x/R just as the slave's do) and the pdas fixed
-// point at tol 1e-10 (BENCHMARKS.md, Cattaneo: "master frame, tried").
+// Frictional mortar rows act along the compliance-weighted mean of the two sides' normals
+// (docs/scene.md), the flat interface's normal here: measured odd 1.12 %, even 1.47 %
+// (BENCHMARKS.md, Cattaneo: "interface frame").  Along the slave's normals it failed (2.22 %).
 #[test]
-#[ignore = "frictional mortar rows along tilted normals mix p·x/R into q (odd 2.22 % > even 1.47 % rms); the master-frame attempt broke study_cattaneo"]
 fn on_mirror_image_cylinders_the_tangential_traction_is_even_in_x() {
     let radius = 10.0;
     let r = mirror_run(radius, 0.00043, 0.0001);

@@ -266,6 +266,7 @@ mod tests {
             gap: 0.0,
             tributary: 0.125,
             position: [x, 1.0],
+            pairing_slope: 0.0,
         }
     }
 

@@ -17,6 +17,10 @@ pub struct Side<'a> {
     pub outline: &'a [Point],
     /// The body's largest element edge.
     pub hmax: f64,
+    /// The body's plane-strain compliance (1 − ν²)/E: how far its surface gives under a
+    /// pressure, relative to the other side's (frictional mortar rows act along the interface
+    /// the two compliances put between the bodies' surfaces; see `mortar::Frame`).
+    pub compliance: f64,
     /// When the pair names a physical group and this body's Gmsh mesh defines it: only its
     /// nodes are candidates.
     pub group: Option<&'a MeshGroup>,

@@ -116,6 +116,13 @@ pub struct ContactRow {
     pub tributary: f64,
     /// Slave node position X.
     pub position: Point,
+    /// k = (t·d)/(n·d), d the direction along which the slave node was paired with the master
+    /// (its own normal), t and n the row's tangent and normal: the paired points lie k × the
+    /// normal gap apart along t, and a node closing its gap along d moves k per unit of normal
+    /// gap along t without slipping.  Used by frictional rows only (the tangential row's
+    /// reference, `model::friction`); 0 where the row's normal is the pairing direction
+    /// (node-to-segment) and on frictionless pairs.
+    pub pairing_slope: f64,
 }
 
 /// The rows of one contact pair.
@@ -608,9 +615,12 @@ impl PairSearch<'_, '_> {
                 self.search,
             ),
             Formulation::Mortar => {
-                // Frictional pairs keep the slave's frame (see mortar::Frame).
+                // Frictional pairs act along the interface's normal (see mortar::Frame).
                 let frame = if self.it.friction.is_some() {
-                    mortar::Frame::Slave
+                    mortar::Frame::Interface {
+                        slave: self.it.side(slave).compliance,
+                        master: self.it.side(master).compliance,
+                    }
                 } else {
                     mortar::Frame::Master
                 };
@@ -1026,6 +1036,7 @@ fn pair_rows(
             gap: if gap.abs() <= tol { 0.0 } else { gap },
             tributary,
             position: x,
+            pairing_slope: 0.0,
         });
     }
     built

@@ -28,6 +28,7 @@ impl<'a> ContactEffect<'a> {
                         name: &body.name,
                         outline: &body.polygon,
                         hmax: body.hmax,
+                        compliance: (1.0 - body.poisson * body.poisson) / body.young,
                         group: pair.group.as_deref().and_then(|g| body.group(g)),
                     }
                 }),

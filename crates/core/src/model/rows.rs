@@ -10,7 +10,7 @@ use crate::geometry::Point;
 use crate::qp::CscMatrix;
 
 /// The contact matrix B on all DOFs and the initial gaps g: the normal rows in pair order, then
-/// one row per entry of `tangential` (gap 0: slip is measured from the reference configuration).
+/// one row per entry of `tangential`, whose gap k gₙ is where its node sticks (`friction.rs`).
 pub(super) fn contact_matrix(
     contacts: &[PairRows],
     tangential: &[TangentialRow],
@@ -34,7 +34,7 @@ pub(super) fn contact_matrix(
         for (d, v) in entries_along(dofs, pair, r, tangent(r.normal)) {
             b.add_triplet(normal.len() + k, d, v);
         }
-        gap.push(0.0);
+        gap.push(r.pairing_slope * r.gap);
     }
     (b.to_csc(), gap)
 }

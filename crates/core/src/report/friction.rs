@@ -59,7 +59,9 @@ pub fn tangential_nodes(
         let row = normal + k;
         let multiplier = solution.multipliers.get(row).copied().unwrap_or(f64::NAN);
         let slip = model.gap[row] - bu[row];
-        let step_slip = before.as_ref().map_or(slip, |b| b[row] - bu[row]);
+        let step_slip = before
+            .as_ref()
+            .map_or(slip, |b| t.stick_value(row, &model.gap, b) - bu[row]);
         let lambda_n = solution
             .multipliers
             .get(t.normal_row)

@@ -4,8 +4,9 @@
 //!
 //! An increment's QP shares A, B, the blocks and the scaling of the last increment's (the one
 //! assembled); only f̃ = f_F − K_FD u_D and g̃ = g − B_D u_D change, computed from the model's
-//! support columns and contact matrix.  A tangential row's gap is B_t u_prev, so that its value
-//! B_t u − g_t is the slip of this increment.  The path stops at the first increment whose
+//! support columns and contact matrix.  A tangential row's gap is its stick value after the
+//! previous increment (B_t u_prev, plus the pairing slope times the normal gap still open then:
+//! `TangentialRow::stick_value`), so that its value B_t u − g_t is the slip of this increment.  The path stops at the first increment whose
 //! answer is not `solved`: its status is the run's, and later increments are not run.
 
 use std::sync::Arc;
@@ -137,8 +138,9 @@ fn increment_qp(
 
 /// The QP of one increment in the scene's units: `qp` (the model's QP, in the scene's units;
 /// A and B are every increment's) with this increment's f̃ = f_F − K_FD u_D and g̃ = g − B_D u_D,
-/// each tangential row's gap B_t u_prev (`previous`: the full displacement of the increment
-/// before, `None` for the first), so that the row's value B_t u − g_t is this increment's slip.
+/// each tangential row's gap its stick value after `previous` (the full displacement of the
+/// increment before; `None` for the first: the model's gap), so that the row's value B_t u − g_t
+/// is this increment's slip.
 /// What an increment of [`solve_scaled`](super::solve_scaled) solves, before scaling.
 pub fn increment_problem(
     model: &Model,
@@ -177,10 +179,9 @@ fn increment_data(
     let slip_from = previous.map(|u| mat_vec(&model.constraints, u));
     let gap: Vec<f64> = (0..model.rows())
         .map(|i| {
-            let g = if i < normal {
-                model.gap[i]
-            } else {
-                slip_from.as_ref().map_or(0.0, |bu| bu[i])
+            let g = match (i.checked_sub(normal), &slip_from) {
+                (Some(k), Some(bu)) => model.tangential[k].stick_value(i, &model.gap, bu),
+                _ => model.gap[i],
             };
             (g - b_d[i]) / length
         })

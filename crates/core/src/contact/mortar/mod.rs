@@ -14,7 +14,8 @@
 //! edges face the master (a wedge tip) it is their bisector; at the last node of the zone it is
 //! its one segment's normal.  Along a slave segment the normal is interpolated linearly,
 //! n(ξ) = (1 − ξ) n₁ + ξ n₂.  This field only pairs slave points with master points (the
-//! projection below); the rows act along the master's normals (see "Why the master's normal").
+//! projection below); frictionless rows act along the master's normals (see "Why the master's
+//! normal"), frictional ones along the interface's (see "Frictional pairs").
 //!
 //! For each interface segment the master segments near it (an R-tree query, O(log m)) are
 //! projected onto it along that field: each master end y gives the ξ with
@@ -69,12 +70,31 @@
 //! displaced sideways by the cylinder's tangential displacement — a physical, not a discrete,
 //! difference of position between the two sides' profiles (Hertz's theory neglects it).
 //!
-//! Frictional pairs keep the slave's frame for now ([`Frame::Slave`]: rows along −n_j, the gap
-//! along n̂): their tangential rows measure the slip from the reference configuration, so along
-//! the master's tangent the closing of a gap between points paired along the slave's normal
-//! would read as slip (θ × the gap closed; the Cattaneo stick zone came out 10 % short).  Moving
-//! them needs the paired points' initial tangential offset ∫ψ_j t_m·(y − x) as the tangential
-//! rows' reference value.
+//! # Frictional pairs: the interface's normal
+//!
+//! Frictional pairs ([`Frame::Interface`]) act along the deformed interface instead, normal and
+//! tangential rows in one frame.  In half-space theory each surface gives wᵢ = Cᵢ I(p) under the
+//! contact pressure (Cᵢ = (1 − νᵢ²)/Eᵢ, the plane-strain compliance, I the same integral of p for
+//! both), and over the contact w₁ + w₂ = δ − h₁ − h₂ (hᵢ each surface's height from the contact
+//! line), so the deformed interface's height is s = h₁ + w₁ with slope
+//! s′ = (C₂ h₁′ − C₁ h₂′)/(C₁ + C₂): each body's surface weighted by the *other* body's
+//! compliance, the interface following the stiffer body.  Its normal at slave node j is estimated
+//! as n̄_j = unit(C_s n_m − C_m n_j), n_m = unit(∫ψ_j n_m) the master's normal (pointing to the
+//! slave) and n_j the slave's outward averaged normal: the plain mean of the two sides' normals
+//! for equal materials (exact on two mirror-image cylinders, whose interface is flat; half the
+//! cylinder's tilt on a flat block under it), the stiffer side's normal when the other is much
+//! softer.  Coulomb's cone and the split of the traction into p and q belong to that interface:
+//! rows tilted from it by φ report q + p φ (along the slave's normals the mirror cylinders' q was
+//! off by p·x/R, odd in x; along the master's the flat block's by as much on the other side).
+//! Both rows share the frame because they are the two components of one traction λ n̄ + λₜ t̄
+//! (the cone bounds λₜ by the normal force orthogonal to it) and of one relative displacement.
+//!
+//! The gap is n̄·(x − y) and the tangential reference t̄·(x − y), x − y = −∫ψ_j g n̂ / D_jj the
+//! paired points' separation (paired along the slave's normal): the reference is k gₙ with the
+//! [pairing slope](super::ContactRow::pairing_slope) k = (t̄·n_j)/(n̄·n_j), so that a node that
+//! closes its gap along the pairing direction and sticks lands on its paired point and has not
+//! slipped (with rows tilted from the pairing direction and no reference, the closing of the gap
+//! read as slip: the Cattaneo stick zone came out 10 % short).
 //!
 //! The pair's `normal_force` (Σλ) is a sum of magnitudes along each row's normal; the report's
 //! `force` is the resultant vector Σ λ n + λₜ t, equal to the slave's contact force.
@@ -142,6 +162,7 @@ use super::search::SegmentIndex;
 use super::{Built, ContactRow, FACING};
 use crate::geometry::Point;
 use crate::mesh::Mesh;
+use crate::model::tangent;
 use geometry::{dot, dual, edge_normal, nodal_normals, sub, unit, SlaveSegment};
 
 /// The smallest D_jj, as a share of the slave node's full share ∫N_j of its interface segments,
@@ -155,27 +176,36 @@ pub(super) const MIN_SHARE: f64 = 0.25;
 /// means the master segment is on the far side of the master body.
 const BEHIND: f64 = 0.05;
 
-/// One slave node's integrals: M_jk (merged by master node), g̃_j and ∫ψ_j n_m (the row's
-/// direction before normalisation).
+/// One slave node's integrals: M_jk (merged by master node), g̃_j, ∫ψ_j n_m (the master-frame
+/// row's direction before normalisation) and ∫ψ_j (x − y) (the paired points' separation, which
+/// the [`Frame::Interface`] rows split along their own normal and tangent).
 #[derive(Debug, Clone, Default)]
 struct Sums {
     masters: Vec<(usize, f64)>,
     gap: f64,
-    /// ∫ψ_j g with g along the slave normal (the [`Frame::Slave`] rows).
-    slave_gap: f64,
+    /// ∫ψ_j (x − y), y the master point paired with the slave point x (along the slave normal).
+    apart: Point,
     normal: Point,
 }
 
-/// Which side's normals a pair's mortar rows act along (see "Why the master's normal").
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Which frame a pair's mortar rows act in (see "Why the master's normal" and "Frictional
+/// pairs: the interface's normal").
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum Frame {
     /// The master's normals, the gap measured from the master segment's line: frictionless
     /// pairs.
     Master,
-    /// The slave's averaged normals, the gap along them: frictional pairs, until the tangential
-    /// rows measure their slip from the paired points' initial offset (along the master's
-    /// tangent, closing a gap between points paired along the slave's normal reads as slip).
-    Slave,
+    /// Normal and tangential rows along the deformed interface's normal, estimated at each slave
+    /// node as the compliance-weighted mean n̄ = (C_s n_m − C_m n_j) / |…| of the master's
+    /// normal n_m and the slave's outward normal n_j (each side's normal weighted by the *other*
+    /// side's plane-strain compliance C = (1 − ν²)/E: the interface follows the stiffer body),
+    /// the gap n̄·(x − y) of the paired points: frictional pairs.
+    Interface {
+        /// The slave body's compliance C_s.
+        slave: f64,
+        /// The master body's compliance C_m.
+        master: f64,
+    },
 }
 
 impl Sums {
@@ -294,6 +324,7 @@ pub(super) fn pair_rows(
             };
             for g in points {
                 let psi = dual(g.xi);
+                let n = unit(seg.normal(g.xi)).unwrap_or(seg.n1);
                 let gap = dot(sub(seg.point(g.xi), ya), nm);
                 for (node, psi) in [(*p, psi[0]), (*q, psi[1])] {
                     let w = psi * g.weight;
@@ -301,7 +332,8 @@ pub(super) fn pair_rows(
                     s.add(a, w * (1.0 - g.eta));
                     s.add(b, w * g.eta);
                     s.gap += w * gap;
-                    s.slave_gap += w * g.gap;
+                    // y = x + g n̂: x − y = −g n̂.
+                    s.apart = [s.apart[0] - w * g.gap * n[0], s.apart[1] - w * g.gap * n[1]];
                     s.normal = [s.normal[0] + w * nm[0], s.normal[1] + w * nm[1]];
                 }
             }
@@ -320,10 +352,21 @@ pub(super) fn pair_rows(
             built.unmatched += 1;
             continue;
         }
-        let slave_normal = [-n[0], -n[1]];
-        let (gap, normal) = match frame {
-            Frame::Master => (s.gap / d, unit(s.normal).unwrap_or(slave_normal)),
-            Frame::Slave => (s.slave_gap / d, slave_normal),
+        let master_normal = unit(s.normal).unwrap_or([-n[0], -n[1]]);
+        let (normal, gap, pairing_slope) = match frame {
+            Frame::Master => (master_normal, s.gap / d, 0.0),
+            Frame::Interface { slave, master } => {
+                let mean = [
+                    slave * master_normal[0] - master * n[0],
+                    slave * master_normal[1] - master * n[1],
+                ];
+                let normal = unit(mean).unwrap_or(master_normal);
+                let t = tangent(normal);
+                // The pairing direction is the slave's normal: (t·n_j)/(n̄·n_j), n̄·n_j < 0
+                // since n̄ lies between n_m and −n_j, which face each other.
+                let slope = dot(t, n) / dot(normal, n);
+                (normal, dot(normal, s.apart) / d, slope)
+            }
         };
         built.rows.push(ContactRow {
             slave_node: j,
@@ -332,6 +375,7 @@ pub(super) fn pair_rows(
             gap: if gap.abs() <= tol { 0.0 } else { gap },
             tributary: d,
             position: *x,
+            pairing_slope,
         });
     }
     built

@@ -28,6 +28,10 @@ fn master_flat(xs: &[f64], y: f64) -> Mesh {
 }
 
 fn rows(slave: &Mesh, master: &Mesh) -> super::Built {
+    rows_in(slave, master, Frame::Master)
+}
+
+fn rows_in(slave: &Mesh, master: &Mesh, frame: Frame) -> super::Built {
     let cs = vec![true; slave.nodes.len()];
     let inside = vec![None; slave.nodes.len()];
     pair_rows(
@@ -38,7 +42,7 @@ fn rows(slave: &Mesh, master: &Mesh) -> super::Built {
         &inside,
         1e-12,
         1.0,
-        Frame::Master,
+        frame,
     )
 }
 
@@ -497,5 +501,80 @@ fn rows_on_a_curved_slave_over_a_flat_master_act_along_the_master_normal() {
             r.gap
         );
         assert!((weight_sum(r) - 1.0).abs() < 1e-14);
+    }
+}
+
+/// Frictional rows ([`Frame::Interface`]) on a flat slave (outward −y, at y = 0.1) over a flat
+/// master tilted by θ = 0.2 (outward normal (−sin θ, cos θ)), non-matching: with equal
+/// compliances the row normal is the bisector of the two sides' normals, (−sin θ/2, cos θ/2);
+/// with C_s = 3 C_m it is unit(3 n_m + (0, 1)); with a master 10⁶ times stiffer, the master's
+/// normal to 10⁻⁶ θ.  The slave points are paired along the slave's normal (vertically) with the
+/// master point below, x − y = (0, g(x)), g = 0.1 − x tan θ linear along the slave, so on the
+/// fully covered slave the dual basis gives node j's own values (biorthogonality): the gap
+/// n̄·(0, g_j) and the tangential reference t̄·(0, g_j) = k × gap, k the pairing slope
+/// (t̄·n_j)/(n̄·n_j) = −n̄_x/n̄_y (tan θ/2 for equal compliances).  Round-off only.
+#[test]
+fn frictional_rows_act_along_the_compliance_weighted_mean_normal() {
+    let theta: f64 = 0.2;
+    let (c, s) = (theta.cos(), theta.sin());
+    let xs = [-0.3, -0.1, 0.05, 0.2, 0.3];
+    let slave = slave_flat(&xs, 0.1);
+    let along: Vec<Point> = [0.6, 0.27, 0.0, -0.13, -0.6]
+        .iter()
+        .map(|&t| [t * c, t * s])
+        .collect();
+    let master = polyline(&along);
+    let nm = [-s, c];
+    for (cs, cm) in [(1.0, 1.0), (3.0, 1.0), (1.0, 1e-6)] {
+        let b = rows_in(
+            &slave,
+            &master,
+            Frame::Interface {
+                slave: cs,
+                master: cm,
+            },
+        );
+        assert_eq!(b.rows.len(), xs.len());
+        let raw = [cs * nm[0], cs * nm[1] + cm];
+        let len = raw[0].hypot(raw[1]);
+        let want = [raw[0] / len, raw[1] / len];
+        if cs == cm {
+            let half = 0.5 * theta;
+            assert!((want[0] + half.sin()).abs() < 1e-15 && (want[1] - half.cos()).abs() < 1e-15);
+        }
+        for r in &b.rows {
+            let n = r.normal;
+            assert!(
+                (n[0] - want[0]).abs() < 1e-14 && (n[1] - want[1]).abs() < 1e-14,
+                "C {cs}/{cm}, node {}: normal {n:?} vs {want:?}",
+                r.slave_node
+            );
+            let x = xs[r.slave_node];
+            let g = 0.1 - x * theta.tan();
+            assert!(
+                (r.gap - n[1] * g).abs() < 1e-14,
+                "C {cs}/{cm}, node {}: gap {} vs {}",
+                r.slave_node,
+                r.gap,
+                n[1] * g
+            );
+            let slope = -n[0] / n[1];
+            assert!((r.pairing_slope - slope).abs() < 1e-14);
+            // The tangential reference k gₙ is t̄·(x − y), t̄ = (n̄_y, −n̄_x).
+            assert!((r.pairing_slope * r.gap - (-n[0]) * g).abs() < 1e-14);
+            assert!((weight_sum(r) - 1.0).abs() < 1e-14);
+        }
+    }
+    // A master 10⁶ times stiffer: the interface is the master's surface.
+    let stiff = rows_in(
+        &slave,
+        &master,
+        Frame::Interface {
+            slave: 1.0,
+            master: 1e-6,
+        },
+    );
+    for r in &stiff.rows {
+        assert!((r.normal[0] - nm[0]).abs() < 1e-6 * theta);
     }
 }
