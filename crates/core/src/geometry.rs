@@ -42,7 +42,12 @@ pub fn orient(a: Point, b: Point, c: Point) -> f64 {
     (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
 }
 
-/// Euclidean distance.
+/// The tangent of a contact row with unit normal `n`: n turned clockwise by a right angle.
+pub fn tangent(n: Point) -> Point {
+    [n[1], -n[0]]
+}
+
+/// Euclidean distance of two points.
 pub fn distance(a: Point, b: Point) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }

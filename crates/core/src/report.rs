@@ -144,7 +144,7 @@ fn contact_reports(
             let lt = t.map_or(0.0, |t| t.multiplier);
             tangential_force += lt;
             // λ along the row's normal and λₜ along its tangent, on the slave.
-            let (n, tn) = (r.normal, crate::model::tangent(r.normal));
+            let (n, tn) = (r.normal, crate::geometry::tangent(r.normal));
             force[0] += l * n[0] + lt * tn[0];
             force[1] += l * n[1] + lt * tn[1];
             nodes.push(ContactNodeReport {

@@ -23,7 +23,6 @@
 //! ([`TangentialRow::stick_value`]).
 
 use crate::contact::PairRows;
-use crate::geometry::Point;
 use crate::scene::Friction;
 
 /// One tangential row: which normal row it shares its node with, and its friction law.
@@ -56,11 +55,6 @@ impl TangentialRow {
         let n = self.normal_row;
         bu[row] + self.pairing_slope * (gap[n] - bu[n])
     }
-}
-
-/// The tangent of a row with unit normal `n`: n turned clockwise by a right angle.
-pub fn tangent(n: Point) -> Point {
-    [n[1], -n[0]]
 }
 
 /// The tangential rows of `contacts`' frictional pairs, in the order of their normal rows.

@@ -39,7 +39,7 @@ use screen::screen_pair;
 
 pub use crate::effects::Effect;
 pub use error::ModelError;
-pub use friction::{tangent, TangentialRow};
+pub use friction::TangentialRow;
 pub use meshing::mesh_scene;
 pub use path::{increments, Increment, LoadGroup, LoadPath};
 pub use warnings::{ModelWarning, NoRowReason};

@@ -3,9 +3,10 @@
 
 use sprs::TriMat;
 
-use super::friction::{tangent, TangentialRow};
+use super::friction::TangentialRow;
 use crate::contact::{ContactRow, PairRows};
 use crate::fem::Dofs;
+use crate::geometry::tangent;
 use crate::geometry::Point;
 use crate::qp::CscMatrix;
 

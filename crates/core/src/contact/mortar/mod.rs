@@ -160,9 +160,9 @@ mod tests;
 
 use super::search::SegmentIndex;
 use super::{Built, ContactRow, FACING};
+use crate::geometry::tangent;
 use crate::geometry::Point;
 use crate::mesh::Mesh;
-use crate::model::tangent;
 use geometry::{dot, dual, edge_normal, nodal_normals, sub, unit, SlaveSegment};
 
 /// The smallest D_jj, as a share of the slave node's full share ∫N_j of its interface segments,
