@@ -483,6 +483,16 @@ fn refusals_leave_nothing_behind() {
     assert_eq!(left, 0);
 }
 
+/// The small set exported under `root`, and the Python to load it with (`QPSET_PYTHON`,
+/// default `python3`).
+fn small_set_and_python(root: &Path) -> (std::path::PathBuf, String) {
+    let dir = small_dir(root);
+    let set = root.join("set");
+    common::succeeded(&export(&dir, &set, root));
+    let python = std::env::var("QPSET_PYTHON").unwrap_or_else(|_| "python3".into());
+    (set, python)
+}
+
 /// qpbenchmark itself loads the set: its `list_problems` names every problem, and each
 /// problem's reference x meets qpsolvers' own residual checks.  Needs Python with qpbenchmark
 /// (`QPSET_PYTHON`, default `python3`); scripts/qpset-peers.sh installs it in a virtualenv.
@@ -490,10 +500,7 @@ fn refusals_leave_nothing_behind() {
 #[ignore = "needs python qpbenchmark"]
 fn qpbenchmark_loads_the_set() {
     let tmp = tempfile::tempdir().unwrap();
-    let dir = small_dir(tmp.path());
-    let set = tmp.path().join("set");
-    common::succeeded(&export(&dir, &set, tmp.path()));
-    let python = std::env::var("QPSET_PYTHON").unwrap_or_else(|_| "python3".into());
+    let (set, python) = small_set_and_python(tmp.path());
     let script = r#"
 import sys
 sys.path.insert(0, sys.argv[1])
@@ -516,6 +523,36 @@ print(",".join(sorted(names)))
         .expect("run python");
     let stdout = common::succeeded(&o);
     assert_eq!(stdout.trim(), "scenes-exp2b,scenes-tresca-nts,sub-floating");
+}
+
+/// qpbenchmark's time limit per solve (its tolerances' `runtime`, which also sets the solvers'
+/// own limits) follows `QPSET_RUNTIME` when it is set, as scripts/qpset-peers.sh's
+/// `QPSET_RUNTIME` says, and stays qpbenchmark's 10 s otherwise.  Needs Python with qpbenchmark
+/// (`QPSET_PYTHON`).
+#[test]
+#[ignore = "needs python qpbenchmark"]
+fn the_module_takes_its_time_limit_from_qpset_runtime() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (set, python) = small_set_and_python(tmp.path());
+    let script = r#"
+import sys
+sys.path.insert(0, sys.argv[1])
+from signorini_contact import SignoriniContact
+ts = SignoriniContact()
+print(",".join(f"{ts.tolerances[s].runtime:g}" for s in ("default", "high_accuracy")))
+print(ts.solver_settings["default"]["osqp"]["time_limit"])
+"#;
+    let run = |runtime: Option<&str>| {
+        let mut c = std::process::Command::new(&python);
+        c.args(["-c", script, set.to_str().unwrap()]);
+        match runtime {
+            Some(r) => c.env("QPSET_RUNTIME", r),
+            None => c.env_remove("QPSET_RUNTIME"),
+        };
+        common::succeeded(&c.output().expect("run python"))
+    };
+    assert_eq!(run(Some("60")).trim(), "60,60\n60.0");
+    assert_eq!(run(None).trim(), "10,10\n10.0");
 }
 
 /// `signorini qpset --solve SET --settings S --backends B --out CSV` and its rows, one map of
