@@ -17,8 +17,8 @@ pub struct Side<'a> {
     pub outline: &'a [Point],
     /// The body's largest element edge.
     pub hmax: f64,
-    /// The body's plane-strain compliance (1 − ν²)/E: how far its surface gives under a
-    /// pressure, relative to the other side's (frictional mortar rows act along the interface
+    /// The body's surface compliance 1/E′ — (1 − ν²)/E in plane strain, 1/E in plane stress
+    /// (`Material::surface_compliance`): how far its surface gives under a pressure, relative to the other side's (frictional mortar rows act along the interface
     /// the two compliances put between the bodies' surfaces; see `mortar::Frame`).
     pub compliance: f64,
     /// When the pair names a physical group and this body's Gmsh mesh defines it: only its

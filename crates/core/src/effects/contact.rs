@@ -3,6 +3,7 @@
 
 use super::{Contribution, Discretisation, Effect, EffectError, ModelParts};
 use crate::contact::{self, Interface, Side};
+use crate::fem::element::Material;
 use crate::scene::Scene;
 
 /// Every contact pair of the scene, in scene order.
@@ -28,7 +29,7 @@ impl<'a> ContactEffect<'a> {
                         name: &body.name,
                         outline: &body.polygon,
                         hmax: body.hmax,
-                        compliance: (1.0 - body.poisson * body.poisson) / body.young,
+                        compliance: Material::of_body(body, scene.plane).surface_compliance(),
                         group: pair.group.as_deref().and_then(|g| body.group(g)),
                     }
                 }),

@@ -164,34 +164,22 @@ mod tests {
     use crate::mesh::MeshLimits;
     use crate::model::mesh_scene;
 
-    /// Two blocks, the lower one clamped; with `gravity`, g = (0, −1) and densities 2 (base)
-    /// and 0.5 (block); `extra` adds sections.
-    fn scene(gravity: bool, extra: &str) -> Scene {
-        let (model, base, block) = if gravity {
-            (
-                "[model]\ngravity = [0, -1]",
-                "density = 2.0",
-                "density = 0.5",
-            )
-        } else {
-            ("", "", "")
-        };
+    /// Two blocks, the lower one clamped, under `[model]` lines `model`, each body with its own
+    /// material lines (`base`, `block`); `extra` adds sections.
+    fn two_blocks(model: &str, [base, block]: [&str; 2], extra: &str) -> Scene {
         Scene::from_toml(&format!(
             r#"
+            [model]
             {model}
             [[body]]
             name = "base"
             polygon = [[0, 0], [2, 0], [2, 1], [0, 1]]
             hmax = 0.5
-            young = 1.0
-            poisson = 0.3
             {base}
             [[body]]
             name = "block"
             polygon = [[0.5, 1], [1.5, 1], [1.5, 2], [0.5, 2]]
             hmax = 0.5
-            young = 1.0
-            poisson = 0.3
             {block}
             [[dirichlet]]
             body = "base"
@@ -203,6 +191,24 @@ mod tests {
             "#
         ))
         .unwrap()
+    }
+
+    /// Two blocks of E = 1, ν = 0.3, the lower one clamped; with `gravity`, g = (0, −1) and
+    /// densities 2 (base) and 0.5 (block); `extra` adds sections.
+    fn scene(gravity: bool, extra: &str) -> Scene {
+        let material = "young = 1.0\npoisson = 0.3";
+        if gravity {
+            two_blocks(
+                "gravity = [0, -1]",
+                [
+                    &format!("{material}\ndensity = 2.0"),
+                    &format!("{material}\ndensity = 0.5"),
+                ],
+                extra,
+            )
+        } else {
+            two_blocks("", [material, material], extra)
+        }
     }
 
     /// Only what the scene names is read and contributed, in assembly order: loads, supports,
@@ -238,6 +244,27 @@ mod tests {
             .map(|c| c.after_supports())
             .collect();
         assert_eq!(after, [false, false, false, true]);
+    }
+
+    /// Each contact side carries its body's surface compliance 1/E′ under the scene's `plane`:
+    /// 1/E in plane stress whatever ν (it was (1 − ν²)/E in both), (1 − ν²)/E in plane strain.
+    /// Closed forms; round-off only.
+    #[test]
+    fn contact_sides_carry_the_surface_compliance_of_the_scene_plane() {
+        let compliances = |plane: &str| {
+            let s = two_blocks(
+                &format!("plane = \"{plane}\""),
+                ["young = 2.0\npoisson = 0.1", "young = 5.0\npoisson = 0.45"],
+                "[[contact]]\nbodies = [\"block\", \"base\"]",
+            );
+            let c = Effects::of(&s).contact.unwrap();
+            c.interfaces[0].sides.map(|side| side.compliance)
+        };
+        let [block, base] = compliances("stress");
+        assert!((block - 1.0 / 5.0).abs() < 1e-15 && (base - 1.0 / 2.0).abs() < 1e-15);
+        let [block, base] = compliances("strain");
+        assert!((block - (1.0 - 0.45 * 0.45) / 5.0).abs() < 1e-15);
+        assert!((base - (1.0 - 0.1 * 0.1) / 2.0).abs() < 1e-15);
     }
 
     /// The traction's consistent nodal forces sum to its resultant integrated analytically

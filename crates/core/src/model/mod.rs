@@ -107,11 +107,7 @@ pub fn assemble(scene: &Scene, meshes: Vec<Mesh>) -> Result<Assembly, ModelError
     let materials: Vec<Material> = scene
         .bodies
         .iter()
-        .map(|b| Material {
-            young: b.young,
-            poisson: b.poisson,
-            plane: scene.plane,
-        })
+        .map(|b| Material::of_body(b, scene.plane))
         .collect();
     let stiffness = fem::assemble_stiffness(&meshes, &materials, scene.thickness, &dofs);
     let effects = Effects::of(scene);

@@ -74,8 +74,8 @@
 //!
 //! Frictional pairs ([`Frame::Interface`]) act along the deformed interface instead, normal and
 //! tangential rows in one frame.  In half-space theory each surface gives wᵢ = Cᵢ I(p) under the
-//! contact pressure (Cᵢ = (1 − νᵢ²)/Eᵢ, the plane-strain compliance, I the same integral of p for
-//! both), and over the contact w₁ + w₂ = δ − h₁ − h₂ (hᵢ each surface's height from the contact
+//! contact pressure (Cᵢ = 1/E′ᵢ the surface compliance, (1 − νᵢ²)/Eᵢ in plane strain and
+//! 1/Eᵢ in plane stress, I the same integral of p for both), and over the contact w₁ + w₂ = δ − h₁ − h₂ (hᵢ each surface's height from the contact
 //! line), so the deformed interface's height is s = h₁ + w₁ with slope
 //! s′ = (C₂ h₁′ − C₁ h₂′)/(C₁ + C₂): each body's surface weighted by the *other* body's
 //! compliance, the interface following the stiffer body.  Its normal at slave node j is estimated
@@ -198,7 +198,8 @@ pub(super) enum Frame {
     /// Normal and tangential rows along the deformed interface's normal, estimated at each slave
     /// node as the compliance-weighted mean n̄ = (C_s n_m − C_m n_j) / |…| of the master's
     /// normal n_m and the slave's outward normal n_j (each side's normal weighted by the *other*
-    /// side's plane-strain compliance C = (1 − ν²)/E: the interface follows the stiffer body),
+    /// side's surface compliance C = 1/E′, (1 − ν²)/E in plane strain, 1/E in plane stress: the
+    /// interface follows the stiffer body),
     /// the gap n̄·(x − y) of the paired points: frictional pairs.
     Interface {
         /// The slave body's compliance C_s.

@@ -1,9 +1,10 @@
 //! An isotropic linear-elastic material under a plane idealisation: its elasticity matrix D
-//! (σ = D ε with ε = (εₓₓ, εᵧᵧ, γₓᵧ)), the out-of-plane stress and the von Mises stress.
+//! (σ = D ε with ε = (εₓₓ, εᵧᵧ, γₓᵧ)), its surface compliance, the out-of-plane stress and the
+//! von Mises stress.
 
 use nalgebra::SMatrix;
 
-use crate::scene::Plane;
+use crate::scene::{Body, Plane};
 
 /// The 3×3 elasticity matrix D.
 pub type Elasticity = SMatrix<f64, 3, 3>;
@@ -20,6 +21,32 @@ pub struct Material {
 }
 
 impl Material {
+    /// The material of a scene body under the scene's plane idealisation.
+    pub fn of_body(body: &Body, plane: Plane) -> Self {
+        Self {
+            young: body.young,
+            poisson: body.poisson,
+            plane,
+        }
+    }
+
+    /// The in-plane modulus E′ that relates a surface pressure to the surface's give in the 2-D
+    /// half-space (Johnson, *Contact Mechanics*, §2.8): E/(1−ν²) in plane strain, where the
+    /// out-of-plane strain is held at zero, and E in plane stress, where the out-of-plane
+    /// stress is zero.
+    pub fn plane_modulus(&self) -> f64 {
+        match self.plane {
+            Plane::Strain => self.young / (1.0 - self.poisson * self.poisson),
+            Plane::Stress => self.young,
+        }
+    }
+
+    /// The surface compliance 1/E′ ([`Self::plane_modulus`]): how far the body's surface gives
+    /// under a pressure, relative to another body's.
+    pub fn surface_compliance(&self) -> f64 {
+        1.0 / self.plane_modulus()
+    }
+
     /// Lamé's first parameter λ = Eν / ((1+ν)(1−2ν)).
     pub fn lambda(&self) -> f64 {
         let (e, nu) = (self.young, self.poisson);

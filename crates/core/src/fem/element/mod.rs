@@ -116,6 +116,37 @@ mod tests {
         assert!((von_mises([0.0, 0.0, 1.0, 0.0]) - 3f64.sqrt()).abs() < 1e-14);
     }
 
+    /// The surface compliance is 1/E′ with E′ the in-plane modulus of a strip free of
+    /// transverse stress: σₓₓ = (D₁₁ − D₁₂²/D₂₂) εₓₓ when σᵧᵧ = 0, read here from D itself
+    /// (an independent route from `plane_modulus`'s closed forms). Round-off only.
+    #[test]
+    fn surface_compliance_is_the_inverse_of_the_uniaxial_in_plane_modulus() {
+        for plane in [Plane::Strain, Plane::Stress] {
+            for poisson in [0.0, 0.3, 0.49] {
+                let m = Material {
+                    young: 7.0,
+                    poisson,
+                    plane,
+                };
+                let d = m.elasticity();
+                let uniaxial = d[(0, 0)] - d[(0, 1)] * d[(1, 0)] / d[(1, 1)];
+                let c = m.surface_compliance();
+                assert!(
+                    (c * uniaxial - 1.0).abs() < 1e-14,
+                    "{plane:?} ν = {poisson}"
+                );
+            }
+        }
+        // plane stress: the surface gives 1/E whatever ν
+        let stress = |poisson| Material {
+            young: 4.0,
+            poisson,
+            plane: Plane::Stress,
+        };
+        assert_eq!(stress(0.1).surface_compliance(), 0.25);
+        assert_eq!(stress(0.45).surface_compliance(), 0.25);
+    }
+
     #[test]
     fn body_forces_sum_to_area_times_density() {
         let p = [[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]];
