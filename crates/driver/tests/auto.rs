@@ -17,7 +17,7 @@ use signorini::backends::{make_backend, BackendKind};
 use signorini::run;
 use signorini_clarabel::{ClarabelBackend, ClarabelSettings, DirectSolver};
 use signorini_core::mesh::MeshLimits;
-use signorini_core::qp::{norm_inf, BlockKind, QpBackend, QpStatus, SolveOptions};
+use signorini_core::qp::{norm_inf, BlockKind, ContactBody, QpBackend, QpStatus, SolveOptions};
 use signorini_core::solve;
 use signorini_dual::{DualBackend, DualSettings};
 
@@ -458,6 +458,40 @@ fn the_rule_orders_the_chain_from_the_features() {
             assert!(backend.supports(BlockKind::Box), "{p:?}: {kind:?}");
         }
         assert!(p.reason.contains("box rows"), "{}", p.reason);
+    }
+}
+
+/// Issue 21: the Hertz cylinder (a = 0.05 under a 0.4-wide candidate arc, 311 rows on a cap of
+/// 12 918 DOFs graded along the arc) scored ℓ = 311/√12918 = 2.74, "long", and auto sent it to
+/// pdas, which took 7.27× the floor in 14 steps where dual-ssn took 2.44× (BENCHMARKS.md).  Its
+/// interface touches first at a few rows around the apex and grows to a compact zone, so it is
+/// short; thin strips laid flush on their foundation touch first along their whole length and
+/// stay long (pdas first), a partial load on one included.  Features only, no solve.
+#[test]
+fn the_interface_that_touches_first_decides_long_or_short() {
+    for (dir, name, first) in [
+        ("accuracy", "hertz", BackendKind::DualSsn),
+        ("hard", "strip-thin-clamped", BackendKind::Pdas),
+        ("hard", "strip-thin-floating", BackendKind::Pdas),
+        ("hard", "strip-thin-partial", BackendKind::Pdas),
+        ("hard", "strip-thick-floating", BackendKind::Pdas),
+    ] {
+        let scene = run::load_scene(Some(&fixture(dir, name))).unwrap();
+        let prepared = run::prepare(&scene, &MeshLimits::default()).unwrap();
+        let qp = solve::ScaledQp::new(prepared.qp);
+        let f = Features::of(&qp.problem);
+        let p = plan(&f);
+        assert_eq!(p.chain.first(), Some(&first), "{name}: {f:?} {}", p.reason);
+        let all_rows = ContactBody::most_slender(&qp.problem).unwrap();
+        if first == BackendKind::Pdas {
+            // flush: every normal row touches first (ℓ 4.5–15.8 in `features`)
+            assert_eq!(f.body_interface, all_rows.interface, "{name}");
+            assert!(f.length_ratio() > 4.0, "{name}: {}", f.length_ratio());
+        } else {
+            // all 311 rows are long (2.74); the first touch is a few rows at the apex
+            assert!(all_rows.slenderness() > 2.0, "{name}: {all_rows:?}");
+            assert!(f.body_interface < 20, "{name}: {f:?}");
+        }
     }
 }
 

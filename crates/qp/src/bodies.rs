@@ -1,9 +1,10 @@
 //! The bodies of a QP, read off its matrices: the stiffness of a finite-element model couples
 //! no two bodies (only contact does, through B), so the connected components of A's graph are
 //! its bodies.  The contact body most slender against its interface decides how
-//! ill-conditioned the condensed dual is (see [`ContactBody`]).
+//! ill-conditioned the condensed dual is (see [`ContactBody`]); the interface counted is the
+//! one that touches first ([`first_touch`]).
 
-use crate::{row_sets, CscMatrix, QpProblem, RowSet};
+use crate::{row_sets, CscMatrix, QpProblem, QpScaling, RowSet};
 
 /// The connected components of the graph of a symmetric matrix (an edge per stored entry).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -62,6 +63,35 @@ fn union(parent: &mut [usize], i: usize, j: usize) {
     }
 }
 
+/// The normal rows that touch first: those whose gap exceeds the smallest normal gap by at most
+/// the load's own displacement unit u₀ ([`QpScaling::displacement`]: the largest nodal load
+/// over the mean stiffness, or the overlap or the gap when there is no load).  Every row of a
+/// flush interface (a strip laid on a foundation, equal gaps under a block) touches first; of
+/// a cylinder on a block only the rows around the first point of contact do, the rest closing
+/// only as the bodies deform — and the zone they then form stays compact against the bodies
+/// (Hertz: a half-width a ≪ R).  u₀ is the displacement of one DOF under its own load alone, a
+/// lower bound on how far the bodies move: a row within it of the first touch is in contact
+/// at any load that moves anything.
+pub fn first_touch(problem: &QpProblem) -> Vec<bool> {
+    let normal: Vec<bool> = row_sets(&problem.blocks)
+        .map(|set| set == RowSet::NonNegative)
+        .collect();
+    let smallest = problem
+        .gap
+        .iter()
+        .zip(&normal)
+        .filter(|&(_, &n)| n)
+        .map(|(&g, _)| g)
+        .fold(f64::INFINITY, f64::min);
+    let reach = smallest + QpScaling::of(problem).displacement;
+    problem
+        .gap
+        .iter()
+        .zip(&normal)
+        .map(|(&g, &n)| n && g <= reach)
+        .collect()
+}
+
 /// A body that contact rows touch: its unknowns and the size of its contact interface.
 ///
 /// interface / √dofs measures how long the body's contact interface is against the body itself: a 2D
@@ -89,10 +119,17 @@ impl ContactBody {
     /// The body of `problem` with the largest [`ContactBody::slenderness`] among those the
     /// normal rows touch (ties: the first); `None` without normal rows.
     pub fn most_slender(problem: &QpProblem) -> Option<Self> {
-        let components = Components::of(&problem.stiffness);
         let normal: Vec<bool> = row_sets(&problem.blocks)
             .map(|set| set == RowSet::NonNegative)
             .collect();
+        Self::most_slender_over(problem, &normal)
+    }
+
+    /// [`ContactBody::most_slender`] counting only the rows `counted` marks (rows beyond its
+    /// length are not counted): with [`first_touch`], the interface that touches first.
+    pub fn most_slender_over(problem: &QpProblem, counted: &[bool]) -> Option<Self> {
+        let components = Components::of(&problem.stiffness);
+        let normal = counted;
         let bodies = components.sizes.len();
         // One pass over B's columns (DOFs): (body, row) for every nonzero of a normal row, and
         // the DOFs of each body such a row touches.
@@ -206,6 +243,34 @@ mod tests {
                 interface: 6
             }
         );
+    }
+
+    /// u₀ = ‖f‖∞ / mean(Aⱼⱼ) = 4 / 2 = 2 on a chain of diagonal 2: the normal rows within 2
+    /// of the smallest normal gap 0.5 touch first (gaps 0.5 and 2.4, not 2.6 or 100); a box
+    /// row's gap of 0 is not a normal gap and does not move the smallest.  Hand-computed.
+    #[test]
+    fn the_rows_that_touch_first_are_within_the_load_displacement_of_the_smallest_gap() {
+        use crate::ConstraintBlock;
+        let mut a = TriMat::new((6, 6));
+        chain(&mut a, 0, 6);
+        let mut b = TriMat::new((5, 6));
+        for i in 0..5 {
+            b.add_triplet(i, i, 1.0);
+        }
+        let load = vec![4.0, 0.0, -1.0, 0.0, 0.0, 0.0];
+        let gap = vec![0.5, 2.4, 2.6, 100.0, 0.0];
+        let p = QpProblem::try_new(a.to_csc(), load, b.to_csc(), gap)
+            .unwrap()
+            .with_blocks(vec![
+                ConstraintBlock::NonNegative { rows: 4 },
+                ConstraintBlock::Box { bounds: vec![1.0] },
+            ])
+            .unwrap();
+        assert_eq!(first_touch(&p), [true, true, false, false, false]);
+        // Counted over those rows, the body's interface is 2 rows, not the 4 normal ones.
+        let body = ContactBody::most_slender_over(&p, &first_touch(&p)).unwrap();
+        assert_eq!(body.interface, 2);
+        assert_eq!(ContactBody::most_slender(&p).unwrap().interface, 4);
     }
 
     #[test]

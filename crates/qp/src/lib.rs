@@ -49,7 +49,7 @@ mod tests;
 pub use auxiliary::AuxiliaryForm;
 pub use backend::{QpBackend, QpSolution, SolveOptions, WarmStart};
 pub use blocks::{project, row_sets, BlockKind, ConstraintBlock, RowSet};
-pub use bodies::{Components, ContactBody};
+pub use bodies::{first_touch, Components, ContactBody};
 pub use certificate::{FarkasRay, FARKAS_MARGIN};
 pub use coulomb::{CoulombLink, CoulombMethod, CoulombRows};
 pub use dual_form::{

@@ -8,7 +8,8 @@
 //! ([`checked_status`] on [`kkt_residuals`], exactly as [`signorini_core::solve`] judges every
 //! backend).  The rule:
 //!
-//! * **Short interface** (ℓ = [`Features::length_ratio`] ≤ [`LONG_INTERFACE`], and m ≤
+//! * **Short interface** (ℓ = [`Features::length_ratio`] ≤ [`LONG_INTERFACE`], the interface
+//!   counted where it touches first, [`first_touch`]; and m ≤
 //!   [`SSN_MAX_ROWS`], touched DOFs ≤ [`SSN_MAX_TOUCHED`]): [`SHORT_CHAIN`] = dual-ssn → pdas → clarabel.  dual-ssn (active set
 //!   on the condensed dual, H formed from the factor of A with the touched DOFs last) takes
 //!   1.1–1.5× the floor on the seed's geometry from 448 to 206 278 DOFs, where clarabel takes
@@ -45,8 +46,8 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 use signorini_core::qp::{
-    checked_status, kkt_residuals, touched_dofs, BlockKind, ContactBody, CoulombRows, QpBackend,
-    QpError, QpProblem, QpSolution, QpStatus, ResidualScales, SolveOptions,
+    checked_status, first_touch, kkt_residuals, touched_dofs, BlockKind, ContactBody, CoulombRows,
+    QpBackend, QpError, QpProblem, QpSolution, QpStatus, ResidualScales, SolveOptions,
 };
 use signorini_core::report::{AttemptReport, RunReport};
 
@@ -62,15 +63,18 @@ pub const SSN_MAX_TOUCHED: usize = 4_000;
 
 /// An interface is *long* when ℓ = [`Features::length_ratio`] exceeds this: the interface of
 /// the most slender contact body against the square root of that body's own DOFs
-/// ([`ContactBody`]).  In 2D a body's boundary grows like √(its DOFs), so ℓ measures the contact
-/// length against the body it runs along: 0.40–0.43 on the seed's geometry at every mesh size,
-/// at most 0.87 on the fixtures (chain-four; 0.74 on the Cattaneo cylinder), 1.85 on the graded
-/// Hertz cylinder, 3.0 to 13.4 on thin strips pressed along their length (lengths 1 to 20, 0.02
-/// thick), whatever the foundation's thickness.  On those the dual Hessian is so
-/// ill-conditioned that dual-ssn ends `inaccurate` after paying 7–90× the floor, or solves at
-/// 1.3–1.8× where pdas takes 1.0–1.1× (a strip on a foundation 25–100 times thicker; the rule
-/// once divided m by √n of the whole model, which such a foundation diluted to 0.8–0.9).
-/// Measured by `cargo test --release -p signorini --test auto -- --ignored features
+/// ([`ContactBody`]), counting the rows that touch first ([`first_touch`]).  In 2D a body's
+/// boundary grows like √(its DOFs), so ℓ measures the contact length against the body it runs
+/// along: 0.40–0.43 on the seed's geometry at every mesh size, at most 0.87 on the fixtures
+/// (chain-four; 0.39 on the Cattaneo cylinder, 0.04 on the Hertz cylinder), 4.5 to 15.8 on thin
+/// strips pressed along their length (lengths 1 to 20, 0.02 thick), whatever the foundation's
+/// thickness.  On those the dual Hessian is so ill-conditioned that dual-ssn ends `inaccurate`
+/// after paying 7–90× the floor, or solves at 1.3–1.8× where pdas takes 1.0–1.1× (a strip on a
+/// foundation 25–100 times thicker; the rule once divided m by √n of the whole model, which
+/// such a foundation diluted to 0.8–0.9).  Counting every candidate row instead of those that
+/// touch first made the Hertz cylinder long (311 rows sampled every 0.001 along its arc on a cap
+/// of 12 918 DOFs: 2.74), and pdas took 7.3× the floor there in 14 steps where dual-ssn takes
+/// 2.4×.  Measured by `cargo test --release -p signorini --test auto -- --ignored features
 /// --nocapture` over the fixtures.
 pub const LONG_INTERFACE: f64 = 1.2;
 
@@ -142,15 +146,16 @@ pub struct Features {
     /// Unknowns of the contact body most slender against its interface ([`ContactBody`]; 0
     /// without normal rows).
     pub body_dofs: usize,
-    /// The size of that body's interface ([`ContactBody::interface`]: the normal rows touching
-    /// it, or its own DOFs they touch when fewer).
+    /// The size of that body's interface where it touches first ([`first_touch`],
+    /// [`ContactBody::interface`]: the normal rows touching it, or its own DOFs they touch when
+    /// fewer).
     pub body_interface: usize,
 }
 
 impl Features {
     /// The features of `problem`.
     pub fn of(problem: &QpProblem) -> Self {
-        let body = ContactBody::most_slender(problem);
+        let body = ContactBody::most_slender_over(problem, &first_touch(problem));
         Self {
             dofs: problem.dofs(),
             rows: problem.rows(),
@@ -168,8 +173,8 @@ impl Features {
     }
 
     /// The interface's length against the body it runs along (see [`LONG_INTERFACE`]): the
-    /// interface of the most slender contact body over the square root of that body's unknowns
-    /// ([`ContactBody::slenderness`]).  A thick foundation under a thin strip does
+    /// interface of the most slender contact body where it touches first ([`first_touch`]) over
+    /// the square root of that body's unknowns ([`ContactBody::slenderness`]).  A thick foundation under a thin strip does
     /// not dilute it: the strip's own unknowns count, not the model's.
     pub fn length_ratio(&self) -> f64 {
         ContactBody {
@@ -239,7 +244,7 @@ pub fn plan(f: &Features) -> Plan {
     let chain: Vec<BackendKind> = chain.iter().copied().filter(|k| ready(*k)).collect();
     let names: Vec<&str> = chain.iter().map(|k| k.name()).collect();
     let reason = format!(
-        "n = {}, m = {}, {} DOFs touched, ℓ = interface {} / √{} DOFs of the most slender contact body{}: {why}; chain {}",
+        "n = {}, m = {}, {} DOFs touched, ℓ = interface {} (rows touching first) / √{} DOFs of the most slender contact body{}: {why}; chain {}",
         f.dofs,
         f.rows,
         f.touched,
