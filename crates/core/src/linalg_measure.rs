@@ -53,7 +53,7 @@ fn measure_orderings() {
             .to_string_lossy()
             .to_string();
         let methods = std::env::var("SIGNORINI_MEASURE_METHODS").unwrap_or("amd metis".into());
-        for method in [OrderingMethod::Amd, OrderingMethod::Metis] {
+        for method in OrderingMethod::ALL {
             if !methods.split_whitespace().any(|m| m == method.as_str()) {
                 continue;
             }

@@ -1,5 +1,5 @@
 //! The sparse LDLᵀ factor of the KKT matrix: one symbolic analysis (the project's shared
-//! [`CholeskyPattern`], ordered by [`signorini_qp::linalg::fill_reducing_order`]), a numeric
+//! [`CholeskyPattern`], ordered by [`signorini_qp::linalg::kkt_order`]), a numeric
 //! factorisation per active set, and solves with it.
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -7,7 +7,7 @@ use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::sparse::linalg::cholesky::{LdltRef, SymbolicCholesky};
 use faer::{Conj, MatMut, Par, Side};
 use signorini_qp::linalg::{
-    faer_view, fill_reducing_order, CholeskyPattern, Layout, LinalgError, OrderingMethod,
+    faer_view, kkt_order, CholeskyPattern, Layout, LinalgError, OrderingMethod,
 };
 use signorini_qp::CscMatrix;
 
@@ -39,7 +39,7 @@ impl KktFactor {
     /// [`KktFactor::bytes_needed`], [`KktFactor::allocate`]).
     pub fn analyse(k: &CscMatrix, dofs: usize) -> Result<Self, PdasError> {
         let dim = k.rows();
-        let ordering = fill_reducing_order(k).map_err(|e| PdasError::Symbolic(e.to_string()))?;
+        let ordering = kkt_order(k).map_err(|e| PdasError::Symbolic(e.to_string()))?;
         let pattern = CholeskyPattern::analyse_laid_out(k, &ordering, Layout::FaerChoice).map_err(
             |e| match e {
                 // faer's own failure, as its message.

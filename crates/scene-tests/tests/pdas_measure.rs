@@ -232,8 +232,8 @@ fn kkt_orderings_on_the_tresca_strip() {
 }
 
 /// One ordering, 20 times, chosen by `VARIANT` (`amd_a`: A as stored, both triangles;
-/// `lower_a`: A's lower triangle, as K stores it; `amd_k`: K; anything else: none, the
-/// baseline), on the Tresca strip, for `perf stat -e task-clock` (CPU time moves less with the
+/// `lower_a`: A's lower triangle, as K stores it; `amd_k`: K by plain AMD; `nodes_k`: K by
+/// pdas's own [`signorini_qp::linalg::kkt_order`]; anything else: none, the baseline), on the Tresca strip, for `perf stat -e task-clock` (CPU time moves less with the
 /// machine's load than wall time; this machine exposes no instruction counters):
 ///
 /// ```text
@@ -263,6 +263,7 @@ fn amd_variant_for_perf_stat() {
             "amd_a" => drop(fill_reducing_order(&p.stiffness).unwrap()),
             "lower_a" => drop(fill_reducing_order(&lower_a).unwrap()),
             "amd_k" => drop(fill_reducing_order(k).unwrap()),
+            "nodes_k" => drop(signorini_qp::linalg::kkt_order(k).unwrap()),
             _ => {}
         }
     }

@@ -26,7 +26,7 @@ use crate::CscMatrix;
 pub mod kkt;
 pub mod ordering;
 
-pub use ordering::{fill_reducing_order, order_with, FillOrdering, OrderingMethod};
+pub use ordering::{fill_reducing_order, kkt_order, order_with, FillOrdering, OrderingMethod};
 
 /// Why a factorisation failed.
 #[derive(Debug, thiserror::Error)]
@@ -462,7 +462,7 @@ pub(crate) mod tests {
         let x_true: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin() + 0.1).collect();
         let b = crate::mat_vec(&a, &x_true);
         let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-        for method in [OrderingMethod::Amd, OrderingMethod::Metis] {
+        for method in OrderingMethod::ALL {
             let ordering = order_with(&a, method).unwrap();
             let pattern = CholeskyPattern::analyse_with(&a, &ordering).unwrap();
             let info = pattern.info(&a).unwrap();
