@@ -493,6 +493,18 @@ fn small_set_and_python(root: &Path) -> (std::path::PathBuf, String) {
     (set, python)
 }
 
+/// `python -c SCRIPT SET` with the set's directory first on `sys.path` (where its
+/// `signorini_contact` module lives).
+fn python_on_set(python: &str, set: &Path, script: &str) -> std::process::Command {
+    let mut c = std::process::Command::new(python);
+    c.args([
+        "-c",
+        &format!("import sys\nsys.path.insert(0, sys.argv[1])\n{script}"),
+        set.to_str().unwrap(),
+    ]);
+    c
+}
+
 /// qpbenchmark itself loads the set: its `list_problems` names every problem, and each
 /// problem's reference x meets qpsolvers' own residual checks.  Needs Python with qpbenchmark
 /// (`QPSET_PYTHON`, default `python3`); scripts/qpset-peers.sh installs it in a virtualenv.
@@ -502,8 +514,6 @@ fn qpbenchmark_loads_the_set() {
     let tmp = tempfile::tempdir().unwrap();
     let (set, python) = small_set_and_python(tmp.path());
     let script = r#"
-import sys
-sys.path.insert(0, sys.argv[1])
 import numpy as np, os
 from signorini_contact import SignoriniContact, load_reference
 ts = SignoriniContact()
@@ -517,8 +527,7 @@ for p in ts:
     names.append(p.name)
 print(",".join(sorted(names)))
 "#;
-    let o = std::process::Command::new(python)
-        .args(["-c", script, set.to_str().unwrap()])
+    let o = python_on_set(&python, &set, script)
         .output()
         .expect("run python");
     let stdout = common::succeeded(&o);
@@ -535,16 +544,13 @@ fn the_module_takes_its_time_limit_from_qpset_runtime() {
     let tmp = tempfile::tempdir().unwrap();
     let (set, python) = small_set_and_python(tmp.path());
     let script = r#"
-import sys
-sys.path.insert(0, sys.argv[1])
 from signorini_contact import SignoriniContact
 ts = SignoriniContact()
 print(",".join(f"{ts.tolerances[s].runtime:g}" for s in ("default", "high_accuracy")))
 print(ts.solver_settings["default"]["osqp"]["time_limit"])
 "#;
     let run = |runtime: Option<&str>| {
-        let mut c = std::process::Command::new(&python);
-        c.args(["-c", script, set.to_str().unwrap()]);
+        let mut c = python_on_set(&python, &set, script);
         match runtime {
             Some(r) => c.env("QPSET_RUNTIME", r),
             None => c.env_remove("QPSET_RUNTIME"),

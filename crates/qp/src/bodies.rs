@@ -129,9 +129,8 @@ impl ContactBody {
     /// length are not counted): with [`first_touch`], the interface that touches first.
     pub fn most_slender_over(problem: &QpProblem, counted: &[bool]) -> Option<Self> {
         let components = Components::of(&problem.stiffness);
-        let normal = counted;
         let bodies = components.sizes.len();
-        // One pass over B's columns (DOFs): (body, row) for every nonzero of a normal row, and
+        // One pass over B's columns (DOFs): (body, row) for every nonzero of a counted row, and
         // the DOFs of each body such a row touches.
         let mut touches: Vec<(usize, usize)> = Vec::with_capacity(problem.constraints.nnz());
         let mut touched = vec![0usize; bodies];
@@ -143,7 +142,7 @@ impl ContactBody {
             touches.extend(
                 column
                     .iter()
-                    .filter(|&(i, &v)| v != 0.0 && normal.get(i).copied().unwrap_or(false))
+                    .filter(|&(i, &v)| v != 0.0 && counted.get(i).copied().unwrap_or(false))
                     .map(|(i, _)| (label, i)),
             );
             touched[label] += usize::from(touches.len() > before);
