@@ -269,13 +269,8 @@ impl<'p> ActiveSet<'p> {
         self.deadline().is_some_and(|d| Instant::now() >= d)
     }
 
-    /// Numeric factorisation of K for `active` with −`delta` on the active multiplier rows;
-    /// returns its duration.
-    fn factorise(&mut self, active: &[bool], delta: f64) -> Result<Duration, PdasError> {
-        self.factorise_with(active, delta, self.rho())
-    }
-
-    /// As [`Self::factorise`] with the primal regularisation `rho`.
+    /// Numeric factorisation of K for `active` with −`delta` on the active multiplier rows and
+    /// the primal regularisation `rho`; returns its duration.
     fn factorise_with(
         &mut self,
         active: &[bool],
@@ -318,11 +313,6 @@ impl<'p> ActiveSet<'p> {
     /// δ in the problem's units (compliance).
     fn delta(&self) -> f64 {
         self.settings.dual_regularization / self.stiffness
-    }
-
-    /// F_{k+1} = { i : λᵢ + c (Bx − g)ᵢ > 0 }.
-    fn next_set(&self, solution: &SetSolution) -> Vec<bool> {
-        self.next_state(solution).0
     }
 
     /// The next set and, per row, the sign of a slipping box row's fixed multiplier (0

@@ -148,9 +148,12 @@
 //! factor per step — whose iterate moves every row's status a little at a time, so a non-local
 //! change cannot make it flip.  Once μ has fallen tenfold and the set the iterate predicts,
 //! { i : λᵢ Xᵢ > sᵢ F } (force and gap in the units of the KKT residuals), is the same twice
-//! in a row, that set is solved exactly (factorised, refined against the unregularised system)
-//! and plain active-set steps follow from it while their changes do not grow; the answer is
-//! accepted only on a set that reproduces itself and meets the tolerance, as before.  These
+//! in a row — and once right after the first interior step (issue 21: on the long
+//! partial-contact strips that set is the answer's or a few rows off) — that set is solved
+//! exactly (factorised, refined against the unregularised system) and plain active-set steps
+//! follow from it, through low-rank updates of that factor while few rows change, until they
+//! would hand over again; the answer is accepted only on a set that reproduces itself and
+//! meets the tolerance, as before.  These
 //! exact solves use ρ = 0 even for a floating body: with ρ = 10⁻¹⁰ s the crossover solve of
 //! the right set on strip-partial stalled in refinement at a penetration of 0.17 (relative),
 //! because the strip's bending mode is itself ~10⁻⁹ s soft; the set then holds every rigid

@@ -14,20 +14,28 @@
 //! every row's status a little at a time, so a change that is non-local (a thin strip lifting
 //! one end when a row far away is released) does not flip sets back and forth: the iteration
 //! count does not depend on how many rows change, and the complementarity μ falls by a
-//! factor each step.  As soon as the set the iterate predicts, { i : λᵢ Xᵢ > sᵢ F } (forces and
-//! gaps in the units of the KKT residuals), is the same twice in a row, that set is solved
-//! exactly (its KKT system, unregularised through refinement, as in the plain iteration) and
-//! accepted when it reproduces itself and meets the tolerance: the interior iterate only has
-//! to find the set, never to be accurate itself.
+//! factor each step.  The set the iterate predicts, { i : λᵢ Xᵢ > sᵢ F } (forces and gaps in
+//! the units of the KKT residuals), is solved exactly after the first interior step, and later
+//! whenever it is the same twice in a row with μ fallen tenfold: the crossover is a run of
+//! plain active-set steps from that set — its KKT system factorised with ρ = 0 (the crate's docs
+//! say why) and refined, then low-rank updates of that factor while few rows
+//! change — accepted only on a set that reproduces itself and meets the tolerance, and handed
+//! back to the interior steps when the plain steps flip.  The interior iterate only has to
+//! find the set, never to be accurate itself.
+//!
+//! Crossing over after the first step (issue 21): on the long partial-contact strips the
+//! first step's set is right or a few rows off (m = 2 001: the 403 rows of the answer; m =
+//! 20 001: 4 005 rows, 2 from the answer's 4 003), which the updates fix, so the solve takes
+//! three factorisations (the plain step, one interior step, the crossover) instead of four
+//! and six.  A first set that is far off costs one factorisation: the plain step that finds
+//! more changes than an update takes hands back at once.
 
 use std::time::Instant;
 
 use signorini_qp::{dot, mat_t_vec, mat_vec, QpProblem, QpStatus, ResidualScales};
 
-use super::{count, settled_message, ActiveSet, Best, Measured, Outcome, Phase1};
-use crate::error::PdasError;
-use crate::refine::{first_solve, refine, SetSolution};
-use crate::update::SetSolver;
+use super::plain::{Flow, Plain};
+use super::{count, ActiveSet, Best, Outcome, Phase1};
 
 /// Fraction of the distance to the boundary an interior step may go.
 const TO_BOUNDARY: f64 = 0.995;
@@ -69,12 +77,16 @@ struct Interior {
 
 impl Interior {
     /// Records the set a step at complementarity `mu` predicts; whether to cross over to it:
-    /// it repeats the last step's, was not tried yet, and μ has fallen tenfold (the first sets
-    /// are the start's).
+    /// the first step's set (not tried yet), and after it a set that repeats the last step's,
+    /// was not tried yet, and with μ fallen tenfold from the first step's.
     fn crossover_due(&mut self, set: &[bool], mu: f64) -> bool {
         let repeated = self.previous.as_deref() == Some(set);
         self.previous = Some(set.to_vec());
-        let mu0 = *self.first_mu.get_or_insert(mu);
+        let Some(mu0) = self.first_mu else {
+            // The first step's set, at once (the module's docs say why).
+            self.first_mu = Some(mu);
+            return !self.tried.iter().any(|t| t == set);
+        };
         // (Written as the negation of the reasons against, so that a NaN μ behaves as before.)
         let against = !repeated || self.tried.iter().any(|t| t == set) || mu > 0.1 * mu0;
         !against
@@ -248,127 +260,34 @@ impl ActiveSet<'_> {
             .collect()
     }
 
-    /// Crossover: exact solves from the predicted set on, by the active-set rule for as long
-    /// as the number of changes falls (the plain iteration's local regime).  The final answer
-    /// when one is accepted (or the time runs out during refinement, or a factorisation
-    /// fails); `None` to go on with interior steps.
-    fn crossover(&mut self, state: &mut Interior, mut set: Vec<bool>) -> Option<Outcome> {
-        let mut last_changes = usize::MAX;
-        loop {
-            state.tried.push(set.clone());
-            if state.iteration >= state.max_iter || self.out_of_time() {
-                return None;
+    /// Crossover: plain active-set steps from the predicted set on — its exact solve (a
+    /// factorisation with ρ = 0, refined), then low-rank updates of that factor while few rows
+    /// change — for as long as the plain steps would go on.  The final answer when one is
+    /// accepted, settles, is certified, or the time runs out; `None` to go on with interior
+    /// steps (the plain steps flipped, or the cap was reached).
+    fn crossover(&mut self, state: &mut Interior, set: Vec<bool>) -> Option<Outcome> {
+        state.tried.push(set.clone());
+        let note = format!(
+            " (the active-set steps flipped; {} interior-point steps, then exact solves from the set they found)",
+            state.steps
+        );
+        let best = std::mem::replace(&mut state.best, Best::zero(self.problem));
+        let mut plain = Plain::crossover(set, (state.iteration, state.max_iter), best, note);
+        let flow = loop {
+            if plain.iteration >= plain.max_iter || self.out_of_time() {
+                break None;
             }
-            state.iteration += 1;
+            plain.iteration += 1;
             state.crossovers += 1;
-            let iteration = state.iteration;
-            let (mut solution, next) = match self.exact_solve(&set) {
-                Ok(solved) => solved,
-                Err(e) => {
-                    let outcome = state.best.take();
-                    return Some(self.finish(
-                        outcome,
-                        QpStatus::NumericalError,
-                        iteration,
-                        e.to_string(),
-                    ));
-                }
-            };
-            let finite = solution.is_finite();
-            let x = std::mem::take(&mut solution.x);
-            let measured = self.measure(x, &solution.multipliers, &set, &next, iteration);
-            if self.options.verbose {
-                eprintln!(
-                    "pdas: iteration {iteration}: crossover to {} active rows, KKT {:.1e}, {} changes",
-                    count(&set),
-                    measured.worst,
-                    measured.changes
-                );
+            match self.plain_step(&mut plain) {
+                Flow::Next => {}
+                Flow::Done(outcome) => break Some(outcome),
+                Flow::Handover { .. } => break None,
             }
-            let (changes, worst) = (measured.changes, measured.worst);
-            if let Some(outcome) = self.judge_crossover(state, measured, finite, &set, &solution) {
-                return Some(outcome);
-            }
-            if changes == 0 && finite {
-                // The set reproduces itself and its exact solve was refined as far as it goes:
-                // more interior steps head for this very answer on ever worse conditioned
-                // systems (measured on a 1000 × 0.05 strip: 94 more steps, 40 s, no better).
-                let message = settled_message(
-                    self.problem,
-                    count(&set),
-                    (worst, solution.residual),
-                    &solution.multipliers,
-                );
-                let message = format!(
-                    "{message} (found by the interior-point steps after the active-set steps flipped)"
-                );
-                return Some(self.finish(
-                    state.best.take(),
-                    QpStatus::Inaccurate,
-                    iteration,
-                    message,
-                ));
-            }
-            if changes == 0 || changes > last_changes || state.tried.contains(&next) {
-                return None;
-            }
-            last_changes = changes;
-            set = next;
-        }
-    }
-
-    /// The exact solve of `set` (unregularised primal block, refined) and the set it predicts.
-    fn exact_solve(&mut self, set: &[bool]) -> Result<(SetSolution, Vec<bool>), PdasError> {
-        let p = self.problem;
-        let delta = self.delta();
-        self.factorise_with(set, delta, 0.0)?;
-        let limits = self.limits();
-        let mut solver = SetSolver {
-            factor: &mut self.factor,
-            update: None,
-            coupling: None,
         };
-        let mut solution = first_solve(p, set, None, &mut solver);
-        refine(p, &self.scales, set, &mut solver, &mut solution, &limits);
-        self.refinement_steps += solution.steps;
-        let next = self.next_set(&solution);
-        Ok((solution, next))
-    }
-
-    /// Accepts a crossover's solution that is finite, reproduces its set and meets the
-    /// tolerance, else keeps it when best; the final answer when accepted or when the time ran
-    /// out during refinement.
-    fn judge_crossover(
-        &self,
-        state: &mut Interior,
-        measured: Measured,
-        finite: bool,
-        set: &[bool],
-        solution: &SetSolution,
-    ) -> Option<Outcome> {
-        let iteration = state.iteration;
-        if finite && measured.changes == 0 && measured.residuals.meet(self.options.tol) {
-            let message = format!(
-                "{} active rows (the active-set steps flipped; {} interior-point steps, then {} exact solves from the set they found)",
-                count(set),
-                state.steps,
-                state.crossovers
-            );
-            return Some(self.finish(measured.candidate, QpStatus::Solved, iteration, message));
-        }
-        if finite {
-            state
-                .best
-                .keep_if_better(measured.candidate, measured.worst);
-        }
-        solution.timed_out.then(|| {
-            self.finish(
-                state.best.take(),
-                QpStatus::TimeLimit,
-                iteration,
-                "time limit reached during refinement".into(),
-            )
-        })
+        state.iteration = plain.iteration;
+        state.best = plain.best;
+        flow
     }
 }
 

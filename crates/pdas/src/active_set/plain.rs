@@ -22,7 +22,7 @@ use crate::update::{SetSolver, SetUpdate};
 const MIN_PLAIN_STEPS: usize = 6;
 
 /// The plain iteration's state, carried from one step to the next.
-struct Plain {
+pub(super) struct Plain {
     /// The current set F_k.
     active: Vec<bool>,
     /// Per row, the sign of a slipping box row's fixed multiplier ±s (0 on other rows).
@@ -30,7 +30,7 @@ struct Plain {
     /// The sets stepped from so far, with their signs (one that comes back is a cycle).
     seen: HashSet<Vec<i8>>,
     /// The best iterate so far.
-    best: Best,
+    pub(super) best: Best,
     /// The set whose numeric factor is held, once there is one.
     factored: Option<Vec<bool>>,
     /// Measured cost of the last factorisation and of solves with it.
@@ -40,15 +40,26 @@ struct Plain {
     /// Per step so far: the rows that changed and the worst scaled KKT residual.
     history: Vec<Progress>,
     /// The current step (1-based once running).
-    iteration: usize,
+    pub(super) iteration: usize,
     /// The iteration cap.
-    max_iter: usize,
+    pub(super) max_iter: usize,
+    /// Iterations before this run of plain steps (0, or those up to a crossover).
+    before: usize,
+    /// The primal regularisation ρ of its factorisations.
+    rho: f64,
+    /// Appended to the message of a set that reproduces itself ("" in the first phase).
+    note: String,
 }
 
 impl Plain {
     /// The state before the first step: set `active` with `signs`, a zero iterate as the best
     /// so far.
-    fn new(problem: &QpProblem, (active, signs): (Vec<bool>, Vec<f64>), max_iter: usize) -> Self {
+    fn new(
+        problem: &QpProblem,
+        (active, signs): (Vec<bool>, Vec<f64>),
+        max_iter: usize,
+        rho: f64,
+    ) -> Self {
         Self {
             signs,
             active,
@@ -60,12 +71,42 @@ impl Plain {
             history: Vec::new(),
             iteration: 0,
             max_iter,
+            before: 0,
+            rho,
+            note: String::new(),
+        }
+    }
+
+    /// The state of a crossover from the interior-point iteration: steps from `set` (one-sided
+    /// rows only) after `iteration` iterations with the best iterate `best`, factorised with
+    /// ρ = 0 (see the crate's docs), `note` appended to the messages of a settled set.
+    pub(super) fn crossover(
+        set: Vec<bool>,
+        (iteration, max_iter): (usize, usize),
+        best: Best,
+        note: String,
+    ) -> Self {
+        let rows = set.len();
+        Self {
+            signs: vec![0.0; rows],
+            active: set,
+            seen: HashSet::new(),
+            best,
+            factored: None,
+            timing: Timing::default(),
+            force_factor: false,
+            history: Vec::new(),
+            iteration,
+            max_iter,
+            before: iteration,
+            rho: 0.0,
+            note,
         }
     }
 }
 
 /// What a step leads to.
-enum Flow {
+pub(super) enum Flow {
     /// The next step (on the next set, or on this one again with a fresh factor).
     Next,
     /// The iteration is over.
@@ -95,7 +136,7 @@ impl ActiveSet<'_> {
     /// Runs the iteration.
     pub fn run(&mut self) -> Outcome {
         let max_iter = self.options.max_iter.unwrap_or(self.settings.max_iter);
-        let mut state = Plain::new(self.problem, self.first_set(), max_iter);
+        let mut state = Plain::new(self.problem, self.first_set(), max_iter, self.rho());
         while state.iteration < state.max_iter {
             state.iteration += 1;
             match self.plain_step(&mut state) {
@@ -123,7 +164,7 @@ impl ActiveSet<'_> {
     }
 
     /// One plain step: solve the current set, then decide.
-    fn plain_step(&mut self, state: &mut Plain) -> Flow {
+    pub(super) fn plain_step(&mut self, state: &mut Plain) -> Flow {
         let iteration = state.iteration;
         if self.out_of_time() {
             return Flow::Done(self.finish(
@@ -206,7 +247,7 @@ impl ActiveSet<'_> {
         let fresh = update.is_none() && state.factored.as_ref() != Some(&state.active);
         state.force_factor = false;
         if fresh {
-            state.timing.factor = self.factorise(&state.active, delta)?;
+            state.timing.factor = self.factorise_with(&state.active, delta, state.rho)?;
             self.cache.clear();
             state.factored = Some(state.active.clone());
         }
@@ -310,7 +351,7 @@ impl ActiveSet<'_> {
         // can hide a penetration that a soft row's length scale makes look small.
         let settled = stalled || state.seen.contains(&key) || iteration == state.max_iter;
         if residuals.meet(self.options.tol) && settled {
-            let message = format!("{} active rows", count(&state.active));
+            let message = format!("{} active rows{}", count(&state.active), state.note);
             return Flow::Done(self.finish(candidate, QpStatus::Solved, iteration, message));
         }
         if stalled && set_solve.update.is_some() {
@@ -354,7 +395,8 @@ impl ActiveSet<'_> {
         let iteration = state.iteration;
         let stalled = step.changes == 0;
         let progress = step.progress();
-        let flipping = flipping(&state.history, progress, iteration);
+        // Counted from this run's first step: a crossover's plain steps get their chance too.
+        let flipping = flipping(&state.history, progress, iteration - state.before);
         // Box rows have no interior-point continuation: their plain steps go on while the sets
         // still change without repeating (a contact zone that shrinks a node per side each step
         // changes as many rows as two steps before without flipping).
@@ -383,7 +425,7 @@ impl ActiveSet<'_> {
                 count(&state.active),
                 (step.worst, solution.residual),
                 &solution.multipliers,
-            );
+            ) + &state.note;
             return Flow::Done(self.finish(
                 state.best.take(),
                 QpStatus::Inaccurate,
