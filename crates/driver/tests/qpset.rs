@@ -682,3 +682,66 @@ fn dual_backends_refuse_tresca_s_auxiliary_unknowns_saying_why() {
         );
     }
 }
+
+/// scripts/qpset-peers.sh end to end on the small set with one peer and two of our backends
+/// chosen (`QPSET_PEERS`, `QPSET_BACKENDS`): our rows are those two backends' on every
+/// problem, qpbenchmark's results hold the peer's rows, and the report names all three.
+/// Needs Python with qpbenchmark and clarabel (`QPSET_PYTHON`, whose virtualenv the script
+/// reuses; without it the script makes its own, which needs the package index).
+#[test]
+#[ignore = "needs python qpbenchmark"]
+fn the_peers_script_runs_the_chosen_backends_beside_the_chosen_peers() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = small_dir(tmp.path());
+    std::fs::remove_file(dir.join("broken.toml")).unwrap();
+    let out = tmp.path().join("run");
+    let mut c = std::process::Command::new("sh");
+    c.arg(repo("scripts/qpset-peers.sh"))
+        .arg(&out)
+        .env("QPSET_DIRS", &dir)
+        .env("QPSET_SETTINGS", "default")
+        .env("QPSET_SOLVERS", "clarabel")
+        .env("QPSET_PEERS", "clarabel")
+        .env("QPSET_BACKENDS", "pdas,dual-ssn")
+        .env("SIGNORINI", env!("CARGO_BIN_EXE_signorini"));
+    if let Ok(python) = std::env::var("QPSET_PYTHON") {
+        // .../venv/bin/python → .../venv
+        if let Some(venv) = Path::new(&python).parent().and_then(Path::parent) {
+            c.env("QPSET_VENV", venv);
+        }
+    }
+    common::succeeded(&c.output().expect("run scripts/qpset-peers.sh"));
+    let solvers_of = |path: &Path| -> std::collections::BTreeSet<(String, String)> {
+        let mut reader = csv::Reader::from_path(path).unwrap();
+        let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+        let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+        let (solver, problem) = (col("solver"), col("problem"));
+        reader
+            .records()
+            .map(|r| {
+                let r = r.unwrap();
+                (r[solver].to_string(), r[problem].to_string())
+            })
+            .collect()
+    };
+    // The set's problems (as `qpbenchmark_loads_the_set` lists them: Coulomb's scene is no QP).
+    let problems = ["scenes-exp2b", "scenes-tresca-nts", "sub-floating"];
+    let ours = solvers_of(&out.join("ours-default.csv"));
+    let expected: std::collections::BTreeSet<(String, String)> =
+        ["signorini-pdas", "signorini-dual-ssn"]
+            .iter()
+            .flat_map(|s| problems.iter().map(move |p| (s.to_string(), p.to_string())))
+            .collect();
+    assert_eq!(ours, expected);
+    let peers = solvers_of(&out.join("set/results/qpbenchmark_results.csv"));
+    let peer_names: std::collections::BTreeSet<&str> =
+        peers.iter().map(|(s, _)| s.as_str()).collect();
+    assert_eq!(peer_names, ["clarabel"].into_iter().collect());
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    for name in ["clarabel", "signorini-pdas", "signorini-dual-ssn"] {
+        assert!(
+            report.contains(name),
+            "{name} missing from the report:\n{report}"
+        );
+    }
+}

@@ -40,9 +40,11 @@ use crate::monitor::{finish_at_limit, Monitor, Next};
 use crate::settings::DualSettings;
 
 mod budget;
+mod stall;
 mod step;
 
 use budget::CheckBudget;
+use stall::Stall;
 use step::{dense_step, refined_step, Step};
 
 /// From this many active-set steps on, an iterate whose set still moves is checked against
@@ -494,7 +496,9 @@ impl Newton {
         let changes = (0..data.rows())
             .filter(|&i| next_active[i] != state.active[i])
             .count();
-        let why = state.stall.observe(state.iter, changes, worst)?;
+        let count = |set: &[bool]| set.iter().filter(|a| **a).count();
+        let sizes = (count(&state.active), count(next_active), data.rows());
+        let why = state.stall.observe(state.iter, changes, worst, sizes)?;
         Some(Outcome {
             message: format!("{}; {why}; {}", checked.message, self.tally(state)),
             ..checked
@@ -522,43 +526,6 @@ fn codes(active: &[bool], fixed: &[f64]) -> Vec<i8> {
             _ => 0,
         })
         .collect()
-}
-
-/// Steps without progress after which a set that still moves is given up: [`Stall`].
-const STALL_STEPS: usize = 10;
-
-/// Progress of a moving active set, from [`CHECK_MOVING_FROM`] on: a step makes progress when
-/// fewer rows change than ever before, or the checked iterate's worst KKT residual falls below
-/// half its best.  A set that makes neither for [`STALL_STEPS`] steps is moving on round-off
-/// (or cycling through sets too many to remember), not towards an answer: the iterate is given
-/// as it is, `inaccurate`, instead of dense factorisations to the iteration limit (a 1e-5-thin
-/// strip with m = 903: 100 000 steps, ~11 min).  The fixtures settle within 14 steps, each
-/// making progress.
-#[derive(Debug, Default)]
-struct Stall {
-    /// Fewest rows that changed in a step, the smallest worst residual, and the last step that
-    /// improved either.
-    best: Option<(usize, f64, usize)>,
-}
-
-impl Stall {
-    /// Records step `iter` (`changes` rows changed, worst residual `worst`); says why to stop
-    /// when it is time.
-    fn observe(&mut self, iter: usize, changes: usize, worst: f64) -> Option<String> {
-        let Some((fewest, lowest, at)) = self.best else {
-            self.best = Some((changes, worst, iter));
-            return None;
-        };
-        if changes < fewest || worst < 0.5 * lowest {
-            self.best = Some((changes.min(fewest), worst.min(lowest), iter));
-            return None;
-        }
-        (iter - at >= STALL_STEPS).then(|| {
-            format!(
-                "stalled: the active set still moves ({changes} rows this step, never fewer than {fewest}) and the residual has not halved its best ({lowest:.1e}) since step {at}"
-            )
-        })
-    }
 }
 
 /// The iterate λ (already projected onto its rows' sets) as an answer, `solved` when its KKT residuals meet the
@@ -596,39 +563,5 @@ fn stopped(data: &DualData<'_>, status: QpStatus, message: String) -> Outcome {
         status,
         iterations: 0,
         message,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_set_that_stops_improving_is_given_up_after_the_stall_steps() {
-        // Steps 3, 4: progress (fewer changes, then a halved residual); from step 5 on neither
-        // (more changes, a residual above half the best): given up at step 4 + STALL_STEPS.
-        let mut stall = Stall::default();
-        assert_eq!(stall.observe(3, 50, 1.0), None);
-        assert_eq!(stall.observe(4, 40, 0.4), None);
-        for iter in 5..4 + STALL_STEPS {
-            assert_eq!(stall.observe(iter, 45, 0.3), None, "step {iter}");
-        }
-        let why = stall.observe(4 + STALL_STEPS, 45, 0.3).unwrap();
-        assert!(why.contains("since step 4"), "{why}");
-    }
-
-    #[test]
-    fn a_set_that_keeps_improving_is_never_given_up() {
-        // Alternating progress: fewer changes, then a halved residual, for far longer than the
-        // stall window.
-        let mut stall = Stall::default();
-        let mut residual = 1.0;
-        for iter in 3..200 {
-            if iter % 2 == 0 {
-                residual *= 0.4;
-            }
-            let changes = 1_000 - iter;
-            assert_eq!(stall.observe(iter, changes, residual), None, "step {iter}");
-        }
     }
 }
