@@ -745,3 +745,51 @@ fn the_peers_script_runs_the_chosen_backends_beside_the_chosen_peers() {
         );
     }
 }
+
+/// A run that is not `solved` says why on its progress line: the backend's own message after
+/// the status (before, the line gave the status and time only, and a user had to rerun the
+/// problem elsewhere to learn that, e.g., dual-ssn's set had settled above the tolerance).
+#[test]
+fn a_run_that_is_not_solved_says_why() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("scenes");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(repo("fixtures/seed/exp2b.toml"), dir.join("exp2b.toml")).unwrap();
+    let set = tmp.path().join("set");
+    common::succeeded(&export(&dir, &set, tmp.path()));
+    let csv = tmp.path().join("ours.csv");
+    let args = |limit: &'static str| {
+        vec![
+            "qpset".to_string(),
+            "--solve".into(),
+            set.to_str().unwrap().into(),
+            "--backends".into(),
+            "pdas".into(),
+            "--time-limit".into(),
+            limit.into(),
+            "--out".into(),
+            csv.to_str().unwrap().into(),
+        ]
+    };
+    let run = |limit: &'static str| {
+        let args = args(limit);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = signorini(&args, tmp.path());
+        common::succeeded(&o);
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    // A limit of a microsecond: pdas stops before its first factorisation and says so.
+    let stopped = run("0.000001");
+    assert!(
+        stopped.contains("signorini-pdas: time-limit in")
+            && stopped.contains("(tolerance 1e-9): time limit reached"),
+        "{stopped}"
+    );
+    // Solved: the line ends at the tolerance, no message.
+    let solved = run("60");
+    let line = solved
+        .lines()
+        .find(|l| l.contains("signorini-pdas: solved in"))
+        .unwrap_or_else(|| panic!("{solved}"));
+    assert!(line.ends_with("(tolerance 1e-9)"), "{line}");
+}

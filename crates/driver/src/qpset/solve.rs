@@ -46,6 +46,10 @@ pub struct RunRow {
     pub status: String,
     /// The relative KKT tolerance of the last attempt.
     pub tolerance: f64,
+    /// Why the last attempt was not `solved`: the backend's own message (empty when solved,
+    /// or when `status` holds the error itself).  Not a qpbenchmark column.
+    #[serde(skip)]
+    pub why: String,
 }
 
 /// qpsolvers' three residuals of (x, z) for `min ½xᵀPx + qᵀx s.t. Gx ≤ h` with P = A, q = −f,
@@ -113,8 +117,13 @@ pub fn run_set(
             let mut row = run_one(&problem.qp, kind, options, eps_abs);
             row.problem.clone_from(&problem.name);
             row.settings = settings.to_string();
+            let why = if row.why.is_empty() {
+                String::new()
+            } else {
+                format!(": {}", row.why)
+            };
             progress(&format!(
-                "{} {}: {} in {:.4} s (tolerance {:.0e})",
+                "{} {}: {} in {:.4} s (tolerance {:.0e}){why}",
                 row.problem, row.solver, row.status, row.runtime, row.tolerance
             ));
             rows.push(row);
@@ -140,21 +149,23 @@ fn run_one(
         if let Some(limit) = options.time_limit {
             attempt.time_limit = Some(limit.saturating_sub(start.elapsed()));
         }
-        let (status, residuals) = attempt_once(qp, kind, &attempt);
+        let (status, residuals, why) = attempt_once(qp, kind, &attempt);
         let found = status == QpStatus::Solved.as_str();
         let worst = residuals.0.max(residuals.1).max(residuals.2);
-        let (found, status) = match eps_abs {
+        let (found, status, why) = match eps_abs {
             Some(eps) if found && worst > eps => {
                 if tol > TOL_FLOOR && !out_of_time(options, start) {
                     tol = (0.1 * tol * eps / worst).clamp(TOL_FLOOR, 0.1 * tol);
                     continue;
                 }
+                // The status says why; the backend's message would say `solved`.
                 (
                     false,
                     format!("inaccurate (absolute residual {worst:.1e} > {eps:.0e})"),
+                    String::new(),
                 )
             }
-            _ => (found, status),
+            _ => (found, status, why),
         };
         let r = if found { residuals } else { infinite() };
         return RunRow {
@@ -166,6 +177,7 @@ fn run_one(
             primal_residual: r.0,
             dual_residual: r.1,
             duality_gap: r.2,
+            why: if found { String::new() } else { why },
             status,
             tolerance: tol,
         };
@@ -178,12 +190,13 @@ fn out_of_time(options: &SolveOptions, start: Instant) -> bool {
         .is_some_and(|limit| start.elapsed() >= limit)
 }
 
-/// One solve: our checked status and, when `solved`, qpsolvers' residuals (else infinite).
+/// One solve: our checked status, qpsolvers' residuals when `solved` (else infinite), and the
+/// backend's message.
 fn attempt_once(
     qp: &QpProblem,
     kind: BackendKind,
     options: &SolveOptions,
-) -> (String, (f64, f64, f64)) {
+) -> (String, (f64, f64, f64), String) {
     match make_backend(kind).map(|mut b| b.solve(qp, options)) {
         Ok(Ok(a)) if a.x.len() == qp.dofs() && a.multipliers.len() == qp.rows() => {
             let ours = kkt_residuals(qp, &a.x, &a.multipliers);
@@ -193,11 +206,20 @@ fn attempt_once(
             } else {
                 infinite()
             };
-            (status.to_string(), r)
+            (status.to_string(), r, a.message.unwrap_or_default())
         }
-        Ok(Ok(a)) => (a.status.to_string(), infinite()),
-        Ok(Err(e)) => (format!("error: {e}"), infinite()),
-        Err(e) => (format!("error: {e}"), infinite()),
+        Ok(Ok(a)) => (
+            a.status.to_string(),
+            infinite(),
+            format!(
+                "{} (an answer of the wrong size: x {}, λ {})",
+                a.message.unwrap_or_default(),
+                a.x.len(),
+                a.multipliers.len()
+            ),
+        ),
+        Ok(Err(e)) => (format!("error: {e}"), infinite(), String::new()),
+        Err(e) => (format!("error: {e}"), infinite(), String::new()),
     }
 }
 
