@@ -47,6 +47,8 @@ pub struct Monitor<'a> {
     scales: ResidualScales,
     /// Why the last growth of λ with gᵀδ < 0 was no certificate, for the final message.
     shortfall: Option<String>,
+    /// The worst scaled KKT residual of the last full check (∞ before the first).
+    last_worst: f64,
 }
 
 impl<'a> Monitor<'a> {
@@ -78,6 +80,7 @@ impl<'a> Monitor<'a> {
             force_scale: norm_inf(&problem.load).max(f64::MIN_POSITIVE),
             scales: ResidualScales::of(problem),
             shortfall: None,
+            last_worst: f64::INFINITY,
         }
     }
 
@@ -99,6 +102,11 @@ impl<'a> Monitor<'a> {
     /// The iteration limit in force.
     pub fn max_iter(&self) -> usize {
         self.max_iter
+    }
+
+    /// The worst scaled KKT residual of the last full check ([`Monitor::check`]), ∞ before it.
+    pub fn last_worst(&self) -> f64 {
+        self.last_worst
     }
 
     /// The requested tolerance.
@@ -191,6 +199,7 @@ impl<'a> Monitor<'a> {
             );
         }
         let r = self.residuals(x, multipliers);
+        self.last_worst = r.worst();
         let btl = mat_t_vec(&self.problem.constraints, multipliers);
         self.length_scale = norm_inf(x).max(f64::MIN_POSITIVE);
         self.force_scale = norm_inf(&self.problem.load)

@@ -456,7 +456,9 @@ impl Newton {
             _ => (
                 QpStatus::Inaccurate,
                 monitor.explain(format!(
-                    "active set settled but the KKT residuals miss the tolerance (refined primal residual {residual:.1e} after {corrections} corrections)"
+                    "active set settled but the KKT residuals ({:.1e}) miss the tolerance {:.1e} (refined primal residual {residual:.1e} after {corrections} corrections)",
+                    monitor.last_worst(),
+                    monitor.tol()
                 )),
             ),
         };
