@@ -69,8 +69,6 @@ struct Interior {
     tried: Vec<Vec<bool>>,
     /// Interior-point steps taken.
     steps: usize,
-    /// Exact solves in crossovers.
-    crossovers: usize,
     /// μ at the first interior step.
     first_mu: Option<f64>,
 }
@@ -134,7 +132,6 @@ impl ActiveSet<'_> {
             previous: None,
             tried: Vec::new(),
             steps: 0,
-            crossovers: 0,
             first_mu: None,
         };
         loop {
@@ -263,8 +260,8 @@ impl ActiveSet<'_> {
     /// Crossover: plain active-set steps from the predicted set on — its exact solve (a
     /// factorisation with ρ = 0, refined), then low-rank updates of that factor while few rows
     /// change — for as long as the plain steps would go on.  The final answer when one is
-    /// accepted, settles, is certified, or the time runs out; `None` to go on with interior
-    /// steps (the plain steps flipped, or the cap was reached).
+    /// accepted, settles, is certified, or the time runs out (`plain_step`'s own checks);
+    /// `None` to go on with interior steps (the plain steps flipped, or the cap was reached).
     fn crossover(&mut self, state: &mut Interior, set: Vec<bool>) -> Option<Outcome> {
         state.tried.push(set.clone());
         let note = format!(
@@ -273,21 +270,13 @@ impl ActiveSet<'_> {
         );
         let best = std::mem::replace(&mut state.best, Best::zero(self.problem));
         let mut plain = Plain::crossover(set, (state.iteration, state.max_iter), best, note);
-        let flow = loop {
-            if plain.iteration >= plain.max_iter || self.out_of_time() {
-                break None;
-            }
-            plain.iteration += 1;
-            state.crossovers += 1;
-            match self.plain_step(&mut plain) {
-                Flow::Next => {}
-                Flow::Done(outcome) => break Some(outcome),
-                Flow::Handover { .. } => break None,
-            }
+        let end = match self.steps(&mut plain) {
+            Some(Flow::Done(outcome)) => Some(outcome),
+            Some(Flow::Handover { .. } | Flow::Next) | None => None,
         };
         state.iteration = plain.iteration;
         state.best = plain.best;
-        flow
+        end
     }
 }
 

@@ -42,7 +42,7 @@ pub(super) struct Plain {
     /// The current step (1-based once running).
     pub(super) iteration: usize,
     /// The iteration cap.
-    pub(super) max_iter: usize,
+    max_iter: usize,
     /// Iterations before this run of plain steps (0, or those up to a crossover).
     before: usize,
     /// The primal regularisation ρ of its factorisations.
@@ -137,19 +137,16 @@ impl ActiveSet<'_> {
     pub fn run(&mut self) -> Outcome {
         let max_iter = self.options.max_iter.unwrap_or(self.settings.max_iter);
         let mut state = Plain::new(self.problem, self.first_set(), max_iter, self.rho());
-        while state.iteration < state.max_iter {
-            state.iteration += 1;
-            match self.plain_step(&mut state) {
-                Flow::Next => {}
-                Flow::Done(outcome) => return outcome,
-                Flow::Handover { x, multipliers } => {
-                    let phase1 = Phase1 {
-                        iteration: state.iteration,
-                        best: state.best,
-                    };
-                    return self.interior(x, &multipliers, phase1, max_iter);
-                }
+        match self.steps(&mut state) {
+            Some(Flow::Done(outcome)) => return outcome,
+            Some(Flow::Handover { x, multipliers }) => {
+                let phase1 = Phase1 {
+                    iteration: state.iteration,
+                    best: state.best,
+                };
+                return self.interior(x, &multipliers, phase1, max_iter);
             }
+            Some(Flow::Next) | None => {}
         }
         let message = format!(
             "{max_iter} active-set iterations without meeting the tolerance (best KKT residuals {:.1e})",
@@ -163,8 +160,21 @@ impl ActiveSet<'_> {
         )
     }
 
+    /// Plain steps from `state` until one ends the solve or hands over (never
+    /// [`Flow::Next`]); `None` at the iteration cap.
+    pub(super) fn steps(&mut self, state: &mut Plain) -> Option<Flow> {
+        while state.iteration < state.max_iter {
+            state.iteration += 1;
+            match self.plain_step(state) {
+                Flow::Next => {}
+                end => return Some(end),
+            }
+        }
+        None
+    }
+
     /// One plain step: solve the current set, then decide.
-    pub(super) fn plain_step(&mut self, state: &mut Plain) -> Flow {
+    fn plain_step(&mut self, state: &mut Plain) -> Flow {
         let iteration = state.iteration;
         if self.out_of_time() {
             return Flow::Done(self.finish(
