@@ -177,9 +177,9 @@ impl<'p> ActiveSet<'p> {
         start: Instant,
         coulomb: Option<&'p CoulombRows>,
     ) -> Result<Self, SetupError> {
-        let kkt = KktMatrix::new(problem)?;
-        let mut factor = KktFactor::analyse(kkt.matrix(), kkt.dofs())?;
-        let (dim, nnz_k, nnz_l) = (kkt.dim(), kkt.matrix().nnz(), factor.nnz_l());
+        let mut kkt = KktMatrix::new(problem)?;
+        let mut factor = KktFactor::analyse(&mut kkt)?;
+        let (dim, nnz_k, nnz_l) = (kkt.dim(), kkt.matrix().compute_nnz(), factor.nnz_l());
         // The factor and faer's workspace, plus K and about ten vectors of length n + m.
         let bytes = factor.bytes_needed() + (nnz_k * 16 + dim * 80) as f64;
         signorini_qp::memory::check_fits(
@@ -303,8 +303,7 @@ impl<'p> ActiveSet<'p> {
                 .primal_regularization
                 .min(self.settings.dual_regularization);
         let epsilon = floor * s.min(1.0 / s);
-        self.factor
-            .factor(self.kkt.matrix(), epsilon, 1e3 * epsilon)?;
+        self.factor.factor(&self.kkt, epsilon, 1e3 * epsilon)?;
         self.factorisations += 1;
         self.factor_time += clock.elapsed();
         Ok(clock.elapsed())

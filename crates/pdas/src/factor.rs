@@ -1,24 +1,31 @@
 //! The sparse LDLᵀ factor of the KKT matrix: one symbolic analysis (the project's shared
 //! [`CholeskyPattern`], ordered by [`signorini_qp::linalg::kkt_order`]), a numeric
-//! factorisation per active set, and solves with it.
+//! factorisation per active set, and solves with it.  K is stored in the factor's elimination
+//! order ([`KktMatrix::reorder`]), so the analysis carries no permutation: faer's numeric
+//! factorisation reads K in place, and the solves permute their right-hand sides instead.
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::sparse::linalg::cholesky::{LdltRef, SymbolicCholesky};
 use faer::{Conj, MatMut, Par, Side};
 use signorini_qp::linalg::{
-    faer_view, kkt_order, CholeskyPattern, Layout, LinalgError, OrderingMethod,
+    kkt_order, CholeskyPattern, FillOrdering, Layout, LinalgError, OrderingMethod,
 };
-use signorini_qp::CscMatrix;
 
 use crate::error::PdasError;
+use crate::kkt::KktMatrix;
 
 /// The symbolic factor of K's pattern and the numeric values of the last factorisation.
 pub struct KktFactor {
     pattern: CholeskyPattern,
     values: Vec<f64>,
-    /// +1 on the primal block, −1 on the multiplier block (faer's dynamic regularisation).
+    /// +1 on the primal block, −1 on the multiplier block (faer's dynamic regularisation), in
+    /// the elimination order.
     signs: Vec<i8>,
+    /// The elimination order, `forward[new] = old`.
+    forward: Vec<usize>,
+    /// A right-hand side in the elimination order.
+    work: Vec<f64>,
     buffer: MemBuffer,
     scratch_bytes: usize,
 }
@@ -34,25 +41,35 @@ impl std::fmt::Debug for KktFactor {
 }
 
 impl KktFactor {
-    /// Orders the symmetric pattern of `k` (lower triangle of an (n + m) square matrix, the
-    /// first `dofs` unknowns primal) and analyses it.  The values are not allocated yet (see
-    /// [`KktFactor::bytes_needed`], [`KktFactor::allocate`]).
-    pub fn analyse(k: &CscMatrix, dofs: usize) -> Result<Self, PdasError> {
-        let dim = k.rows();
-        let ordering = kkt_order(k).map_err(|e| PdasError::Symbolic(e.to_string()))?;
-        let pattern = CholeskyPattern::analyse_laid_out(k, &ordering, Layout::FaerChoice).map_err(
-            |e| match e {
-                // faer's own failure, as its message.
-                LinalgError::Faer(message) => PdasError::Symbolic(message),
-                other => PdasError::Symbolic(other.to_string()),
-            },
-        )?;
+    /// Orders K's symmetric pattern ([`KktMatrix::pattern`], the first `kkt.dofs()` unknowns
+    /// primal), stores `kkt` in that order and in the triangle the numeric factorisation reads,
+    /// and analyses it.  The values are not allocated yet (see [`KktFactor::bytes_needed`],
+    /// [`KktFactor::allocate`]).
+    pub fn analyse(kkt: &mut KktMatrix) -> Result<Self, PdasError> {
+        let dim = kkt.dim();
+        let dofs = kkt.dofs();
+        let ordering = kkt_order(kkt.matrix().symbolic()).map_err(symbolic_error)?;
+        kkt.reorder(&ordering, Side::Upper)?;
+        let pattern =
+            CholeskyPattern::analyse_ordered(kkt.stored(), ordering.method, Layout::FaerChoice)
+                .map_err(symbolic_error)?;
+        if pattern.reads() != Side::Upper {
+            // A supernodal factor reads the lower triangle: stored so once, in the same order.
+            let same = FillOrdering::from_forward((0..dim).collect(), ordering.method);
+            kkt.reorder(&same, pattern.reads())?;
+        }
+        let forward = kkt.stored().forward();
         let scratch = scratch(pattern.symbolic());
-        let signs = (0..dim).map(|i| if i < dofs { 1 } else { -1 }).collect();
+        let signs = forward
+            .iter()
+            .map(|&old| if old < dofs { 1 } else { -1 })
+            .collect();
         Ok(Self {
             pattern,
             values: Vec::new(),
             signs,
+            forward,
+            work: vec![0.0; dim],
             buffer: MemBuffer::new(StackReq::EMPTY),
             scratch_bytes: scratch.size_bytes(),
         })
@@ -92,13 +109,13 @@ impl KktFactor {
         Ok(())
     }
 
-    /// Numeric LDLᵀ of `k` (same pattern as analysed).  A pivot of the wrong sign or smaller
-    /// than `epsilon` in magnitude is replaced by ±`delta` (faer's dynamic regularisation).
-    pub fn factor(&mut self, k: &CscMatrix, epsilon: f64, delta: f64) -> Result<(), PdasError> {
+    /// Numeric LDLᵀ of K with the values `kkt` holds (the matrix analysed).  A pivot of the
+    /// wrong sign or smaller than `epsilon` in magnitude is replaced by ±`delta` (faer's
+    /// dynamic regularisation).
+    pub fn factor(&mut self, kkt: &KktMatrix, epsilon: f64, delta: f64) -> Result<(), PdasError> {
         if self.values.len() != self.nnz_l() {
             self.allocate()?;
         }
-        let view = faer_view(k).map_err(|e| PdasError::Numeric(e.to_string()))?;
         let regularization = LdltRegularization {
             dynamic_regularization_signs: Some(&self.signs),
             dynamic_regularization_delta: delta,
@@ -108,8 +125,8 @@ impl KktFactor {
             .symbolic()
             .factorize_numeric_ldlt(
                 &mut self.values,
-                view,
-                Side::Lower,
+                kkt.matrix(),
+                kkt.stored().side(),
                 regularization,
                 Par::Seq,
                 MemStack::new(&mut self.buffer),
@@ -120,7 +137,7 @@ impl KktFactor {
     }
 
     /// Overwrites the column-major (n + m) × k block `rhs` with K⁻¹ rhs (k = rhs.len() / (n + m)),
-    /// one supernodal sweep for all k columns.
+    /// one sweep for all k columns.
     pub fn solve_many_in_place(&mut self, rhs: &mut [f64]) -> Result<(), PdasError> {
         let dim = self.signs.len();
         if dim == 0 || rhs.is_empty() {
@@ -130,13 +147,20 @@ impl KktFactor {
         let mut buffer =
             MemBuffer::try_new(self.symbolic().solve_in_place_scratch::<f64>(k, Par::Seq))
                 .map_err(|e| PdasError::Numeric(format!("{e:?}")))?;
+        let mut ordered = vec![0.0; dim * k];
+        for (from, to) in rhs.chunks_exact(dim).zip(ordered.chunks_exact_mut(dim)) {
+            gather(&self.forward, from, to);
+        }
         let ldlt = LdltRef::new(self.pattern.symbolic(), &self.values);
         ldlt.solve_in_place_with_conj(
             Conj::No,
-            MatMut::from_column_major_slice_mut(rhs, dim, k),
+            MatMut::from_column_major_slice_mut(&mut ordered, dim, k),
             Par::Seq,
             MemStack::new(&mut buffer),
         );
+        for (from, to) in ordered.chunks_exact(dim).zip(rhs.chunks_exact_mut(dim)) {
+            scatter(&self.forward, from, to);
+        }
         Ok(())
     }
 
@@ -146,13 +170,38 @@ impl KktFactor {
         if dim == 0 {
             return;
         }
+        gather(&self.forward, rhs, &mut self.work);
         let ldlt = LdltRef::new(self.pattern.symbolic(), &self.values);
         ldlt.solve_in_place_with_conj(
             Conj::No,
-            MatMut::from_column_major_slice_mut(rhs, dim, 1),
+            MatMut::from_column_major_slice_mut(&mut self.work, dim, 1),
             Par::Seq,
             MemStack::new(&mut self.buffer),
         );
+        scatter(&self.forward, &self.work, rhs);
+    }
+}
+
+/// `to[new] = from[forward[new]]`: a vector into the elimination order.
+fn gather(forward: &[usize], from: &[f64], to: &mut [f64]) {
+    for (t, &old) in to.iter_mut().zip(forward) {
+        *t = from[old];
+    }
+}
+
+/// `to[forward[new]] = from[new]`: a vector back from the elimination order.
+fn scatter(forward: &[usize], from: &[f64], to: &mut [f64]) {
+    for (&f, &old) in from.iter().zip(forward) {
+        to[old] = f;
+    }
+}
+
+/// A failed ordering or analysis, as the backend's error.
+fn symbolic_error(e: LinalgError) -> PdasError {
+    match e {
+        // faer's own failure, as its message.
+        LinalgError::Faer(message) => PdasError::Symbolic(message),
+        other => PdasError::Symbolic(other.to_string()),
     }
 }
 

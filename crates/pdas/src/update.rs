@@ -404,18 +404,18 @@ mod tests {
             active[i] = !active[i]; // added (they were inactive)
         }
         let mut kkt = KktMatrix::new(&p).unwrap();
-        let mut old = KktFactor::analyse(kkt.matrix(), n).unwrap();
+        let mut old = KktFactor::analyse(&mut kkt).unwrap();
         kkt.set_values(&factored, 0.0, delta, inactive);
-        old.factor(kkt.matrix(), 1e-20, 1e-17).unwrap();
+        old.factor(&kkt, 1e-20, 1e-17).unwrap();
         let mut cache = ColumnCache::default();
         let update = SetUpdate::new(&p, &mut old, &mut cache, (&factored, &active), delta, None)
             .unwrap()
             .unwrap();
         assert_eq!(cache.len(), 6);
         assert_eq!(update.rank(), 6);
-        let mut fresh = KktFactor::analyse(kkt.matrix(), n).unwrap();
+        let mut fresh = KktFactor::analyse(&mut kkt).unwrap();
         kkt.set_values(&active, 0.0, delta, inactive);
-        fresh.factor(kkt.matrix(), 1e-20, 1e-17).unwrap();
+        fresh.factor(&kkt, 1e-20, 1e-17).unwrap();
         let rhs: Vec<f64> = (0..n + m)
             .map(|k| {
                 if k >= n && !active[k - n] {
@@ -457,9 +457,9 @@ mod tests {
         active[2] = false; // removed
         active[5] = true; // added
         let mut kkt = KktMatrix::new(&p).unwrap();
-        let mut old = KktFactor::analyse(kkt.matrix(), n).unwrap();
+        let mut old = KktFactor::analyse(&mut kkt).unwrap();
         kkt.set_values(&factored, 0.0, delta, 1.0);
-        old.factor(kkt.matrix(), 1e-20, 1e-17).unwrap();
+        old.factor(&kkt, 1e-20, 1e-17).unwrap();
         let rhs: Vec<f64> = (0..n + m)
             .map(|k| {
                 if k >= n && !active[k - n] {
@@ -482,9 +482,9 @@ mod tests {
         .unwrap()
         .unwrap();
         assert_eq!(cache.len(), 2);
-        let mut fresh = KktFactor::analyse(kkt.matrix(), n).unwrap();
+        let mut fresh = KktFactor::analyse(&mut kkt).unwrap();
         kkt.set_values(&active, 0.0, delta, 1.0);
-        fresh.factor(kkt.matrix(), 1e-20, 1e-17).unwrap();
+        fresh.factor(&kkt, 1e-20, 1e-17).unwrap();
         let mut want = rhs.clone();
         fresh.solve_in_place(&mut want);
         let mut again = rhs;

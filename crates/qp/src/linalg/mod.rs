@@ -24,9 +24,13 @@ use faer::{Conj, MatMut, Par, Side};
 use crate::CscMatrix;
 
 pub mod kkt;
+pub mod ordered;
 pub mod ordering;
 
-pub use ordering::{fill_reducing_order, kkt_order, order_with, FillOrdering, OrderingMethod};
+pub use ordered::OrderedMatrix;
+pub use ordering::{
+    fill_reducing_order, kkt_order, order_pattern, order_with, FillOrdering, OrderingMethod,
+};
 
 /// Why a factorisation failed.
 #[derive(Debug, thiserror::Error)]
@@ -246,19 +250,45 @@ impl CholeskyPattern {
             view.symbolic(),
             Side::Lower,
             SymmetricOrdering::Custom(perm),
-            match layout {
-                Layout::Supernodal => CholeskySymbolicParams {
-                    supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-                    ..Default::default()
-                },
-                Layout::FaerChoice => CholeskySymbolicParams::default(),
-            },
+            params(layout),
         )
         .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
         Ok(Self {
             symbolic: Arc::new(symbolic),
             method: ordering.method,
         })
+    }
+
+    /// Analyses a matrix already laid out in its elimination order ([`OrderedMatrix`], found
+    /// by `method`): no permutation, so every numeric factorisation reads the matrix in place
+    /// — when its stored triangle is the one faer's kernel reads, see
+    /// [`CholeskyPattern::reads`].
+    pub fn analyse_ordered(
+        a: &OrderedMatrix,
+        method: OrderingMethod,
+        layout: Layout,
+    ) -> Result<Self, LinalgError> {
+        let symbolic = factorize_symbolic_cholesky(
+            a.as_ref().symbolic(),
+            a.side(),
+            SymmetricOrdering::Identity,
+            params(layout),
+        )
+        .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
+        Ok(Self {
+            symbolic: Arc::new(symbolic),
+            method,
+        })
+    }
+
+    /// The triangle the numeric factorisation reads in place (the upper one for a simplicial
+    /// factor, the lower for a supernodal one); the other is copied over on every
+    /// factorisation.
+    pub fn reads(&self) -> Side {
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(_) => Side::Upper,
+            SymbolicCholeskyRaw::Supernodal(_) => Side::Lower,
+        }
     }
 
     /// What the analysis found: ordering, nnz(L), flops, for the matrix `a` it analysed.  The
@@ -312,6 +342,17 @@ impl CholeskyPattern {
             values,
             method: self.method,
         })
+    }
+}
+
+/// faer's symbolic parameters for a layout.
+fn params(layout: Layout) -> CholeskySymbolicParams<'static> {
+    match layout {
+        Layout::Supernodal => CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        },
+        Layout::FaerChoice => CholeskySymbolicParams::default(),
     }
 }
 

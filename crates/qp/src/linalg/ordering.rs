@@ -170,18 +170,26 @@ pub const KKT_RULE: OrderingMethod = OrderingMethod::AmdNodes;
 /// 14–58 % faster.  A itself keeps [`RULE`]: on A the compressed graph changed the flops by
 /// 0 … +16 % over four scenes, a loss as often as a gain once the numeric factorisation is
 /// counted, so the floor's ordering of A stays the one that is never worse there.
-pub fn kkt_order(k: &CscMatrix) -> Result<FillOrdering, LinalgError> {
-    order_with(k, KKT_RULE)
+pub fn kkt_order(k: SymbolicSparseColMatRef<'_, usize>) -> Result<FillOrdering, LinalgError> {
+    order_pattern(k, KKT_RULE)
 }
 
 /// The ordering of `a` by the given method (for measurements and tests; solves use
 /// [`fill_reducing_order`]).
 pub fn order_with(a: &CscMatrix, method: OrderingMethod) -> Result<FillOrdering, LinalgError> {
-    let n = a.rows();
-    if a.cols() != n {
+    order_pattern(faer_view(a)?.symbolic(), method)
+}
+
+/// The ordering of the symmetric pattern `a` (one triangle or both) by the given method.
+pub fn order_pattern(
+    a: SymbolicSparseColMatRef<'_, usize>,
+    method: OrderingMethod,
+) -> Result<FillOrdering, LinalgError> {
+    let n = a.nrows();
+    if a.ncols() != n {
         return Err(LinalgError::Shape {
             rows: n,
-            cols: a.cols(),
+            cols: a.ncols(),
         });
     }
     match method {
@@ -191,17 +199,19 @@ pub fn order_with(a: &CscMatrix, method: OrderingMethod) -> Result<FillOrdering,
     }
 }
 
-fn amd_order(a: &CscMatrix) -> Result<FillOrdering, LinalgError> {
-    let n = a.rows();
-    let view = faer_view(a)?;
+fn amd_order(a: SymbolicSparseColMatRef<'_, usize>) -> Result<FillOrdering, LinalgError> {
+    let n = a.nrows();
     let mut forward = vec![0usize; n];
     let mut inverse = vec![0usize; n];
-    let mut buffer = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(n, a.nnz()))
-        .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
+    let mut buffer = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(
+        n,
+        a.compute_nnz(),
+    ))
+    .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
     amd::order_maybe_unsorted(
         &mut forward,
         &mut inverse,
-        view.symbolic(),
+        a,
         amd::Control::default(),
         MemStack::new(&mut buffer),
     )
@@ -214,8 +224,8 @@ fn amd_order(a: &CscMatrix) -> Result<FillOrdering, LinalgError> {
 }
 
 /// AMD on the node-compressed graph of A + Aᵀ ([`Compressed`]), expanded back to A's unknowns.
-fn amd_nodes_order(a: &CscMatrix) -> Result<FillOrdering, LinalgError> {
-    let (xadj, adjncy) = adjacency(a)?;
+fn amd_nodes_order(a: SymbolicSparseColMatRef<'_, usize>) -> Result<FillOrdering, LinalgError> {
+    let (xadj, adjncy) = adjacency_of(a);
     let groups = Compressed::of(&xadj, &adjncy);
     let g = groups.weight.len();
     let graph =
@@ -241,8 +251,8 @@ fn amd_nodes_order(a: &CscMatrix) -> Result<FillOrdering, LinalgError> {
     ))
 }
 
-fn metis_order(a: &CscMatrix) -> Result<FillOrdering, LinalgError> {
-    let (xadj, adjncy) = adjacency(a)?;
+fn metis_order(a: SymbolicSparseColMatRef<'_, usize>) -> Result<FillOrdering, LinalgError> {
+    let (xadj, adjncy) = adjacency_of(a);
     let groups = Compressed::of(&xadj, &adjncy);
     let (perm, _) =
         signorini_metis::node_nd_weighted(&groups.xadj, &groups.adjncy, Some(&groups.weight))
@@ -338,9 +348,12 @@ impl Compressed {
 /// The adjacency graph of the pattern of A + Aᵀ without the diagonal, in CSR (`xadj`,
 /// `adjncy`), each edge stored both ways once.
 pub fn adjacency(a: &CscMatrix) -> Result<(Vec<usize>, Vec<usize>), LinalgError> {
-    let n = a.rows();
-    let view = faer_view(a)?;
-    let sym = view.symbolic();
+    Ok(adjacency_of(faer_view(a)?.symbolic()))
+}
+
+/// [`adjacency`] of a pattern.
+fn adjacency_of(sym: SymbolicSparseColMatRef<'_, usize>) -> (Vec<usize>, Vec<usize>) {
+    let n = sym.nrows();
     // Count both directions of every off-diagonal entry (duplicates when both triangles are
     // stored), fill, then remove the duplicates of each list in place.
     let mut ptr = vec![0usize; n + 1];
@@ -384,7 +397,7 @@ pub fn adjacency(a: &CscMatrix) -> Result<(Vec<usize>, Vec<usize>), LinalgError>
     }
     adj.truncate(out);
     adj.shrink_to_fit();
-    Ok((xadj, adj))
+    (xadj, adj)
 }
 
 #[cfg(test)]
@@ -448,7 +461,7 @@ mod tests {
         let order = fill_reducing_order(&a).unwrap();
         assert_eq!(order.method, RULE);
         assert_eq!(order, order_with(&a, RULE).unwrap());
-        let order = kkt_order(&a).unwrap();
+        let order = kkt_order(faer_view(&a).unwrap().symbolic()).unwrap();
         assert_eq!(order.method, KKT_RULE);
         assert_eq!(order, order_with(&a, KKT_RULE).unwrap());
     }
@@ -479,7 +492,10 @@ mod tests {
         weights.extend(vec![2; nodes - 1]);
         weights.push(1);
         assert_eq!(g.weight, weights);
-        assert_permutation(&kkt_order(&k).unwrap(), 2 * nodes + 1);
+        assert_permutation(
+            &kkt_order(faer_view(&k).unwrap().symbolic()).unwrap(),
+            2 * nodes + 1,
+        );
     }
 
     #[test]
