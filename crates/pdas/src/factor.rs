@@ -8,9 +8,9 @@ use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::sparse::linalg::cholesky::{LdltRef, SymbolicCholesky};
 use faer::{Conj, MatMut, Par, Side};
-use signorini_qp::linalg::{
-    kkt_order, CholeskyPattern, FillOrdering, Layout, LinalgError, OrderingMethod,
-};
+use signorini_qp::linalg::kkt::kkt_graph;
+use signorini_qp::linalg::{kkt_order, CholeskyPattern, Layout, LinalgError, OrderingMethod};
+use signorini_qp::QpProblem;
 
 use crate::error::PdasError;
 use crate::kkt::KktMatrix;
@@ -41,30 +41,36 @@ impl std::fmt::Debug for KktFactor {
 }
 
 impl KktFactor {
-    /// Orders K's symmetric pattern ([`KktMatrix::pattern`], the first `kkt.dofs()` unknowns
-    /// primal), stores `kkt` in that order and in the triangle the numeric factorisation reads,
-    /// and analyses it.  The values are not allocated yet (see [`KktFactor::bytes_needed`],
+    /// Orders K's graph (read off A and B, the first n unknowns primal), builds K in that
+    /// order and in the triangle the numeric factorisation reads, and analyses it.  The values
+    /// of the factor are not allocated yet (see [`KktFactor::bytes_needed`],
     /// [`KktFactor::allocate`]).
-    pub fn analyse(kkt: &mut KktMatrix) -> Result<Self, PdasError> {
-        let dim = kkt.dim();
-        let dofs = kkt.dofs();
-        let ordering = kkt_order(kkt.matrix().symbolic()).map_err(symbolic_error)?;
-        kkt.reorder(&ordering, Side::Upper)?;
-        let pattern =
-            CholeskyPattern::analyse_ordered(kkt.stored(), ordering.method, Layout::FaerChoice)
-                .map_err(symbolic_error)?;
-        if pattern.reads() != Side::Upper {
-            // A supernodal factor reads the lower triangle: stored so once, in the same order.
-            let same = FillOrdering::from_forward((0..dim).collect(), ordering.method);
-            kkt.reorder(&same, pattern.reads())?;
+    pub fn analyse(problem: &QpProblem) -> Result<(Self, KktMatrix), PdasError> {
+        let dofs = problem.dofs();
+        let (xadj, adjncy) =
+            kkt_graph(&problem.stiffness, &problem.constraints).map_err(symbolic_error)?;
+        let ordering = kkt_order(&xadj, &adjncy).map_err(symbolic_error)?;
+        drop((xadj, adjncy));
+        let mut kkt = KktMatrix::new(problem, &ordering, Side::Upper)?;
+        let pattern = CholeskyPattern::analyse_ordered(
+            kkt.matrix().symbolic(),
+            kkt.side(),
+            ordering.method,
+            Layout::FaerChoice,
+        )
+        .map_err(symbolic_error)?;
+        if pattern.reads() != kkt.side() {
+            // A supernodal factor reads the lower triangle: built so once, in the same order.
+            kkt = KktMatrix::new(problem, &ordering, pattern.reads())?;
         }
-        let forward = kkt.stored().forward();
+        let forward = ordering.forward;
         let scratch = scratch(pattern.symbolic());
         let signs = forward
             .iter()
             .map(|&old| if old < dofs { 1 } else { -1 })
             .collect();
-        Ok(Self {
+        let dim = forward.len();
+        let factor = Self {
             pattern,
             values: Vec::new(),
             signs,
@@ -72,7 +78,8 @@ impl KktFactor {
             work: vec![0.0; dim],
             buffer: MemBuffer::new(StackReq::EMPTY),
             scratch_bytes: scratch.size_bytes(),
-        })
+        };
+        Ok((factor, kkt))
     }
 
     /// faer's symbolic factor.
@@ -126,7 +133,7 @@ impl KktFactor {
             .factorize_numeric_ldlt(
                 &mut self.values,
                 kkt.matrix(),
-                kkt.stored().side(),
+                kkt.side(),
                 regularization,
                 Par::Seq,
                 MemStack::new(&mut self.buffer),

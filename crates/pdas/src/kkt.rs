@@ -6,175 +6,233 @@
 //!     [   B      −D  ]        row i inactive:  B row of zeros,   Dᵢᵢ = s
 //! ```
 //!
-//! It is built as a lower triangle in the unknowns' own order, which the fill-reducing
-//! ordering reads, and then stored in that elimination order and in the triangle faer's
-//! numeric kernel reads ([`KktMatrix::reorder`]), so that no factorisation copies it into
-//! order again.  An inactive row keeps its
-//! entries as explicit zeros, so the sparsity pattern — and with it the ordering and the
-//! symbolic factor — is the same for every set; its equation reads −s λᵢ = 0, i.e. λᵢ = 0.
-//! With δ > 0 (and ρ > 0 when A is singular) K is quasi-definite: a positive definite block,
-//! a negative definite block, so an LDLᵀ factorisation without pivoting exists in any
-//! symmetric ordering.
+//! K is built straight from A and B in the elimination order of its factor and in the
+//! triangle faer's numeric kernel reads ([`KktMatrix::new`]), column by column (each new
+//! column gathers one column of A and of B, or one row of B), so that no factorisation has to
+//! copy it into order: faer's numeric LDLᵀ with a permutation first lays the matrix out in
+//! that order, a scattered pass over every entry on every factorisation.  The ordering itself
+//! reads K's graph, taken from A and B as well ([`signorini_qp::linalg::kkt::kkt_graph`]).
+//! An inactive row keeps its entries as explicit zeros, so the sparsity pattern — and with it
+//! the ordering and the symbolic factor — is the same for every set; its equation reads
+//! −s λᵢ = 0, i.e. λᵢ = 0.  With δ > 0 (and ρ > 0 when A is singular) K is quasi-definite: a
+//! positive definite block, a negative definite block, so an LDLᵀ factorisation without
+//! pivoting exists in any symmetric ordering.
 
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat};
 use faer::Side;
-use signorini_qp::linalg::{FillOrdering, OrderedMatrix};
+use signorini_qp::linalg::FillOrdering;
 use signorini_qp::QpProblem;
 
 use crate::error::PdasError;
 
-/// K's fixed pattern, its values for the current set, and where the B entries and the
-/// diagonal sit in the value array.  K is built in the unknowns' own order (which the
-/// ordering reads) and then moved to its factor's elimination order ([`KktMatrix::reorder`]),
-/// where every new set's values are written.
+/// K's fixed pattern in its factor's elimination order, its values for the current set, and
+/// where the B entries and the diagonal sit in the value array.
 #[derive(Debug, Clone)]
 pub struct KktMatrix {
-    /// K, (n + m) × (n + m): built as the lower triangle in the unknowns' own order, then
-    /// stored as [`KktMatrix::reorder`] says; the matrix [`KktMatrix::set_values`] fills.
-    stored: OrderedMatrix,
+    /// P K Pᵀ, (n + m) × (n + m), the triangle `side`, CSC (rows unsorted within a column, as
+    /// faer's own permutation leaves them).
+    matrix: SparseColMat<usize, f64>,
+    /// The stored triangle.
+    side: Side,
+    /// `forward[stored] = K's index`.
+    forward: Vec<usize>,
+    /// `inverse[K's index] = stored`.
+    inverse: Vec<usize>,
     /// n.
     dofs: usize,
-    /// Where the values sit in `stored`.
-    slots: Slots,
-    /// Row of B of each entry in `slots.b`.
+    /// For every stored entry of B (in B's CSC order): (slot in the values, its value).
+    b_slots: Vec<(usize, f64)>,
+    /// Row of B of each entry in `b_slots`.
     b_rows: Vec<usize>,
-    /// The values of A's diagonal (0 where A stores none).
-    a_diagonal: Vec<f64>,
-}
-
-/// Places in a value array of K.
-#[derive(Debug, Clone, Default)]
-struct Slots {
-    /// For every stored entry of B (in B's CSC order): (slot, its value).
-    b: Vec<(usize, f64)>,
     /// Slot of the diagonal of each primal column j (the entry of A, or an added zero).
     primal_diagonal: Vec<usize>,
+    /// The values of A's diagonal (0 where A stores none).
+    a_diagonal: Vec<f64>,
     /// Slot of the diagonal of each multiplier row i.
     dual_diagonal: Vec<usize>,
 }
 
-impl Slots {
-    /// The same places after the values moved, `map[old slot] = new slot`.
-    fn moved(&self, map: &[usize]) -> Self {
-        Self {
-            b: self.b.iter().map(|&(slot, v)| (map[slot], v)).collect(),
-            primal_diagonal: self.primal_diagonal.iter().map(|&s| map[s]).collect(),
-            dual_diagonal: self.dual_diagonal.iter().map(|&s| map[s]).collect(),
+/// B's rows: for row r, the (column, index in B's CSC order) of its entries.
+struct Rows {
+    starts: Vec<usize>,
+    entries: Vec<(usize, usize)>,
+}
+
+impl Rows {
+    fn of(b: &signorini_qp::CscMatrix) -> Self {
+        let m = b.rows();
+        let mut starts = vec![0usize; m + 1];
+        for (_, (r, _)) in b.iter() {
+            starts[r + 1] += 1;
         }
+        for r in 0..m {
+            starts[r + 1] += starts[r];
+        }
+        let mut next = starts.clone();
+        let mut entries = vec![(0, 0); starts[m]];
+        let mut k = 0;
+        for (j, col) in b.outer_iterator().enumerate() {
+            for (r, _) in col.iter() {
+                entries[next[r]] = (j, k);
+                next[r] += 1;
+                k += 1;
+            }
+        }
+        Self { starts, entries }
+    }
+
+    fn of_row(&self, r: usize) -> &[(usize, usize)] {
+        &self.entries[self.starts[r]..self.starts[r + 1]]
+    }
+}
+
+/// The columns of P K Pᵀ being laid down, in order.
+struct Columns {
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl Columns {
+    /// Appends the entry (row, current column) and returns its slot.
+    fn push(&mut self, row: usize, value: f64) -> usize {
+        self.row_idx.push(row);
+        self.values.push(value);
+        self.row_idx.len() - 1
+    }
+
+    fn close_column(&mut self) {
+        self.col_ptr.push(self.row_idx.len());
     }
 }
 
 impl KktMatrix {
-    /// The pattern of every row of B, the values of A (lower triangle), B and the diagonal
-    /// left to [`KktMatrix::set_values`].
-    pub fn new(problem: &QpProblem) -> Result<Self, PdasError> {
+    /// K for the elimination order `ordering` (of K's unknowns: `forward[new] = old`), stored
+    /// as the triangle `side` of P K Pᵀ: A's values (both triangles of A are read, one kept),
+    /// B's, and −1 on the multiplier diagonal until [`KktMatrix::set_values`].
+    pub fn new(
+        problem: &QpProblem,
+        ordering: &FillOrdering,
+        side: Side,
+    ) -> Result<Self, PdasError> {
         let n = problem.dofs();
         let m = problem.rows();
+        let dim = n + m;
+        if ordering.forward.len() != dim || ordering.inverse.len() != dim {
+            return Err(PdasError::Symbolic(format!(
+                "an ordering of {} unknowns for a KKT matrix of {dim}",
+                ordering.forward.len()
+            )));
+        }
         let a = &problem.stiffness;
-        let b = &problem.constraints;
-        let nnz_a = a.nnz();
-        let nnz_b = b.nnz();
-        let mut indptr = Vec::with_capacity(n + m + 1);
-        let mut indices = Vec::with_capacity(nnz_a / 2 + n + nnz_b + m);
-        let mut data = Vec::with_capacity(indices.capacity());
-        let mut b_slots = Vec::with_capacity(nnz_b);
-        let mut b_rows = Vec::with_capacity(nnz_b);
-        let mut primal_diagonal = Vec::with_capacity(n);
-        let mut a_diagonal = Vec::with_capacity(n);
-        indptr.push(0);
+        let b = problem.constraints.to_csc();
+        let rows = Rows::of(&b);
+        let (forward, inverse) = (&ordering.forward, &ordering.inverse);
+        // Whether stored row p belongs to stored column q's triangle.
+        let kept = |p: usize, q: usize| match side {
+            Side::Upper => p <= q,
+            Side::Lower => p >= q,
+        };
+        let entries = (a.nnz() + n) / 2 + b.nnz() + m;
+        let mut out = Columns {
+            col_ptr: Vec::with_capacity(dim + 1),
+            row_idx: Vec::with_capacity(entries),
+            values: Vec::with_capacity(entries),
+        };
+        out.col_ptr.push(0);
+        let mut b_slots = vec![(0, 0.0); b.nnz()];
+        let mut b_rows = vec![0; b.nnz()];
+        let mut primal_diagonal = vec![0; n];
+        let mut a_diagonal = vec![0.0; n];
+        let mut dual_diagonal = vec![0; m];
+        let mut b_index = vec![0usize; n + 1];
         for j in 0..n {
-            let a_col = a.outer_view(j);
-            let mut has_diagonal = false;
-            for (i, &v) in a_col.iter().flat_map(|c| c.iter()) {
-                if i < j {
-                    continue;
-                }
-                if i == j {
-                    has_diagonal = true;
-                    primal_diagonal.push(indices.len());
-                    a_diagonal.push(v);
-                } else if !has_diagonal {
-                    // A stores no diagonal in this column: an explicit zero keeps the slot.
-                    has_diagonal = true;
-                    primal_diagonal.push(indices.len());
-                    a_diagonal.push(0.0);
-                    indices.push(j);
-                    data.push(0.0);
-                }
-                indices.push(i);
-                data.push(v);
-            }
-            if !has_diagonal {
-                primal_diagonal.push(indices.len());
-                a_diagonal.push(0.0);
-                indices.push(j);
-                data.push(0.0);
-            }
-            if let Some(b_col) = b.outer_view(j) {
-                for (i, &v) in b_col.iter() {
-                    b_slots.push((indices.len(), v));
-                    b_rows.push(i);
-                    indices.push(n + i);
-                    data.push(v);
-                }
-            }
-            indptr.push(indices.len());
+            b_index[j + 1] = b_index[j] + b.outer_view(j).map_or(0, |c| c.nnz());
         }
-        let mut dual_diagonal = Vec::with_capacity(m);
-        for i in 0..m {
-            dual_diagonal.push(indices.len());
-            indices.push(n + i);
-            data.push(-1.0);
-            indptr.push(indices.len());
+        for (q, &old) in forward.iter().enumerate() {
+            if old < n {
+                let j = old;
+                let mut diagonal = None;
+                if let Some(col) = a.outer_view(j) {
+                    for (i, &v) in col.iter() {
+                        if i == j {
+                            a_diagonal[j] = v;
+                            diagonal = Some(out.push(q, v));
+                        } else if kept(inverse[i], q) {
+                            out.push(inverse[i], v);
+                        }
+                    }
+                }
+                primal_diagonal[j] = diagonal.unwrap_or_else(|| out.push(q, 0.0));
+                if let Some(col) = b.outer_view(j) {
+                    for (k, (r, &v)) in (b_index[j]..).zip(col.iter()) {
+                        b_rows[k] = r;
+                        if kept(inverse[n + r], q) {
+                            b_slots[k] = (out.push(inverse[n + r], v), v);
+                        }
+                    }
+                }
+            } else {
+                let r = old - n;
+                for &(j, k) in rows.of_row(r) {
+                    if kept(inverse[j], q) {
+                        let v = b.data()[k];
+                        b_slots[k] = (out.push(inverse[j], v), v);
+                    }
+                }
+                dual_diagonal[r] = out.push(q, -1.0);
+            }
+            out.close_column();
         }
+        // Rows unsorted within a column; every index below `dim` by construction.
         let symbolic =
-            SymbolicSparseColMat::new_unsorted_checked(n + m, n + m, indptr, None, indices);
-        let own_order = OrderedMatrix::new(SparseColMat::new(symbolic, data), Side::Lower)
-            .map_err(|e| PdasError::Symbolic(format!("KKT pattern: {e}")))?;
+            SymbolicSparseColMat::new_unsorted_checked(dim, dim, out.col_ptr, None, out.row_idx);
         Ok(Self {
-            stored: own_order,
+            matrix: SparseColMat::new(symbolic, out.values),
+            side,
+            forward: forward.clone(),
+            inverse: inverse.clone(),
             dofs: n,
-            slots: Slots {
-                b: b_slots,
-                primal_diagonal,
-                dual_diagonal,
-            },
+            b_slots,
             b_rows,
+            primal_diagonal,
             a_diagonal,
+            dual_diagonal,
         })
     }
 
-    /// Moves K's stored index p to `ordering.inverse[p]` (an ordering of
-    /// [`KktMatrix::matrix`]'s pattern as it is stored now) and stores the triangle `side`:
-    /// the order and triangle its factor reads in place.  The values move with it.
-    pub fn reorder(&mut self, ordering: &FillOrdering, side: Side) -> Result<(), PdasError> {
-        let map = self
-            .stored
-            .reorder(&ordering.inverse, side)
-            .map_err(|e| PdasError::Symbolic(e.to_string()))?;
-        self.slots = self.slots.moved(&map);
-        Ok(())
-    }
-
-    /// K as stored, in its elimination order, with the values of the last
+    /// P K Pᵀ as stored (the triangle [`KktMatrix::side`]), with the values of the last
     /// [`KktMatrix::set_values`] or [`KktMatrix::set_diagonal`].
     pub fn matrix(&self) -> SparseColMatRef<'_, usize, f64> {
-        self.stored.as_ref()
+        self.matrix.as_ref()
     }
 
-    /// K as stored, with its order and triangle.
-    pub fn stored(&self) -> &OrderedMatrix {
-        &self.stored
+    /// The stored triangle.
+    pub fn side(&self) -> Side {
+        self.side
+    }
+
+    /// The elimination order, `forward[stored] = K's index`.
+    pub fn forward(&self) -> &[usize] {
+        &self.forward
     }
 
     /// The stored entry (i, j) of K, in K's own indices (either order), if K's pattern has it.
     pub fn get(&self, i: usize, j: usize) -> Option<f64> {
-        self.stored.get(i, j)
+        let (p, q) = (*self.inverse.get(i)?, *self.inverse.get(j)?);
+        let (row, column) = match self.side {
+            Side::Upper => (p.min(q), p.max(q)),
+            Side::Lower => (p.max(q), p.min(q)),
+        };
+        let m = self.matrix.as_ref();
+        let rows = m.symbolic().row_idx_of_col_raw(column);
+        let at = rows.iter().position(|&r| r == row)?;
+        Some(m.val_of_col(column)[at])
     }
 
     /// n + m.
     pub fn dim(&self) -> usize {
-        self.stored.dim()
+        self.forward.len()
     }
 
     /// n.
@@ -190,33 +248,29 @@ impl KktMatrix {
     /// Fills the values for the active set `active` (length m): B rows and −δ on the diagonal
     /// of active rows, zeros and −`inactive` on inactive ones, A + ρI on the primal block.
     pub fn set_values(&mut self, active: &[bool], rho: f64, delta: f64, inactive: f64) {
-        let slots = &self.slots;
-        let data = self.stored.values_mut();
-        for (&slot, &a) in slots.primal_diagonal.iter().zip(&self.a_diagonal) {
+        let data = self.matrix.val_mut();
+        for (&slot, &a) in self.primal_diagonal.iter().zip(&self.a_diagonal) {
             data[slot] = a + rho;
         }
-        for (&(slot, v), &i) in slots.b.iter().zip(&self.b_rows) {
+        for (&(slot, v), &i) in self.b_slots.iter().zip(&self.b_rows) {
             data[slot] = if active[i] { v } else { 0.0 };
         }
-        for (&slot, &on) in slots.dual_diagonal.iter().zip(active) {
+        for (&slot, &on) in self.dual_diagonal.iter().zip(active) {
             data[slot] = if on { -delta } else { -inactive };
         }
     }
-}
 
-impl KktMatrix {
     /// Fills the values with every row's B entries and −`diagonal[i]` on the diagonal of
     /// multiplier row i (the interior-point system), A + ρI on the primal block.
     pub fn set_diagonal(&mut self, rho: f64, diagonal: &[f64]) {
-        let slots = &self.slots;
-        let data = self.stored.values_mut();
-        for (&slot, &a) in slots.primal_diagonal.iter().zip(&self.a_diagonal) {
+        let data = self.matrix.val_mut();
+        for (&slot, &a) in self.primal_diagonal.iter().zip(&self.a_diagonal) {
             data[slot] = a + rho;
         }
-        for &(slot, v) in &slots.b {
+        for &(slot, v) in &self.b_slots {
             data[slot] = v;
         }
-        for (&slot, &d) in slots.dual_diagonal.iter().zip(diagonal) {
+        for (&slot, &d) in self.dual_diagonal.iter().zip(diagonal) {
             data[slot] = -d;
         }
     }
@@ -228,16 +282,20 @@ mod tests {
     use signorini_qp::examples::two_rows;
     use signorini_qp::linalg::OrderingMethod;
 
+    fn own_order(dim: usize) -> FillOrdering {
+        FillOrdering::from_forward((0..dim).collect(), OrderingMethod::Amd)
+    }
+
     #[test]
     fn inactive_rows_keep_their_pattern_as_zeros() {
         let p = two_rows().problem;
-        let mut k = KktMatrix::new(&p).unwrap();
+        let mut k = KktMatrix::new(&p, &own_order(4), Side::Lower).unwrap();
         let nnz = k.matrix().compute_nnz();
         k.set_values(&[true, false], 0.0, 1e-3, 7.0);
         assert_eq!(k.matrix().compute_nnz(), nnz);
         let at = |k: &KktMatrix, i: usize, j: usize| k.get(i, j).unwrap_or(0.0);
         let m = |i, j| at(&k, i, j);
-        // A lower triangle, B row 0 active, row 1 zeroed.
+        // A, B row 0 active, row 1 zeroed.
         assert_eq!(m(0, 0), 2.0);
         assert_eq!(m(1, 0), -1.0);
         assert_eq!((m(2, 0), m(2, 1)), (1.0, 1.0));
@@ -249,29 +307,38 @@ mod tests {
         assert_eq!(m(2, 0), 0.0);
     }
 
+    /// Built in any order and either triangle, K holds the same entries: each stored (p, q)
+    /// is K's (forward[p], forward[q]) as the own-order build (checked by hand above) has it,
+    /// in the chosen triangle, none lost or repeated.
     #[test]
-    fn a_reordered_matrix_takes_each_value_where_the_order_puts_it() {
+    fn built_in_another_order_each_value_lands_where_the_order_puts_it() {
         let p = two_rows().problem;
-        let mut k = KktMatrix::new(&p).unwrap();
         let fill = |k: &mut KktMatrix| k.set_values(&[false, true], 0.5, 1e-3, 7.0);
-        fill(&mut k);
-        let before: Vec<Option<f64>> = (0..16).map(|e| k.get(e / 4, e % 4)).collect();
-        // Reversed, in the upper triangle; then the same order in the lower one: the same
-        // entries of K, read in K's own indices.
-        let reversed = FillOrdering::from_forward(vec![3, 2, 1, 0], OrderingMethod::Amd);
-        let same = FillOrdering::from_forward(vec![0, 1, 2, 3], OrderingMethod::Amd);
-        for (ordering, side) in [(&reversed, Side::Upper), (&same, Side::Lower)] {
-            k.reorder(ordering, side).unwrap();
-            fill(&mut k);
-            let after: Vec<Option<f64>> = (0..16).map(|e| k.get(e / 4, e % 4)).collect();
-            assert_eq!(after, before);
-            assert_eq!(k.stored().forward(), vec![3, 2, 1, 0]);
-            assert_eq!(k.stored().side(), side);
-            // Stored index 0 is K's 3 (multiplier row 1, active: −δ), alone in its column of
-            // the upper triangle.
-            if side == Side::Upper {
-                assert_eq!(k.matrix().val_of_col(0), &[-1e-3]);
+        let mut reference = KktMatrix::new(&p, &own_order(4), Side::Lower).unwrap();
+        fill(&mut reference);
+        let entries = reference.matrix().compute_nnz();
+        for forward in [vec![3, 2, 1, 0], vec![2, 0, 3, 1], vec![1, 3, 0, 2]] {
+            let ordering = FillOrdering::from_forward(forward.clone(), OrderingMethod::Amd);
+            for side in [Side::Upper, Side::Lower] {
+                let mut k = KktMatrix::new(&p, &ordering, side).unwrap();
+                fill(&mut k);
+                assert_eq!((k.forward(), k.side()), (&forward[..], side));
+                let stored = k.matrix();
+                assert_eq!(stored.compute_nnz(), entries);
+                for q in 0..4 {
+                    let rows = stored.symbolic().row_idx_of_col_raw(q);
+                    for (&row, &v) in rows.iter().zip(stored.val_of_col(q)) {
+                        assert!(if side == Side::Upper {
+                            row <= q
+                        } else {
+                            row >= q
+                        });
+                        assert_eq!(Some(v), reference.get(forward[row], forward[q]));
+                    }
+                }
             }
         }
+        let short = FillOrdering::from_forward(vec![0, 1, 2], OrderingMethod::Amd);
+        assert!(KktMatrix::new(&p, &short, Side::Upper).is_err());
     }
 }

@@ -382,7 +382,6 @@ impl SetSolver<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kkt::KktMatrix;
     use signorini_qp::examples::laplacian_with_bounds;
 
     /// The update must solve the new set's K exactly as a fresh factorisation does.  Both are
@@ -403,8 +402,7 @@ mod tests {
         for i in [0, 9, 18] {
             active[i] = !active[i]; // added (they were inactive)
         }
-        let mut kkt = KktMatrix::new(&p).unwrap();
-        let mut old = KktFactor::analyse(&mut kkt).unwrap();
+        let (mut old, mut kkt) = KktFactor::analyse(&p).unwrap();
         kkt.set_values(&factored, 0.0, delta, inactive);
         old.factor(&kkt, 1e-20, 1e-17).unwrap();
         let mut cache = ColumnCache::default();
@@ -413,7 +411,7 @@ mod tests {
             .unwrap();
         assert_eq!(cache.len(), 6);
         assert_eq!(update.rank(), 6);
-        let mut fresh = KktFactor::analyse(&mut kkt).unwrap();
+        let (mut fresh, _) = KktFactor::analyse(&p).unwrap();
         kkt.set_values(&active, 0.0, delta, inactive);
         fresh.factor(&kkt, 1e-20, 1e-17).unwrap();
         let rhs: Vec<f64> = (0..n + m)
@@ -456,8 +454,7 @@ mod tests {
         let mut active = factored.clone();
         active[2] = false; // removed
         active[5] = true; // added
-        let mut kkt = KktMatrix::new(&p).unwrap();
-        let mut old = KktFactor::analyse(&mut kkt).unwrap();
+        let (mut old, mut kkt) = KktFactor::analyse(&p).unwrap();
         kkt.set_values(&factored, 0.0, delta, 1.0);
         old.factor(&kkt, 1e-20, 1e-17).unwrap();
         let rhs: Vec<f64> = (0..n + m)
@@ -482,7 +479,7 @@ mod tests {
         .unwrap()
         .unwrap();
         assert_eq!(cache.len(), 2);
-        let mut fresh = KktFactor::analyse(&mut kkt).unwrap();
+        let (mut fresh, _) = KktFactor::analyse(&p).unwrap();
         kkt.set_values(&active, 0.0, delta, 1.0);
         fresh.factor(&kkt, 1e-20, 1e-17).unwrap();
         let mut want = rhs.clone();

@@ -21,7 +21,7 @@ use signorini_core::solve::floor_time;
 use signorini_qp::linalg::fill_reducing_order;
 use signorini_qp::{QpBackend, QpProblem, QpStatus, SolveOptions};
 
-use signorini_pdas::internals::{KktFactor, KktMatrix};
+use signorini_pdas::internals::KktFactor;
 use signorini_pdas::PdasBackend;
 
 fn median(mut f: impl FnMut() -> Duration) -> f64 {
@@ -44,13 +44,11 @@ fn where_the_time_goes_on_the_strip() {
         let p = common::strip_scaled(20.0, clamped, (0.0, 20.0));
         let floor = median(|| floor_time(&p).unwrap());
         let amd_a = median(|| timed(|| drop(fill_reducing_order(&p.stiffness).unwrap())));
-        let fresh = KktMatrix::new(&p).unwrap();
         let pattern_k = signorini_qp::linalg::kkt::kkt_pattern(&p.stiffness, &p.constraints);
         let pattern_k = pattern_k.unwrap();
         let amd_k = median(|| timed(|| drop(fill_reducing_order(&pattern_k).unwrap())));
-        let analyse = median(|| timed(|| drop(KktFactor::analyse(&mut fresh.clone()))));
-        let mut kkt = fresh.clone();
-        let mut factor = KktFactor::analyse(&mut kkt).unwrap();
+        let analyse = median(|| timed(|| drop(KktFactor::analyse(&p))));
+        let (mut factor, kkt) = KktFactor::analyse(&p).unwrap();
         factor.allocate().unwrap();
         let numeric = median(|| timed(|| factor.factor(&kkt, 1e-13, 1e-10).unwrap()));
         let pattern = signorini_qp::linalg::CholeskyPattern::analyse(&p.stiffness);
@@ -64,8 +62,7 @@ fn where_the_time_goes_on_the_strip() {
             blocks: Vec::new(),
             ..p.clone()
         };
-        let mut kkt_a = KktMatrix::new(&a_only).unwrap();
-        let mut factor_a = KktFactor::analyse(&mut kkt_a).unwrap();
+        let (mut factor_a, kkt_a) = KktFactor::analyse(&a_only).unwrap();
         factor_a.allocate().unwrap();
         let ldlt_a = median(|| timed(|| factor_a.factor(&kkt_a, 1e-13, 1e-10).unwrap()));
         println!(
@@ -266,12 +263,10 @@ fn amd_variant_for_perf_stat() {
             "amd_a" => drop(fill_reducing_order(&p.stiffness).unwrap()),
             "lower_a" => drop(fill_reducing_order(&lower_a).unwrap()),
             "amd_k" => drop(fill_reducing_order(k).unwrap()),
-            "nodes_k" => drop(
-                signorini_qp::linalg::kkt_order(
-                    signorini_qp::linalg::faer_view(k).unwrap().symbolic(),
-                )
-                .unwrap(),
-            ),
+            "nodes_k" => {
+                let (xadj, adjncy) = signorini_qp::linalg::ordering::adjacency(k).unwrap();
+                drop(signorini_qp::linalg::kkt_order(&xadj, &adjncy).unwrap())
+            }
             _ => {}
         }
     }

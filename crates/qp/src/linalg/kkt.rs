@@ -68,10 +68,99 @@ pub fn kkt_pattern(
         .map_err(|e| LinalgError::Faer(format!("building the KKT pattern: {}", e.3)))
 }
 
+/// The adjacency graph of K's pattern (without the diagonal, each edge both ways) in CSR,
+/// `(xadj, adjncy)`, read straight off A and B: vertex j < n neighbours the other rows of A's
+/// column j and the multipliers n + r of B's column j; vertex n + r the DOFs of B's row r.
+/// A must store both triangles (as [`crate::QpProblem`] does); B's entries may be zeros.
+///
+/// # Errors
+/// [`LinalgError::Shape`] when A is not square or B's columns are not A's.
+pub fn kkt_graph(
+    stiffness: &CscMatrix,
+    constraints: &CscMatrix,
+) -> Result<(Vec<usize>, Vec<usize>), LinalgError> {
+    let n = stiffness.rows();
+    let m = constraints.rows();
+    if stiffness.cols() != n || constraints.cols() != n || !stiffness.is_csc() {
+        return Err(LinalgError::Shape {
+            rows: constraints.rows(),
+            cols: constraints.cols(),
+        });
+    }
+    let b = constraints.to_csc();
+    let mut row_degree = vec![0usize; m];
+    for (_, (r, _)) in b.iter() {
+        row_degree[r] += 1;
+    }
+    let mut xadj = Vec::with_capacity(n + m + 1);
+    xadj.push(0);
+    for (j, col) in stiffness.outer_iterator().enumerate() {
+        let off_diagonal = col.iter().filter(|&(i, _)| i != j).count();
+        let in_b = b.outer_view(j).map_or(0, |c| c.nnz());
+        xadj.push(xadj[j] + off_diagonal + in_b);
+    }
+    for r in 0..m {
+        xadj.push(xadj[n + r] + row_degree[r]);
+    }
+    let mut adjncy = vec![0usize; xadj[n + m]];
+    let mut next_of_row: Vec<usize> = xadj[n..n + m].to_vec();
+    for (j, col) in stiffness.outer_iterator().enumerate() {
+        let mut at = xadj[j];
+        for (i, _) in col.iter().filter(|&(i, _)| i != j) {
+            adjncy[at] = i;
+            at += 1;
+        }
+        if let Some(b_col) = b.outer_view(j) {
+            for (r, _) in b_col.iter() {
+                adjncy[at] = n + r;
+                at += 1;
+                adjncy[next_of_row[r]] = j;
+                next_of_row[r] += 1;
+            }
+        }
+    }
+    Ok((xadj, adjncy))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use sprs::TriMat;
+
+    /// Read straight off A and B, the graph is the adjacency of K's pattern (as lists).
+    #[test]
+    fn the_graph_is_that_of_the_pattern() {
+        use crate::examples::two_dof_grid;
+        let a = two_dof_grid(4);
+        let n = a.rows();
+        let mut b = TriMat::new((3, n));
+        for (r, j, v) in [
+            (0, 1, 1.0),
+            (0, 6, -0.5),
+            (1, 6, 2.0),
+            (2, 31, 1.0),
+            (2, 0, 0.0),
+        ] {
+            b.add_triplet(r, j, v);
+        }
+        let b = b.to_csc();
+        let lists = |(x, a): (Vec<usize>, Vec<usize>)| -> Vec<Vec<usize>> {
+            (0..x.len() - 1)
+                .map(|v| {
+                    let mut l = a[x[v]..x[v + 1]].to_vec();
+                    l.sort_unstable();
+                    l
+                })
+                .collect()
+        };
+        let direct = lists(kkt_graph(&a, &b).unwrap());
+        let pattern = kkt_pattern(&a, &b).unwrap();
+        let via_pattern = lists(super::super::ordering::adjacency(&pattern).unwrap());
+        assert_eq!(direct, via_pattern);
+        // Multiplier 0 touches DOFs 1 and 6; DOF 6 sees multipliers 0 and 1 (n, n + 1).
+        assert_eq!(direct[n], vec![1, 6]);
+        assert!(direct[6].ends_with(&[n, n + 1]));
+    }
 
     #[test]
     fn the_pattern_is_the_lower_triangle_of_both_blocks_with_full_diagonal() {

@@ -24,10 +24,8 @@ use faer::{Conj, MatMut, Par, Side};
 use crate::CscMatrix;
 
 pub mod kkt;
-pub mod ordered;
 pub mod ordering;
 
-pub use ordered::OrderedMatrix;
 pub use ordering::{
     fill_reducing_order, kkt_order, order_pattern, order_with, FillOrdering, OrderingMethod,
 };
@@ -259,22 +257,19 @@ impl CholeskyPattern {
         })
     }
 
-    /// Analyses a matrix already laid out in its elimination order ([`OrderedMatrix`], found
-    /// by `method`): no permutation, so every numeric factorisation reads the matrix in place
-    /// — when its stored triangle is the one faer's kernel reads, see
-    /// [`CholeskyPattern::reads`].
+    /// Analyses the pattern `a` of a matrix already laid out in its elimination order (found
+    /// by `method`), which stores the triangle `side`: no permutation, so every numeric
+    /// factorisation reads the matrix in place — when `side` is the triangle faer's kernel
+    /// reads, see [`CholeskyPattern::reads`].  Rows may be unsorted within a column.
     pub fn analyse_ordered(
-        a: &OrderedMatrix,
+        a: SymbolicSparseColMatRef<'_, usize>,
+        side: Side,
         method: OrderingMethod,
         layout: Layout,
     ) -> Result<Self, LinalgError> {
-        let symbolic = factorize_symbolic_cholesky(
-            a.as_ref().symbolic(),
-            a.side(),
-            SymmetricOrdering::Identity,
-            params(layout),
-        )
-        .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
+        let symbolic =
+            factorize_symbolic_cholesky(a, side, SymmetricOrdering::Identity, params(layout))
+                .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
         Ok(Self {
             symbolic: Arc::new(symbolic),
             method,

@@ -170,8 +170,32 @@ pub const KKT_RULE: OrderingMethod = OrderingMethod::AmdNodes;
 /// 14–58 % faster.  A itself keeps [`RULE`]: on A the compressed graph changed the flops by
 /// 0 … +16 % over four scenes, a loss as often as a gain once the numeric factorisation is
 /// counted, so the floor's ordering of A stays the one that is never worse there.
-pub fn kkt_order(k: SymbolicSparseColMatRef<'_, usize>) -> Result<FillOrdering, LinalgError> {
-    order_pattern(k, KKT_RULE)
+///
+/// `xadj`, `adjncy`: K's adjacency graph in CSR, without self-loops, each edge stored both
+/// ways ([`adjacency`] of K's pattern, or [`super::kkt::kkt_graph`] straight from A and B).
+///
+/// # Errors
+/// [`LinalgError::Ordering`] when the arrays are not such a graph's.
+pub fn kkt_order(xadj: &[usize], adjncy: &[usize]) -> Result<FillOrdering, LinalgError> {
+    check_graph(xadj, adjncy)?;
+    amd_nodes_of(xadj, adjncy)
+}
+
+/// `xadj` starts at 0, never decreases and ends at `adjncy`'s length; every neighbour is a
+/// vertex.
+fn check_graph(xadj: &[usize], adjncy: &[usize]) -> Result<(), LinalgError> {
+    let n = xadj.len().saturating_sub(1);
+    let well_formed = xadj.first() == Some(&0)
+        && xadj.last() == Some(&adjncy.len())
+        && xadj.windows(2).all(|w| w[0] <= w[1])
+        && adjncy.iter().all(|&v| v < n);
+    if well_formed {
+        Ok(())
+    } else {
+        Err(LinalgError::Ordering(
+            "the graph to order is not in CSR form over its own vertices".into(),
+        ))
+    }
 }
 
 /// The ordering of `a` by the given method (for measurements and tests; solves use
@@ -226,7 +250,13 @@ fn amd_order(a: SymbolicSparseColMatRef<'_, usize>) -> Result<FillOrdering, Lina
 /// AMD on the node-compressed graph of A + Aᵀ ([`Compressed`]), expanded back to A's unknowns.
 fn amd_nodes_order(a: SymbolicSparseColMatRef<'_, usize>) -> Result<FillOrdering, LinalgError> {
     let (xadj, adjncy) = adjacency_of(a);
-    let groups = Compressed::of(&xadj, &adjncy);
+    amd_nodes_of(&xadj, &adjncy)
+}
+
+/// AMD on the node-compressed form of the graph (`xadj`, `adjncy`), expanded back to its
+/// vertices.
+fn amd_nodes_of(xadj: &[usize], adjncy: &[usize]) -> Result<FillOrdering, LinalgError> {
+    let groups = Compressed::of(xadj, adjncy);
     let g = groups.weight.len();
     let graph =
         SymbolicSparseColMatRef::new_unsorted_checked(g, g, &groups.xadj, None, &groups.adjncy);
@@ -461,7 +491,8 @@ mod tests {
         let order = fill_reducing_order(&a).unwrap();
         assert_eq!(order.method, RULE);
         assert_eq!(order, order_with(&a, RULE).unwrap());
-        let order = kkt_order(faer_view(&a).unwrap().symbolic()).unwrap();
+        let (xadj, adjncy) = adjacency(&a).unwrap();
+        let order = kkt_order(&xadj, &adjncy).unwrap();
         assert_eq!(order.method, KKT_RULE);
         assert_eq!(order, order_with(&a, KKT_RULE).unwrap());
     }
@@ -492,9 +523,10 @@ mod tests {
         weights.extend(vec![2; nodes - 1]);
         weights.push(1);
         assert_eq!(g.weight, weights);
-        assert_permutation(
-            &kkt_order(faer_view(&k).unwrap().symbolic()).unwrap(),
-            2 * nodes + 1,
+        assert_permutation(&kkt_order(&xadj, &adjncy).unwrap(), 2 * nodes + 1);
+        assert!(
+            kkt_order(&[0, 1], &[1]).is_err(),
+            "a neighbour that is no vertex"
         );
     }
 
