@@ -7,8 +7,7 @@
 //! ```
 //!
 //! K is built straight from A and B in the elimination order of its factor and in the
-//! triangle faer's numeric kernel reads ([`KktMatrix::new`]), column by column (each new
-//! column gathers one column of A and of B, or one row of B), so that no factorisation has to
+//! triangle faer's numeric kernel reads ([`KktMatrix::new`]), so that no factorisation has to
 //! copy it into order: faer's numeric LDLᵀ with a permutation first lays the matrix out in
 //! that order, a scattered pass over every entry on every factorisation.  The ordering itself
 //! reads K's graph, taken from A and B as well ([`signorini_qp::linalg::kkt::kkt_graph`]).
@@ -52,64 +51,86 @@ pub struct KktMatrix {
     dual_diagonal: Vec<usize>,
 }
 
-/// B's rows: for row r, the (column, index in B's CSC order) of its entries.
-struct Rows {
-    starts: Vec<usize>,
-    entries: Vec<(usize, usize)>,
+/// Where each entry of K goes in the triangle `side` of P K Pᵀ.
+#[derive(Clone, Copy)]
+struct Placement<'a> {
+    inverse: &'a [usize],
+    side: Side,
 }
 
-impl Rows {
-    fn of(b: &signorini_qp::CscMatrix) -> Self {
-        let m = b.rows();
-        let mut starts = vec![0usize; m + 1];
-        for (_, (r, _)) in b.iter() {
-            starts[r + 1] += 1;
+impl Placement<'_> {
+    /// The (row, column) of K's entry (i, j) in the stored triangle.
+    fn of(self, i: usize, j: usize) -> (usize, usize) {
+        let (p, q) = (self.inverse[i], self.inverse[j]);
+        match self.side {
+            Side::Upper => (p.min(q), p.max(q)),
+            Side::Lower => (p.max(q), p.min(q)),
         }
-        for r in 0..m {
-            starts[r + 1] += starts[r];
+    }
+
+    /// Whether A's stored entry (i, j), i ≠ j, is the one of the pair (i, j), (j, i) that
+    /// stays: the one whose own column is the stored column.
+    fn keeps(self, i: usize, j: usize) -> bool {
+        self.of(i, j).1 == self.inverse[j]
+    }
+}
+
+/// Every entry of K once, in A's and B's storage order: A's diagonal (or an added zero),
+/// the kept one of each off-diagonal pair of A, B's entries, the multiplier diagonal.  `visit`
+/// gets K's (i, j), the value and what the entry is.
+fn for_each_entry(
+    problem: &QpProblem,
+    b: &signorini_qp::CscMatrix,
+    place: Placement<'_>,
+    mut visit: impl FnMut(usize, usize, f64, Entry),
+) {
+    let n = problem.dofs();
+    let mut k = 0;
+    for (j, col) in problem.stiffness.outer_iterator().enumerate() {
+        let mut diagonal = false;
+        for (i, &v) in col.iter() {
+            if i == j {
+                diagonal = true;
+                visit(j, j, v, Entry::PrimalDiagonal(j));
+            } else if place.keeps(i, j) {
+                visit(i, j, v, Entry::Stiffness);
+            }
         }
-        let mut next = starts.clone();
-        let mut entries = vec![(0, 0); starts[m]];
-        let mut k = 0;
-        for (j, col) in b.outer_iterator().enumerate() {
-            for (r, _) in col.iter() {
-                entries[next[r]] = (j, k);
-                next[r] += 1;
+        if !diagonal {
+            visit(j, j, 0.0, Entry::PrimalDiagonal(j));
+        }
+        if let Some(b_col) = b.outer_view(j) {
+            for (r, &v) in b_col.iter() {
+                visit(n + r, j, v, Entry::Constraint { index: k, row: r });
                 k += 1;
             }
         }
-        Self { starts, entries }
     }
-
-    fn of_row(&self, r: usize) -> &[(usize, usize)] {
-        &self.entries[self.starts[r]..self.starts[r + 1]]
+    for r in 0..b.rows() {
+        visit(n + r, n + r, -1.0, Entry::DualDiagonal(r));
     }
 }
 
-/// The columns of P K Pᵀ being laid down, in order.
-struct Columns {
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
-    values: Vec<f64>,
-}
-
-impl Columns {
-    /// Appends the entry (row, current column) and returns its slot.
-    fn push(&mut self, row: usize, value: f64) -> usize {
-        self.row_idx.push(row);
-        self.values.push(value);
-        self.row_idx.len() - 1
-    }
-
-    fn close_column(&mut self) {
-        self.col_ptr.push(self.row_idx.len());
-    }
+/// What an entry of K is, for the slots [`KktMatrix::set_values`] writes.
+#[derive(Clone, Copy)]
+enum Entry {
+    /// Off the diagonal of A.
+    Stiffness,
+    /// The diagonal of A's column j.
+    PrimalDiagonal(usize),
+    /// B's entry number `index` (CSC order), in row `row`.
+    Constraint { index: usize, row: usize },
+    /// The diagonal of multiplier row r.
+    DualDiagonal(usize),
 }
 
 impl KktMatrix {
     /// K for the elimination order `ordering` (of K's unknowns: `forward[new] = old`), stored
     /// as the triangle `side` of P K Pᵀ: A's values (both triangles of A are read, one kept),
-    /// B's, and −1 on the multiplier diagonal until [`KktMatrix::set_values`].
+    /// B's, and −1 on the multiplier diagonal until [`KktMatrix::set_values`].  Two passes in
+    /// A's and B's own order, the first counting each stored column, the second placing the
+    /// entries (reading A in order and writing scattered is twice as fast here as gathering
+    /// A's columns in the new order).
     pub fn new(
         problem: &QpProblem,
         ordering: &FillOrdering,
@@ -124,74 +145,53 @@ impl KktMatrix {
                 ordering.forward.len()
             )));
         }
-        let a = &problem.stiffness;
         let b = problem.constraints.to_csc();
-        let rows = Rows::of(&b);
-        let (forward, inverse) = (&ordering.forward, &ordering.inverse);
-        // Whether stored row p belongs to stored column q's triangle.
-        let kept = |p: usize, q: usize| match side {
-            Side::Upper => p <= q,
-            Side::Lower => p >= q,
+        let place = Placement {
+            inverse: &ordering.inverse,
+            side,
         };
-        let entries = (a.nnz() + n) / 2 + b.nnz() + m;
-        let mut out = Columns {
-            col_ptr: Vec::with_capacity(dim + 1),
-            row_idx: Vec::with_capacity(entries),
-            values: Vec::with_capacity(entries),
-        };
-        out.col_ptr.push(0);
+        let mut col_ptr = vec![0usize; dim + 1];
+        for_each_entry(problem, &b, place, |i, j, _, _| {
+            col_ptr[place.of(i, j).1 + 1] += 1;
+        });
+        for q in 0..dim {
+            col_ptr[q + 1] += col_ptr[q];
+        }
+        let entries = col_ptr[dim];
+        let mut next = col_ptr.clone();
+        let mut row_idx = vec![0usize; entries];
+        let mut values = vec![0.0; entries];
         let mut b_slots = vec![(0, 0.0); b.nnz()];
         let mut b_rows = vec![0; b.nnz()];
         let mut primal_diagonal = vec![0; n];
         let mut a_diagonal = vec![0.0; n];
         let mut dual_diagonal = vec![0; m];
-        let mut b_index = vec![0usize; n + 1];
-        for j in 0..n {
-            b_index[j + 1] = b_index[j] + b.outer_view(j).map_or(0, |c| c.nnz());
-        }
-        for (q, &old) in forward.iter().enumerate() {
-            if old < n {
-                let j = old;
-                let mut diagonal = None;
-                if let Some(col) = a.outer_view(j) {
-                    for (i, &v) in col.iter() {
-                        if i == j {
-                            a_diagonal[j] = v;
-                            diagonal = Some(out.push(q, v));
-                        } else if kept(inverse[i], q) {
-                            out.push(inverse[i], v);
-                        }
-                    }
+        for_each_entry(problem, &b, place, |i, j, v, entry| {
+            let (row, column) = place.of(i, j);
+            let slot = next[column];
+            next[column] += 1;
+            row_idx[slot] = row;
+            values[slot] = v;
+            match entry {
+                Entry::Stiffness => {}
+                Entry::PrimalDiagonal(j) => {
+                    primal_diagonal[j] = slot;
+                    a_diagonal[j] = v;
                 }
-                primal_diagonal[j] = diagonal.unwrap_or_else(|| out.push(q, 0.0));
-                if let Some(col) = b.outer_view(j) {
-                    for (k, (r, &v)) in (b_index[j]..).zip(col.iter()) {
-                        b_rows[k] = r;
-                        if kept(inverse[n + r], q) {
-                            b_slots[k] = (out.push(inverse[n + r], v), v);
-                        }
-                    }
+                Entry::Constraint { index, row } => {
+                    b_slots[index] = (slot, v);
+                    b_rows[index] = row;
                 }
-            } else {
-                let r = old - n;
-                for &(j, k) in rows.of_row(r) {
-                    if kept(inverse[j], q) {
-                        let v = b.data()[k];
-                        b_slots[k] = (out.push(inverse[j], v), v);
-                    }
-                }
-                dual_diagonal[r] = out.push(q, -1.0);
+                Entry::DualDiagonal(r) => dual_diagonal[r] = slot,
             }
-            out.close_column();
-        }
+        });
         // Rows unsorted within a column; every index below `dim` by construction.
-        let symbolic =
-            SymbolicSparseColMat::new_unsorted_checked(dim, dim, out.col_ptr, None, out.row_idx);
+        let symbolic = SymbolicSparseColMat::new_unsorted_checked(dim, dim, col_ptr, None, row_idx);
         Ok(Self {
-            matrix: SparseColMat::new(symbolic, out.values),
+            matrix: SparseColMat::new(symbolic, values),
             side,
-            forward: forward.clone(),
-            inverse: inverse.clone(),
+            forward: ordering.forward.clone(),
+            inverse: ordering.inverse.clone(),
             dofs: n,
             b_slots,
             b_rows,

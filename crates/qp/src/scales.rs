@@ -10,6 +10,7 @@
 //! is compliance-weighted (a load counts by the displacement it would give where it acts).
 
 use super::problem::QpProblem;
+use crate::CscMatrix;
 
 /// Smallest scale used as a denominator, so that an all-zero problem gives zero residuals.
 pub(super) const TINY: f64 = 1e-300;
@@ -185,6 +186,17 @@ impl Dsu {
     }
 }
 
+/// |Aⱼⱼ| of every column j (0 where A stores no diagonal), read column by column.
+fn diagonal(a: &CscMatrix) -> Vec<f64> {
+    a.outer_iterator()
+        .enumerate()
+        .map(|(j, col)| {
+            let (rows, values) = (col.indices(), col.data());
+            rows.binary_search(&j).map_or(0.0, |at| values[at].abs())
+        })
+        .collect()
+}
+
 /// The bodies (connected components of A alone) and components (of A ∪ BᵀB) of a problem.
 struct Partition {
     /// Component of every DOF, numbered 0..components.
@@ -202,8 +214,10 @@ fn components(problem: &QpProblem) -> Partition {
     let n = problem.dofs();
     let mut dsu = Dsu((0..n).collect());
     for (j, col) in problem.stiffness.outer_iterator().enumerate() {
-        for (i, _) in col.iter() {
-            dsu.union(i, j);
+        for &i in col.indices() {
+            if i != j {
+                dsu.union(i, j);
+            }
         }
     }
     let (body_of_dof, bodies) = dsu.numbered();
@@ -262,9 +276,7 @@ impl ResidualScales {
     /// assert_eq!(s.dof_forces, vec![1.0, 3.0]);
     /// ```
     pub fn of(problem: &QpProblem) -> Self {
-        let diag: Vec<f64> = (0..problem.dofs())
-            .map(|j| problem.stiffness.get(j, j).copied().unwrap_or(0.0).abs())
-            .collect();
+        let diag = diagonal(&problem.stiffness);
         let Partition {
             of_dof,
             of_row,

@@ -5,7 +5,7 @@
 //! dissection, by the rule in [`ordering`]), faer's symbolic Cholesky with that ordering
 //! (`SymmetricOrdering::Custom`) — forced supernodal for the factors whose supernodes are read
 //! (the dual backends'), faer's own choice of simplicial or supernodal for the timing floor and
-//! pdas's KKT factor ([`Layout`]) — and the numeric LLᵀ on one thread (`Par::Seq`).  The symbolic analysis is kept apart from the numeric factorisation so that one
+//! pdas's KKT factor ([`Layout`]) — and the numeric LLᵀ on one thread (`Par::Seq`); a matrix refactorised many times (pdas's KKT matrix) is instead built in its elimination order and analysed without a permutation ([`CholeskyPattern::analyse_ordered`]), so faer does not copy it into order on every factorisation.  The symbolic analysis is kept apart from the numeric factorisation so that one
 //! analysis serves many refactorisations of the same pattern, and so that the memory a factor
 //! will take ([`FactorInfo::factor_bytes`]) is known before it is allocated.
 
