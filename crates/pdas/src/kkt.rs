@@ -59,25 +59,28 @@ struct Placement<'a> {
 }
 
 impl Placement<'_> {
-    /// The (row, column) of K's entry (i, j) in the stored triangle.
-    fn of(self, i: usize, j: usize) -> (usize, usize) {
-        let (p, q) = (self.inverse[i], self.inverse[j]);
+    /// Whether stored row p belongs to stored column q in the triangle.
+    fn in_column(self, p: usize, q: usize) -> bool {
         match self.side {
-            Side::Upper => (p.min(q), p.max(q)),
-            Side::Lower => (p.max(q), p.min(q)),
+            Side::Upper => p <= q,
+            Side::Lower => p >= q,
         }
     }
 
-    /// Whether A's stored entry (i, j), i ≠ j, is the one of the pair (i, j), (j, i) that
-    /// stays: the one whose own column is the stored column.
-    fn keeps(self, i: usize, j: usize) -> bool {
-        self.of(i, j).1 == self.inverse[j]
+    /// The stored (row, column) of the entry between stored indices p and q.
+    fn of(self, p: usize, q: usize) -> (usize, usize) {
+        if self.in_column(p, q) {
+            (p, q)
+        } else {
+            (q, p)
+        }
     }
 }
 
-/// Every entry of K once, in A's and B's storage order: A's diagonal (or an added zero),
-/// the kept one of each off-diagonal pair of A, B's entries, the multiplier diagonal.  `visit`
-/// gets K's (i, j), the value and what the entry is.
+/// Every entry of K once, in A's and B's storage order, with its stored (row, column): A's
+/// diagonal (or an added zero), the one of each off-diagonal pair of A that lies in its own
+/// column's triangle, B's entries, the multiplier diagonal.  `visit` gets the stored row and
+/// column, the value and what the entry is.
 fn for_each_entry(
     problem: &QpProblem,
     b: &signorini_qp::CscMatrix,
@@ -85,29 +88,37 @@ fn for_each_entry(
     mut visit: impl FnMut(usize, usize, f64, Entry),
 ) {
     let n = problem.dofs();
+    let inverse = place.inverse;
     let mut k = 0;
     for (j, col) in problem.stiffness.outer_iterator().enumerate() {
+        let q = inverse[j];
         let mut diagonal = false;
-        for (i, &v) in col.iter() {
+        for (&i, &v) in col.indices().iter().zip(col.data()) {
             if i == j {
                 diagonal = true;
-                visit(j, j, v, Entry::PrimalDiagonal(j));
-            } else if place.keeps(i, j) {
-                visit(i, j, v, Entry::Stiffness);
+                visit(q, q, v, Entry::PrimalDiagonal(j));
+            } else {
+                // Of the pair (i, j), (j, i), the entry in its own column's triangle stays.
+                let p = inverse[i];
+                if p != q && place.in_column(p, q) {
+                    visit(p, q, v, Entry::Stiffness);
+                }
             }
         }
         if !diagonal {
-            visit(j, j, 0.0, Entry::PrimalDiagonal(j));
+            visit(q, q, 0.0, Entry::PrimalDiagonal(j));
         }
         if let Some(b_col) = b.outer_view(j) {
             for (r, &v) in b_col.iter() {
-                visit(n + r, j, v, Entry::Constraint { index: k, row: r });
+                let (row, column) = place.of(inverse[n + r], q);
+                visit(row, column, v, Entry::Constraint { index: k, row: r });
                 k += 1;
             }
         }
     }
     for r in 0..b.rows() {
-        visit(n + r, n + r, -1.0, Entry::DualDiagonal(r));
+        let p = inverse[n + r];
+        visit(p, p, -1.0, Entry::DualDiagonal(r));
     }
 }
 
@@ -151,8 +162,8 @@ impl KktMatrix {
             side,
         };
         let mut col_ptr = vec![0usize; dim + 1];
-        for_each_entry(problem, &b, place, |i, j, _, _| {
-            col_ptr[place.of(i, j).1 + 1] += 1;
+        for_each_entry(problem, &b, place, |_, column, _, _| {
+            col_ptr[column + 1] += 1;
         });
         for q in 0..dim {
             col_ptr[q + 1] += col_ptr[q];
@@ -166,8 +177,7 @@ impl KktMatrix {
         let mut primal_diagonal = vec![0; n];
         let mut a_diagonal = vec![0.0; n];
         let mut dual_diagonal = vec![0; m];
-        for_each_entry(problem, &b, place, |i, j, v, entry| {
-            let (row, column) = place.of(i, j);
+        for_each_entry(problem, &b, place, |row, column, v, entry| {
             let slot = next[column];
             next[column] += 1;
             row_idx[slot] = row;
