@@ -338,8 +338,6 @@ impl<'p> ActiveSet<'p> {
             .zip(&p.gap)
             .map(|((l, b), g)| l + c * (b - g))
             .collect();
-        // A one-sided row is active when vᵢ is more than a negligible force (see
-        // [`NEGLIGIBLE`]): round-off in λ must not decide a row.
         let negligible = NEGLIGIBLE * self.options.tol;
         let mut signs = vec![0.0; p.rows()];
         let active = v

@@ -1,7 +1,7 @@
 //! The sparse LDLᵀ factor of the KKT matrix: one symbolic analysis (the project's shared
 //! [`CholeskyPattern`], ordered by [`signorini_qp::linalg::kkt_order`]), a numeric
-//! factorisation per active set, and solves with it.  K is stored in the factor's elimination
-//! order ([`KktMatrix::reorder`]), so the analysis carries no permutation: faer's numeric
+//! factorisation per active set, and solves with it.  K is built in the factor's elimination
+//! order ([`KktMatrix::new`]), so the analysis carries no permutation: faer's numeric
 //! factorisation reads K in place, and the solves permute their right-hand sides instead.
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};

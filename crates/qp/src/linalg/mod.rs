@@ -26,9 +26,7 @@ use crate::CscMatrix;
 pub mod kkt;
 pub mod ordering;
 
-pub use ordering::{
-    fill_reducing_order, kkt_order, order_pattern, order_with, FillOrdering, OrderingMethod,
-};
+pub use ordering::{fill_reducing_order, kkt_order, order_with, FillOrdering, OrderingMethod};
 
 /// Why a factorisation failed.
 #[derive(Debug, thiserror::Error)]

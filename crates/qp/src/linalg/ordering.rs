@@ -201,21 +201,14 @@ fn check_graph(xadj: &[usize], adjncy: &[usize]) -> Result<(), LinalgError> {
 /// The ordering of `a` by the given method (for measurements and tests; solves use
 /// [`fill_reducing_order`]).
 pub fn order_with(a: &CscMatrix, method: OrderingMethod) -> Result<FillOrdering, LinalgError> {
-    order_pattern(faer_view(a)?.symbolic(), method)
-}
-
-/// The ordering of the symmetric pattern `a` (one triangle or both) by the given method.
-pub fn order_pattern(
-    a: SymbolicSparseColMatRef<'_, usize>,
-    method: OrderingMethod,
-) -> Result<FillOrdering, LinalgError> {
-    let n = a.nrows();
-    if a.ncols() != n {
+    let n = a.rows();
+    if a.cols() != n {
         return Err(LinalgError::Shape {
             rows: n,
-            cols: a.ncols(),
+            cols: a.cols(),
         });
     }
+    let a = faer_view(a)?.symbolic();
     match method {
         OrderingMethod::Amd => amd_order(a),
         OrderingMethod::AmdNodes => amd_nodes_order(a),
