@@ -5,8 +5,8 @@ use std::time::{Duration, Instant};
 use clarabel::algebra::CscMatrix as ClarabelCsc;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 use signorini_qp::{
-    checked_status, csc_parts, kkt_residuals, AuxiliaryForm, BlockKind, KktResiduals, QpBackend,
-    QpError, QpProblem, QpScaling, QpSolution, QpStatus, SolveOptions,
+    checked_status, csc_parts, kkt_residuals_with, AuxiliaryForm, BlockKind, KktResiduals,
+    QpBackend, QpError, QpProblem, QpScaling, QpSolution, QpStatus, SolveOptions,
 };
 
 use crate::settings::{ClarabelSettings, MIN_TOL};
@@ -63,10 +63,12 @@ impl QpBackend for ClarabelBackend {
         if problem.blocks.iter().any(|b| b.kind() == BlockKind::Box) {
             let form = AuxiliaryForm::of(problem)?;
             let judge = |s: &QpSolution| form.original_residuals(problem, &s.x, &s.multipliers);
-            let solution = self.solve_judged(&form.problem, options, &judge)?;
+            let solution =
+                self.solve_judged(&form.problem, &options.for_another_problem(), &judge)?;
             return Ok(form.recover(solution));
         }
-        let judge = |s: &QpSolution| kkt_residuals(problem, &s.x, &s.multipliers);
+        let scales = options.residual_scales(problem);
+        let judge = |s: &QpSolution| kkt_residuals_with(problem, &scales, &s.x, &s.multipliers);
         self.solve_judged(problem, options, &judge)
     }
 }

@@ -17,7 +17,9 @@ use signorini::backends::{make_backend, BackendKind};
 use signorini::run;
 use signorini_clarabel::{ClarabelBackend, ClarabelSettings, DirectSolver};
 use signorini_core::mesh::MeshLimits;
-use signorini_core::qp::{norm_inf, BlockKind, ContactBody, QpBackend, QpStatus, SolveOptions};
+use signorini_core::qp::{
+    norm_inf, BlockKind, ContactBody, QpBackend, QpStatus, ResidualScales, SolveOptions,
+};
 use signorini_core::solve;
 use signorini_dual::{DualBackend, DualSettings};
 
@@ -321,6 +323,61 @@ fn the_chain_shares_one_time_limit() {
     // well under a millisecond on an idle machine, a loaded 2-core one can add tens).
     let took = outcome.solution.solve_time;
     assert!(took <= limit + Duration::from_millis(50), "{took:?}");
+}
+
+/// What a member was handed: the residual scales in its options, and those of the problem it got.
+type Handed = Option<(std::sync::Arc<ResidualScales>, ResidualScales)>;
+
+/// A backend that records the residual scales its options carry and answers x = 0, λ = 0
+/// `inaccurate` (so that the chain goes on to the next member).
+struct ScalesRecorder(std::sync::Arc<std::sync::Mutex<Vec<Handed>>>);
+
+impl QpBackend for ScalesRecorder {
+    fn name(&self) -> &'static str {
+        "recorder"
+    }
+    fn solve_valid(
+        &mut self,
+        p: &signorini_core::qp::QpProblem,
+        o: &SolveOptions,
+    ) -> Result<signorini_core::qp::QpSolution, signorini_core::qp::QpError> {
+        let handed = o.scales.clone().map(|s| (s, ResidualScales::of(p)));
+        self.0.lock().unwrap().push(handed);
+        Ok(signorini_core::qp::QpSolution {
+            x: vec![0.0; p.dofs()],
+            multipliers: vec![0.0; p.rows()],
+            status: QpStatus::Inaccurate,
+            iterations: 1,
+            solve_time: Duration::ZERO,
+            message: None,
+        })
+    }
+}
+
+/// auto computes the residual scales once for its chain (a pass over A and B that cost pdas
+/// a tenth of the floor on the partial strip, and was done by auto's check again) and hands
+/// the same ones to every member: exactly those of the problem the member gets.
+#[test]
+fn every_member_of_the_chain_gets_the_chains_residual_scales() {
+    let problem = signorini_core::qp::examples::two_rows_scaled(3.0).problem;
+    let seen = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+    let mut auto = AutoBackend::with_backends(
+        vec![
+            Box::new(ScalesRecorder(seen.clone())),
+            Box::new(ScalesRecorder(seen.clone())),
+        ],
+        "test chain",
+    );
+    auto.solve(&problem, &SolveOptions::default()).unwrap();
+    let seen = seen.lock().unwrap();
+    assert_eq!(seen.len(), 2);
+    let (first, own) = seen[0].as_ref().expect("the first member got no scales");
+    let (second, _) = seen[1].as_ref().expect("the second member got no scales");
+    assert!(std::sync::Arc::ptr_eq(first, second), "computed twice");
+    assert_eq!(
+        **first, *own,
+        "not the scales of the problem the member got"
+    );
 }
 
 /// A backend that refuses every problem for lack of memory.

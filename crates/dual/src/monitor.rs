@@ -44,7 +44,7 @@ pub struct Monitor<'a> {
     length_scale: f64,
     force_scale: f64,
     /// The fixed scales of the KKT residuals, computed once per solve.
-    scales: ResidualScales,
+    scales: std::sync::Arc<ResidualScales>,
     /// Why the last growth of λ with gᵀδ < 0 was no certificate, for the final message.
     shortfall: Option<String>,
     /// The worst scaled KKT residual of the last full check (∞ before the first).
@@ -78,7 +78,7 @@ impl<'a> Monitor<'a> {
                 .collect(),
             length_scale: f64::MIN_POSITIVE,
             force_scale: norm_inf(&problem.load).max(f64::MIN_POSITIVE),
-            scales: ResidualScales::of(problem),
+            scales: options.residual_scales(problem),
             shortfall: None,
             last_worst: f64::INFINITY,
         }

@@ -6,8 +6,8 @@ use std::time::{Duration, Instant};
 
 use osqp::{CscMatrix as OsqpCsc, PolishStatus, Problem, SetupError, Status};
 use signorini_qp::{
-    csc_parts, kkt_residuals, norm_inf, AuxiliaryForm, BlockKind, KktResiduals, QpBackend, QpError,
-    QpProblem, QpScaling, QpSolution, QpStatus, SolveOptions,
+    csc_parts, kkt_residuals_with, norm_inf, AuxiliaryForm, BlockKind, KktResiduals, QpBackend,
+    QpError, QpProblem, QpScaling, QpSolution, QpStatus, SolveOptions,
 };
 
 use crate::settings::{OsqpSettings, Plan};
@@ -74,10 +74,12 @@ impl QpBackend for OsqpBackend {
         if problem.blocks.iter().any(|b| b.kind() == BlockKind::Box) {
             let form = AuxiliaryForm::of(problem)?;
             let judge = |x: &[f64], mu: &[f64]| form.original_residuals(problem, x, mu);
-            let solution = self.solve_judged(&form.problem, options, &judge)?;
+            let solution =
+                self.solve_judged(&form.problem, &options.for_another_problem(), &judge)?;
             return Ok(form.recover(solution));
         }
-        let judge = |x: &[f64], mu: &[f64]| kkt_residuals(problem, x, mu);
+        let scales = options.residual_scales(problem);
+        let judge = |x: &[f64], mu: &[f64]| kkt_residuals_with(problem, &scales, x, mu);
         self.solve_judged(problem, options, &judge)
     }
 }

@@ -115,7 +115,7 @@ pub struct ActiveSet<'p> {
     settings: &'p PdasSettings,
     options: &'p SolveOptions,
     start: Instant,
-    scales: ResidualScales,
+    scales: std::sync::Arc<ResidualScales>,
     kkt: KktMatrix,
     factor: KktFactor,
     /// Solves with the current factor kept for low-rank updates.
@@ -209,7 +209,7 @@ impl<'p> ActiveSet<'p> {
             settings,
             options,
             start,
-            scales: ResidualScales::of(problem),
+            scales: options.residual_scales(problem),
             kkt,
             factor,
             cache: ColumnCache::default(),

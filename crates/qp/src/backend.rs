@@ -6,6 +6,7 @@ use std::time::Duration;
 use super::blocks::BlockKind;
 use super::coulomb::{CoulombMethod, CoulombRows};
 use super::problem::{QpError, QpProblem};
+use super::scales::ResidualScales;
 use super::scaling::QpScaling;
 
 pub use super::solution::QpSolution;
@@ -29,6 +30,35 @@ pub struct SolveOptions {
     /// problem solved; a backend may use it (pdas: its first active set) or ignore it.  Dropped
     /// by [`QpBackend::solve`] when it nondimensionalises the problem.  Default `None`.
     pub warm_start: Option<Arc<WarmStart>>,
+    /// The residual scales of the very problem passed, when the caller has computed them
+    /// already (`auto` does once for its whole chain, [`ResidualScales::of`] being a pass over
+    /// A and B); a backend judges its answer against them instead of computing its own (see
+    /// [`SolveOptions::residual_scales`]).  Scales of another problem give a wrong verdict: the
+    /// caller's final check ([`crate::kkt_residuals`]) is the one that counts.  Dropped by
+    /// [`QpBackend::solve`] when it nondimensionalises the problem.  Default `None`.
+    pub scales: Option<Arc<ResidualScales>>,
+}
+
+impl SolveOptions {
+    /// The residual scales of `problem`: [`SolveOptions::scales`] when they fit its sizes, else
+    /// computed ([`ResidualScales::of`]).
+    pub fn residual_scales(&self, problem: &QpProblem) -> Arc<ResidualScales> {
+        match &self.scales {
+            Some(scales) if scales.fit(problem) => Arc::clone(scales),
+            _ => Arc::new(ResidualScales::of(problem)),
+        }
+    }
+
+    /// These options for a problem other than the caller's (the nondimensionalised one, a
+    /// condensed dual, an auxiliary form): the warm start and the residual scales belong to the
+    /// caller's problem and are dropped.
+    pub fn for_another_problem(&self) -> Self {
+        Self {
+            warm_start: None,
+            scales: None,
+            ..self.clone()
+        }
+    }
 }
 
 /// A nearby answer (x, λ) for [`SolveOptions::warm_start`].
@@ -56,6 +86,7 @@ impl Default for SolveOptions {
             verbose: false,
             coulomb: CoulombMethod::Auto,
             warm_start: None,
+            scales: None,
         }
     }
 }
@@ -116,10 +147,7 @@ pub trait QpBackend: Send {
         // Checked before scaling too, so that a refusal names the caller's data.
         problem.validate()?;
         let scaled = scaling.scale(problem);
-        let options = &SolveOptions {
-            warm_start: None,
-            ..options.clone()
-        };
+        let options = &options.for_another_problem();
         let answer = self.solve_in_given_units(&scaled, options)?;
         Ok(scaling.unscale(answer).finite_or_numerical_error())
     }
@@ -178,10 +206,7 @@ pub trait QpBackend: Send {
         }
         problem.validate()?;
         let scaled = scaling.scale(problem);
-        let options = &SolveOptions {
-            warm_start: None,
-            ..options.clone()
-        };
+        let options = &options.for_another_problem();
         refuse_unsupported(&*self, &scaled)?;
         let solution = self.solve_coulomb_valid(&scaled, coulomb, options)?;
         let answer = checked_answer(&*self, &scaled, solution)?;

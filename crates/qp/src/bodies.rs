@@ -17,23 +17,32 @@ pub struct Components {
 
 impl Components {
     /// The components of the graph of the symmetric `a` (square, CSC; an entry (i, j) joins i
-    /// and j whatever its value, so explicit zeros of an assembled pattern join too).  Only the
-    /// strictly lower triangle is read: `a` is symmetric, so it holds every edge.
+    /// and j whatever its value, so explicit zeros of an assembled pattern join too).  Both
+    /// triangles are read, so a matrix stored as one triangle joins the same unknowns.
     pub fn of(a: &CscMatrix) -> Self {
         let n = a.rows().min(a.cols());
         let mut parent: Vec<usize> = (0..n).collect();
         for (j, column) in a.outer_iterator().enumerate().take(n) {
-            for (i, _) in column.iter() {
-                if i > j && i < n {
-                    union(&mut parent, i, j);
+            // j's root found once per column, not once per entry.
+            let mut root = find(&mut parent, j);
+            for &i in column.indices() {
+                if i != j && i < n {
+                    root = join(&mut parent, root, i);
                 }
             }
         }
+        Self::of_forest(&mut parent)
+    }
+
+    /// The components of a union–find forest (`parent[k]` = k at a root; see [`join`]),
+    /// labelled in order of first appearance.
+    pub(crate) fn of_forest(parent: &mut [usize]) -> Self {
+        let n = parent.len();
         let mut label = vec![usize::MAX; n];
         let mut sizes = Vec::new();
         let mut of_root = vec![usize::MAX; n];
         for k in 0..n {
-            let root = find(&mut parent, k);
+            let root = find(parent, k);
             if of_root[root] == usize::MAX {
                 of_root[root] = sizes.len();
                 sizes.push(0);
@@ -45,7 +54,8 @@ impl Components {
     }
 }
 
-fn find(parent: &mut [usize], mut k: usize) -> usize {
+/// The root of `k`'s tree in the union–find forest `parent`, halving the path on the way.
+pub(crate) fn find(parent: &mut [usize], mut k: usize) -> usize {
     while parent[k] != k {
         parent[k] = parent[parent[k]];
         k = parent[k];
@@ -53,14 +63,18 @@ fn find(parent: &mut [usize], mut k: usize) -> usize {
     k
 }
 
-fn union(parent: &mut [usize], i: usize, j: usize) {
-    let (ri, rj) = (find(parent, i), find(parent, j));
-    if ri != rj {
-        // The smaller root index wins: deterministic, and the trees stay shallow enough with
-        // the halving in `find`.
-        let (keep, drop) = if ri < rj { (ri, rj) } else { (rj, ri) };
-        parent[drop] = keep;
+/// Joins the tree of `i` to the tree whose root is `root` in the union–find forest `parent`;
+/// returns the root of the joined tree.
+pub(crate) fn join(parent: &mut [usize], root: usize, i: usize) -> usize {
+    let ri = find(parent, i);
+    if ri == root {
+        return root;
     }
+    // The smaller root index wins: deterministic, and the trees stay shallow enough with the
+    // halving in `find`.
+    let (keep, drop) = if ri < root { (ri, root) } else { (root, ri) };
+    parent[drop] = keep;
+    keep
 }
 
 /// The normal rows that touch first: those whose gap exceeds the smallest normal gap by at most
@@ -128,7 +142,16 @@ impl ContactBody {
     /// [`ContactBody::most_slender`] counting only the rows `counted` marks (rows beyond its
     /// length are not counted): with [`first_touch`], the interface that touches first.
     pub fn most_slender_over(problem: &QpProblem, counted: &[bool]) -> Option<Self> {
-        let components = Components::of(&problem.stiffness);
+        Self::most_slender_among(problem, &Components::of(&problem.stiffness), counted)
+    }
+
+    /// [`ContactBody::most_slender_over`] with the bodies already found (`components`, those
+    /// of A: e.g. [`crate::ResidualScales::bodies`]).
+    pub fn most_slender_among(
+        problem: &QpProblem,
+        components: &Components,
+        counted: &[bool],
+    ) -> Option<Self> {
         let bodies = components.sizes.len();
         // One pass over B's columns (DOFs): (body, row) for every nonzero of a counted row, and
         // the DOFs of each body such a row touches.
@@ -192,6 +215,25 @@ mod tests {
         let c = Components::of(&a.to_csc());
         assert_eq!(c.sizes, vec![3, 4]);
         assert_eq!(c.label, vec![0, 0, 0, 1, 1, 1, 1]);
+    }
+
+    /// A matrix stored as one triangle joins the same unknowns as the full one (the lower
+    /// triangle alone was read once: an upper-triangle matrix fell apart into single unknowns).
+    #[test]
+    fn one_stored_triangle_gives_the_same_components() {
+        let mut a = TriMat::new((7, 7));
+        chain(&mut a, 0, 3);
+        chain(&mut a, 3, 4);
+        let full = a.to_csc();
+        for keep in [|i: usize, j: usize| i <= j, |i: usize, j: usize| i >= j] {
+            let mut t = TriMat::new((7, 7));
+            for (&v, (i, j)) in full.iter() {
+                if keep(i, j) {
+                    t.add_triplet(i, j, v);
+                }
+            }
+            assert_eq!(Components::of(&t.to_csc()), Components::of(&full));
+        }
     }
 
     #[test]

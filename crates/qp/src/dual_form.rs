@@ -449,7 +449,7 @@ impl<B: QpBackend> QpBackend for CondensedDual<B> {
             let inner_options = SolveOptions {
                 tol,
                 time_limit: remaining,
-                ..options.clone()
+                ..options.for_another_problem()
             };
             match run.round(&mut self.inner, &inner_options, options.tol)? {
                 Round::Stopped(out) => return Ok(out),

@@ -58,3 +58,15 @@ pub fn dot(a: &[f64], b: &[f64]) -> f64 {
 pub fn norm_inf(v: &[f64]) -> f64 {
     v.iter().fold(0.0, |m, x| m.max(x.abs()))
 }
+
+/// |Mⱼⱼ| of every column j of a square CSC matrix (0 where none is stored), read column by
+/// column: rows are sorted within a column, so each is one binary search.
+pub(crate) fn abs_diagonal(m: &CscMatrix) -> Vec<f64> {
+    m.outer_iterator()
+        .enumerate()
+        .map(|(j, col)| {
+            let (rows, values) = (col.indices(), col.data());
+            rows.binary_search(&j).map_or(0.0, |at| values[at].abs())
+        })
+        .collect()
+}

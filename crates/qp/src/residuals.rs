@@ -131,10 +131,7 @@ pub fn kkt_residuals_in(
 ) -> KktResiduals {
     if x.len() != problem.dofs()
         || multipliers.len() != problem.rows()
-        || scales.dof_forces.len() != problem.dofs()
-        || scales.rows.len() != problem.rows()
-        || scales.dof_bodies.len() != problem.dofs()
-        || scales.row_body_starts.len() != problem.rows() + 1
+        || !scales.fit(problem)
         || sets.len() != problem.rows()
         || x.iter().chain(multipliers).any(|v| !v.is_finite())
     {
@@ -149,7 +146,7 @@ pub fn kkt_residuals_in(
         .zip(&problem.load)
         .zip(&btl)
         .zip(&scales.dof_forces)
-        .zip(&scales.dof_bodies)
+        .zip(&scales.bodies.label)
         .map(|((((a, f), b), &component), &body)| {
             let own = force[body].max(BODY_FORCE_FLOOR * component);
             (a - f + b).abs() / component.min(own)
@@ -233,9 +230,10 @@ fn body_motion_and_force(
     x: &[f64],
     btl: &[f64],
 ) -> (Vec<f64>, Vec<f64>) {
-    let mut motion = vec![0.0_f64; scales.bodies];
-    let mut force = vec![0.0_f64; scales.bodies];
-    for (j, &b) in scales.dof_bodies.iter().enumerate() {
+    let bodies = scales.bodies.sizes.len();
+    let mut motion = vec![0.0_f64; bodies];
+    let mut force = vec![0.0_f64; bodies];
+    for (j, &b) in scales.bodies.label.iter().enumerate() {
         motion[b] = motion[b].max(x[j].abs());
         force[b] = force[b].max(problem.load[j].abs()).max(btl[j].abs());
     }

@@ -9,8 +9,9 @@
 //! by A or by a common constraint row — nothing outside it can push on the row), and the length
 //! is compliance-weighted (a load counts by the displacement it would give where it acts).
 
+use super::bodies::{find, join, Components};
+use super::ops::abs_diagonal;
 use super::problem::QpProblem;
-use crate::CscMatrix;
 
 /// Smallest scale used as a denominator, so that an all-zero problem gives zero residuals.
 pub(super) const TINY: f64 = 1e-300;
@@ -41,7 +42,7 @@ pub(super) const TINY: f64 = 1e-300;
 /// far away by a huge load sets W_c and F_c of the pair it has left.  No fixed datum can tell
 /// which contacts open, so the residuals tighten the two measures such a load could hide with
 /// what the answer shows reaches each body, only ever downwards (a wrong answer cannot buy
-/// itself a looser test; see [`super::kkt_residuals`]).  `dof_bodies` and the rows' bodies are
+/// itself a looser test; see [`super::kkt_residuals`]).  `bodies` and the rows' bodies are
 /// recorded here for that.
 ///
 /// The whole problem's scales (`force`, `length`) are kept for reports and heuristics:
@@ -60,18 +61,15 @@ pub struct ResidualScales {
     pub row_forces: Vec<f64>,
     /// Force scale F_c of each DOF's component (stationarity is measured DOF by DOF).
     pub dof_forces: Vec<f64>,
-    /// The body of each DOF: its connected component of A alone, numbered 0..bodies.
+    /// The bodies: the connected components of A alone (`bodies.label[j]`: the body of DOF j).
     #[serde(skip)]
-    pub dof_bodies: Vec<usize>,
+    pub bodies: Components,
     /// The bodies row i touches are `row_bodies[row_body_starts[i]..row_body_starts[i + 1]]`.
     #[serde(skip)]
     pub row_body_starts: Vec<usize>,
     /// See `row_body_starts`.
     #[serde(skip)]
     pub row_bodies: Vec<usize>,
-    /// Number of bodies.
-    #[serde(skip)]
-    pub bodies: usize,
     /// W_b = Σ |fⱼ| / Aⱼⱼ over the DOFs of each body: the motion its own loads could give it,
     /// the floor of its rows' own-motion tightening ([`crate::BODY_MOTION_FLOOR`]).
     #[serde(skip)]
@@ -79,6 +77,16 @@ pub struct ResidualScales {
 }
 
 impl ResidualScales {
+    /// Whether these scales have `problem`'s sizes (n DOFs, m rows): the least a caller's
+    /// scales must meet to be used for it.
+    pub fn fit(&self, problem: &QpProblem) -> bool {
+        self.dof_forces.len() == problem.dofs()
+            && self.bodies.label.len() == problem.dofs()
+            && self.rows.len() == problem.rows()
+            && self.row_forces.len() == problem.rows()
+            && self.row_body_starts.len() == problem.rows() + 1
+    }
+
     /// The bodies row `i` touches (distinct, in increasing order).
     pub fn bodies_of_row(&self, i: usize) -> &[usize] {
         &self.row_bodies[self.row_body_starts[i]..self.row_body_starts[i + 1]]
@@ -146,57 +154,6 @@ fn harmonic(count: usize, compliance: f64) -> Option<f64> {
     (count > 0 && compliance > 0.0 && compliance.is_finite()).then(|| count as f64 / compliance)
 }
 
-/// Union–find over DOFs with path halving; `find` returns the representative.
-struct Dsu(Vec<usize>);
-
-impl Dsu {
-    fn find(&mut self, mut j: usize) -> usize {
-        while self.0[j] != j {
-            self.0[j] = self.0[self.0[j]];
-            j = self.0[j];
-        }
-        j
-    }
-
-    fn union(&mut self, a: usize, b: usize) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            self.0[ra.max(rb)] = ra.min(rb);
-        }
-    }
-}
-
-impl Dsu {
-    /// The representative of every element, numbered 0..count in order of first appearance,
-    /// and the count.
-    fn numbered(&mut self) -> (Vec<usize>, usize) {
-        let n = self.0.len();
-        let mut id = vec![usize::MAX; n];
-        let mut count = 0;
-        let mut of = Vec::with_capacity(n);
-        for j in 0..n {
-            let root = self.find(j);
-            if id[root] == usize::MAX {
-                id[root] = count;
-                count += 1;
-            }
-            of.push(id[root]);
-        }
-        (of, count)
-    }
-}
-
-/// |Aⱼⱼ| of every column j (0 where A stores no diagonal), read column by column.
-fn diagonal(a: &CscMatrix) -> Vec<f64> {
-    a.outer_iterator()
-        .enumerate()
-        .map(|(j, col)| {
-            let (rows, values) = (col.indices(), col.data());
-            rows.binary_search(&j).map_or(0.0, |at| values[at].abs())
-        })
-        .collect()
-}
-
 /// The bodies (connected components of A alone) and components (of A ∪ BᵀB) of a problem.
 struct Partition {
     /// Component of every DOF, numbered 0..components.
@@ -204,39 +161,38 @@ struct Partition {
     /// Component of every row (None for a row that touches no DOF).
     of_row: Vec<Option<usize>>,
     components: usize,
-    /// Body of every DOF, numbered 0..bodies.
-    body_of_dof: Vec<usize>,
-    bodies: usize,
+    /// The bodies.
+    bodies: Components,
 }
 
-/// The bodies and the components of `problem`.
+/// The bodies and the components of `problem`: the components of A's graph, then those joined
+/// by a common constraint row (a union–find over the bodies, not the DOFs).
 fn components(problem: &QpProblem) -> Partition {
-    let n = problem.dofs();
-    let mut dsu = Dsu((0..n).collect());
-    for (j, col) in problem.stiffness.outer_iterator().enumerate() {
-        for &i in col.indices() {
-            if i != j {
-                dsu.union(i, j);
-            }
-        }
-    }
-    let (body_of_dof, bodies) = dsu.numbered();
-    let mut first_dof: Vec<Option<usize>> = vec![None; problem.rows()];
+    let bodies = Components::of(&problem.stiffness);
+    let mut parent: Vec<usize> = (0..bodies.sizes.len()).collect();
+    let mut first_body: Vec<Option<usize>> = vec![None; problem.rows()];
     for (j, col) in problem.constraints.outer_iterator().enumerate() {
-        for (i, _) in col.iter() {
-            match first_dof[i] {
-                Some(first) => dsu.union(first, j),
-                None => first_dof[i] = Some(j),
+        let body = bodies.label[j];
+        for &i in col.indices() {
+            match first_body[i] {
+                Some(first) => {
+                    let root = find(&mut parent, first);
+                    join(&mut parent, root, body);
+                }
+                None => first_body[i] = Some(body),
             }
         }
     }
-    let (of_dof, components) = dsu.numbered();
-    let of_row = first_dof.iter().map(|d| d.map(|j| of_dof[j])).collect();
+    let joined = Components::of_forest(&mut parent);
+    let of_dof = bodies.label.iter().map(|&b| joined.label[b]).collect();
+    let of_row = first_body
+        .iter()
+        .map(|b| b.map(|b| joined.label[b]))
+        .collect();
     Partition {
         of_dof,
         of_row,
-        components,
-        body_of_dof,
+        components: joined.sizes.len(),
         bodies,
     }
 }
@@ -276,15 +232,14 @@ impl ResidualScales {
     /// assert_eq!(s.dof_forces, vec![1.0, 3.0]);
     /// ```
     pub fn of(problem: &QpProblem) -> Self {
-        let diag = diagonal(&problem.stiffness);
+        let diag = abs_diagonal(&problem.stiffness);
         let Partition {
             of_dof,
             of_row,
             components: count,
-            body_of_dof,
             bodies,
         } = components(problem);
-        let (row_body_starts, row_bodies) = row_bodies(problem, &body_of_dof);
+        let (row_body_starts, row_bodies) = row_bodies(problem, &bodies.label);
         let mut parts = vec![Component::default(); count];
         let mut whole = Component::default();
         for (j, (&d, &f)) in diag.iter().zip(&problem.load).enumerate() {
@@ -319,8 +274,8 @@ impl ResidualScales {
                 stiffness * length
             }
         };
-        let mut body_motions = vec![0.0_f64; bodies];
-        for ((&b, &d), &f) in body_of_dof.iter().zip(&diag).zip(&problem.load) {
+        let mut body_motions = vec![0.0_f64; bodies.sizes.len()];
+        for ((&b, &d), &f) in bodies.label.iter().zip(&diag).zip(&problem.load) {
             if d > 0.0 {
                 body_motions[b] += f.abs() / d;
             }
@@ -338,10 +293,9 @@ impl ResidualScales {
             rows,
             row_forces,
             dof_forces,
-            dof_bodies: body_of_dof,
+            bodies,
             row_body_starts,
             row_bodies,
-            bodies,
             body_motions,
         }
     }

@@ -1,7 +1,7 @@
 //! Nondimensionalisation of a QP before any backend sees it.
 
 use super::blocks::ConstraintBlock;
-use super::ops::norm_inf;
+use super::ops::{abs_diagonal, norm_inf};
 use super::problem::QpProblem;
 use super::solution::QpSolution;
 
@@ -23,9 +23,7 @@ impl QpScaling {
     /// Scales chosen from the problem's data; all-zero data gives unit scales.
     pub fn of(problem: &QpProblem) -> Self {
         let n = problem.dofs();
-        let diag_sum: f64 = (0..n)
-            .map(|j| problem.stiffness.get(j, j).copied().unwrap_or(0.0).abs())
-            .sum();
+        let diag_sum: f64 = abs_diagonal(&problem.stiffness).iter().sum();
         let stiffness = if n > 0 && diag_sum > 0.0 {
             diag_sum / n as f64
         } else {

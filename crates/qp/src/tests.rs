@@ -703,3 +703,63 @@ fn a_body_that_does_not_move_is_judged_against_its_own_loads() {
     let sunk = kkt_residuals(&p, &[-1e-9], &[2.0]);
     assert!(!sunk.meet(1e-9), "{sunk:?}");
 }
+
+/// A caller's residual scales are used when they have the problem's sizes (the same `Arc`, no
+/// second pass over A and B), recomputed when they do not (scales of another problem).
+#[test]
+fn given_residual_scales_are_used_only_when_they_fit() {
+    let problem = crate::examples::two_rows().problem;
+    let own = std::sync::Arc::new(ResidualScales::of(&problem));
+    let options = SolveOptions {
+        scales: Some(own.clone()),
+        ..SolveOptions::default()
+    };
+    assert!(std::sync::Arc::ptr_eq(
+        &options.residual_scales(&problem),
+        &own
+    ));
+    let other = crate::examples::scalar(1.0).problem;
+    let recomputed = options.residual_scales(&other);
+    assert_eq!(*recomputed, ResidualScales::of(&other));
+    assert!(!own.fit(&other));
+}
+
+/// `solve` drops the caller's scales when it nondimensionalises the problem: they are in the
+/// caller's units, and the backend gets another problem.
+#[test]
+fn solve_drops_given_scales_when_it_scales_the_problem() {
+    struct Handed(Option<bool>);
+    impl QpBackend for Handed {
+        fn name(&self) -> &'static str {
+            "handed"
+        }
+        fn solve_valid(&mut self, p: &QpProblem, o: &SolveOptions) -> Result<QpSolution, QpError> {
+            self.0 = Some(o.scales.is_some());
+            Ok(QpSolution {
+                x: vec![0.0; p.dofs()],
+                multipliers: vec![0.0; p.rows()],
+                status: QpStatus::Inaccurate,
+                iterations: 0,
+                solve_time: Duration::ZERO,
+                message: None,
+            })
+        }
+    }
+    // Mean diagonal 6: not in its own units, so `solve` scales it.
+    let problem = crate::examples::two_rows_scaled(3.0).problem;
+    let options = SolveOptions {
+        scales: Some(std::sync::Arc::new(ResidualScales::of(&problem))),
+        ..SolveOptions::default()
+    };
+    let mut backend = Handed(None);
+    backend.solve(&problem, &options).unwrap();
+    assert_eq!(backend.0, Some(false));
+    // A problem in its own units goes as is, and so do the scales.
+    let unit = QpScaling::of(&problem).scale(&problem);
+    let options = SolveOptions {
+        scales: Some(std::sync::Arc::new(ResidualScales::of(&unit))),
+        ..SolveOptions::default()
+    };
+    backend.solve(&unit, &options).unwrap();
+    assert_eq!(backend.0, Some(true));
+}

@@ -5,8 +5,9 @@
 //! [`plan`] picks an ordered list of backends from features of the QP that cost nothing to
 //! measure ([`Features`]: n, m, the DOFs B touches, whether A has a kernel); [`AutoBackend`]
 //! runs them in turn until one answers `solved` after the core's own check
-//! ([`checked_status`] on [`kkt_residuals`], exactly as [`signorini_core::solve`] judges every
-//! backend).  The rule:
+//! ([`checked_status`] on [`kkt_residuals`](signorini_core::qp::kkt_residuals), exactly as
+//! [`signorini_core::solve`] judges every backend; the residual scales computed once for the
+//! whole chain).  The rule:
 //!
 //! * **Short interface** (ℓ = [`Features::length_ratio`] ≤ [`LONG_INTERFACE`], the interface
 //!   counted where it touches first, [`first_touch`]; and m ≤
@@ -46,8 +47,8 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 use signorini_core::qp::{
-    checked_status, first_touch, kkt_residuals, touched_dofs, BlockKind, ContactBody, CoulombRows,
-    QpBackend, QpError, QpProblem, QpSolution, QpStatus, ResidualScales, SolveOptions,
+    checked_status, first_touch, kkt_residuals_with, touched_dofs, BlockKind, Components,
+    ContactBody, CoulombRows, QpBackend, QpError, QpProblem, QpSolution, QpStatus, SolveOptions,
 };
 use signorini_core::report::{AttemptReport, RunReport};
 
@@ -155,7 +156,13 @@ pub struct Features {
 impl Features {
     /// The features of `problem`.
     pub fn of(problem: &QpProblem) -> Self {
-        let body = ContactBody::most_slender_over(problem, &first_touch(problem));
+        Self::with_bodies(problem, &Components::of(&problem.stiffness))
+    }
+
+    /// The features of `problem` whose bodies (the components of A) are known already (those
+    /// of its [`ResidualScales`](signorini_core::qp::ResidualScales)).
+    pub fn with_bodies(problem: &QpProblem, bodies: &Components) -> Self {
+        let body = ContactBody::most_slender_among(problem, bodies, &first_touch(problem));
         Self {
             dofs: problem.dofs(),
             rows: problem.rows(),
@@ -462,13 +469,16 @@ impl AutoBackend {
         options: &SolveOptions,
     ) -> Result<QpSolution, QpError> {
         let start = Instant::now();
+        // One pass for the chain: every member and every check use these scales.
+        let scales = options.residual_scales(problem);
         let given = self.given.take();
         let (mut members, reason) = match given {
             Some(given) => given,
             None => {
+                let features = Features::with_bodies(problem, &scales.bodies);
                 let p = match coulomb {
-                    Some(_) => coulomb_plan(&Features::of(problem)),
-                    None => plan(&Features::of(problem)),
+                    Some(_) => coulomb_plan(&features),
+                    None => plan(&features),
                 };
                 (p.chain.into_iter().map(Member::Kind).collect(), p.reason)
             }
@@ -477,6 +487,10 @@ impl AutoBackend {
             attempts: Vec::new(),
             chosen: None,
             reason: reason.clone(),
+        };
+        let options = &SolveOptions {
+            scales: Some(scales),
+            ..options.clone()
         };
         let run = Run {
             problem,
@@ -535,7 +549,7 @@ pub fn coulomb_plan(f: &Features) -> Plan {
 }
 
 /// One chain run's data: the problem, its Coulomb rows when solving Coulomb's conditions, the
-/// options and the start of the whole run.
+/// options (with the problem's residual scales) and the start of the whole run.
 struct Run<'a> {
     problem: &'a QpProblem,
     coulomb: Option<&'a CoulombRows>,
@@ -665,15 +679,11 @@ fn on_answer(
     answer: &mut Option<(QpSolution, String)>,
 ) -> Next {
     let problem = run.problem;
+    let scales = run.options.residual_scales(problem);
     let residuals = match run.coulomb {
         // Coulomb's conditions: each Coulomb row bounded by μ max(0, λₙ) of the answer.
-        Some(rows) => rows.residuals(
-            problem,
-            &ResidualScales::of(problem),
-            &solution.x,
-            &solution.multipliers,
-        ),
-        None => kkt_residuals(problem, &solution.x, &solution.multipliers),
+        Some(rows) => rows.residuals(problem, &scales, &solution.x, &solution.multipliers),
+        None => kkt_residuals_with(problem, &scales, &solution.x, &solution.multipliers),
     };
     let status = checked_status(solution.status, &residuals, run.options.tol);
     record.attempts.push(Attempt {
