@@ -21,6 +21,9 @@
 //! r_F = (B x − g)_F = d_F − H_FF λ_F − G_Fᵀ μ,     r_e = e − G λ = Rᵀ(f − Bᵀλ),
 //! ```
 //!
+//! (r_e measured on the stored A at x, [`crate::kernel::RigidModes::measured_residual`]: the
+//! stored A holds R in its kernel only to round-off, which a large rigid motion amplifies),
+//!
 //! and (λ_F, μ) is corrected by the already factored dense system applied to (r_F, r_e), until
 //! the (scaled) residual stops decreasing: first with plain sparse solves, and only when those
 //! miss the tolerance again with solves corrected in double-double arithmetic.  The dense factor only has to be a good

@@ -107,12 +107,8 @@ fn evaluate(
     let x = data.primal_at_from(free, mu);
     let gradient = data.dual_gradient(&x);
     let residual_rows: Vec<f64> = rows.iter().map(|&i| -gradient[i]).collect();
-    let kernel: Vec<f64> = data
-        .modes
-        .equality_residual(lambda)
-        .iter()
-        .map(|r| -r)
-        .collect();
+    // Measured on the stored A at x (what the KKT residuals judge), not as e − G λ.
+    let kernel = data.modes.measured_residual(data.problem, &x, lambda, low);
     let length = norm_inf(&x).max(f64::MIN_POSITIVE);
     let force = norm_inf(&data.problem.load)
         .max(norm_inf(&data.modes.load))
