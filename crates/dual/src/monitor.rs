@@ -2,6 +2,7 @@
 //! earlier when a cheap estimate from the dual gradient says so); iteration and time limits;
 //! `primal-infeasible` only from a Farkas certificate ([`FarkasRay`]) in the growth of λ.
 
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use signorini_qp::{
@@ -44,7 +45,7 @@ pub struct Monitor<'a> {
     length_scale: f64,
     force_scale: f64,
     /// The fixed scales of the KKT residuals, computed once per solve.
-    scales: std::sync::Arc<ResidualScales>,
+    scales: Arc<ResidualScales>,
     /// Why the last growth of λ with gᵀδ < 0 was no certificate, for the final message.
     shortfall: Option<String>,
     /// The worst scaled KKT residual of the last full check (∞ before the first).

@@ -11,6 +11,7 @@
 //! primal or dual infeasibility.  When the sets flip (a set comes back, or the changes stop
 //! falling) the iteration continues with the interior-point method of [`interior`].
 
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use signorini_qp::{
@@ -115,7 +116,7 @@ pub struct ActiveSet<'p> {
     settings: &'p PdasSettings,
     options: &'p SolveOptions,
     start: Instant,
-    scales: std::sync::Arc<ResidualScales>,
+    scales: Arc<ResidualScales>,
     kkt: KktMatrix,
     factor: KktFactor,
     /// Solves with the current factor kept for low-rank updates.

@@ -208,23 +208,12 @@ impl ActiveSet<'_> {
         // Predictor (affine scaling).
         let tail: Vec<f64> = (0..m).map(|i| -r_p[i] + s[i]).collect();
         let affine = self.direction(&r_d, &r_p, &tail);
-        let (ds_a, dl_a) = (&affine.ds, &affine.dl);
-        let alpha_a = max_step(s, ds_a).min(max_step(lambda, dl_a)).min(1.0);
-        let mu_a = (0..m)
-            .map(|i| (s[i] + alpha_a * ds_a[i]) * (lambda[i] + alpha_a * dl_a[i]))
-            .sum::<f64>()
-            / m.max(1) as f64;
         // The first step only has to find the set the crossover tries next: the predictor
         // alone, without the corrector's solve.
         let (sigma, d) = if state.first_mu.is_none() {
             (0.0, affine)
         } else {
-            let sigma = (mu_a / mu).clamp(0.0, 1.0).powi(3);
-            // Corrector.
-            let tail: Vec<f64> = (0..m)
-                .map(|i| -r_p[i] + s[i] + (ds_a[i] * dl_a[i] - sigma * mu) / lambda[i])
-                .collect();
-            (sigma, self.direction(&r_d, &r_p, &tail))
+            self.corrector(state, (&r_d, &r_p), &affine, mu)
         };
         let alpha = (TO_BOUNDARY * max_step(s, &d.ds).min(max_step(lambda, &d.dl))).min(1.0);
         if alpha.is_nan() || alpha <= 0.0 || d.dx.iter().chain(&d.dl).any(|v| !v.is_finite()) {
@@ -242,6 +231,31 @@ impl ActiveSet<'_> {
         step(&mut state.s, &d.ds);
         step(&mut state.lambda, &d.dl);
         Ok(Stepped { mu, sigma, alpha })
+    }
+
+    /// Mehrotra's corrector after the predictor `affine` at complementarity `mu`: the centring
+    /// σ = (μ_a / μ)³, μ_a the complementarity after the predictor's longest step, and the
+    /// corrected direction (one more solve with the current factor).
+    fn corrector(
+        &mut self,
+        state: &Interior,
+        (r_d, r_p): (&[f64], &[f64]),
+        affine: &Direction,
+        mu: f64,
+    ) -> (f64, Direction) {
+        let (s, lambda) = (&state.s, &state.lambda);
+        let m = s.len();
+        let (ds_a, dl_a) = (&affine.ds, &affine.dl);
+        let alpha_a = max_step(s, ds_a).min(max_step(lambda, dl_a)).min(1.0);
+        let mu_a = (0..m)
+            .map(|i| (s[i] + alpha_a * ds_a[i]) * (lambda[i] + alpha_a * dl_a[i]))
+            .sum::<f64>()
+            / m.max(1) as f64;
+        let sigma = (mu_a / mu).clamp(0.0, 1.0).powi(3);
+        let tail: Vec<f64> = (0..m)
+            .map(|i| -r_p[i] + s[i] + (ds_a[i] * dl_a[i] - sigma * mu) / lambda[i])
+            .collect();
+        (sigma, self.direction(r_d, r_p, &tail))
     }
 
     /// The direction for the right-hand side [−r_d; `tail`] with the current factor.
