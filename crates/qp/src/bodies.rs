@@ -19,15 +19,30 @@ impl Components {
     /// The components of the graph of the symmetric `a` (square, CSC; an entry (i, j) joins i
     /// and j whatever its value, so explicit zeros of an assembled pattern join too).  Both
     /// triangles are read, so a matrix stored as one triangle joins the same unknowns.
+    ///
+    /// Two passes over the entries, neither chasing pointers per entry: each unknown first
+    /// points at the smallest unknown its column stores (a forest whose parents precede their
+    /// children, resolved to roots in one sweep); then every entry whose ends have different
+    /// roots joins them in a union–find over those roots — rare on an assembled stiffness,
+    /// whose columns reach their smaller neighbours.  (A union–find on every entry read the
+    /// parent chain per entry: 1.9 ms against 0.9 ms on the 34 226-DOF partial strip.)
     pub fn of(a: &CscMatrix) -> Self {
         let n = a.rows().min(a.cols());
         let mut parent: Vec<usize> = (0..n).collect();
         for (j, column) in a.outer_iterator().enumerate().take(n) {
-            // j's root found once per column, not once per entry.
-            let mut root = find(&mut parent, j);
+            let smallest = column.indices().iter().copied().filter(|&i| i < n).min();
+            parent[j] = smallest.map_or(j, |i| i.min(j));
+        }
+        // parent[k] ≤ k, and every smaller unknown already points at its root.
+        for k in 0..n {
+            parent[k] = parent[parent[k]];
+        }
+        for (j, column) in a.outer_iterator().enumerate().take(n) {
+            let own = parent[j];
             for &i in column.indices() {
-                if i != j && i < n {
-                    root = join(&mut parent, root, i);
+                if i < n && parent[i] != own {
+                    let root = find(&mut parent, j);
+                    join(&mut parent, root, i);
                 }
             }
         }
@@ -233,6 +248,88 @@ mod tests {
                 }
             }
             assert_eq!(Components::of(&t.to_csc()), Components::of(&full));
+        }
+    }
+
+    /// Components by a breadth-first search over the symmetrised pattern: the reference.
+    fn searched(a: &CscMatrix) -> Vec<Vec<usize>> {
+        let n = a.rows();
+        let mut neighbours = vec![Vec::new(); n];
+        for (_, (i, j)) in a.iter() {
+            neighbours[i].push(j);
+            neighbours[j].push(i);
+        }
+        let mut seen = vec![false; n];
+        let mut groups = Vec::new();
+        for s in 0..n {
+            if seen[s] {
+                continue;
+            }
+            seen[s] = true;
+            let (mut queue, mut group) = (vec![s], Vec::new());
+            while let Some(k) = queue.pop() {
+                group.push(k);
+                for &i in &neighbours[k] {
+                    if !seen[i] {
+                        seen[i] = true;
+                        queue.push(i);
+                    }
+                }
+            }
+            group.sort_unstable();
+            groups.push(group);
+        }
+        groups
+    }
+
+    /// The unknowns of each component, in order of their smallest unknown.
+    fn groups(c: &Components) -> Vec<Vec<usize>> {
+        let mut groups = vec![Vec::new(); c.sizes.len()];
+        for (k, &l) in c.label.iter().enumerate() {
+            groups[l].push(k);
+        }
+        groups
+    }
+
+    /// Under numberings where many unknowns have no smaller neighbour (the smallest-neighbour
+    /// forest then has many roots and the joining pass does the work), with both triangles
+    /// and with one, the components are those a breadth-first search finds.
+    #[test]
+    fn any_numbering_gives_the_components_a_search_finds() {
+        // Three grids of 5 × 4 unknowns and one lone unknown, numbered by a fixed scramble.
+        let n = 61;
+        let scramble = |k: usize| (k * 37 + 11) % n;
+        let mut full = TriMat::new((n, n));
+        for g in 0..3 {
+            for r in 0..4 {
+                for c in 0..5 {
+                    let k = 20 * g + 5 * r + c;
+                    full.add_triplet(scramble(k), scramble(k), 4.0);
+                    for other in [(c + 1 < 5).then(|| k + 1), (r + 1 < 4).then(|| k + 5)]
+                        .into_iter()
+                        .flatten()
+                    {
+                        full.add_triplet(scramble(k), scramble(other), -1.0);
+                        full.add_triplet(scramble(other), scramble(k), -1.0);
+                    }
+                }
+            }
+        }
+        full.add_triplet(scramble(60), scramble(60), 1.0);
+        let full = full.to_csc();
+        assert_eq!(groups(&Components::of(&full)), searched(&full));
+        let mut sizes = Components::of(&full).sizes;
+        sizes.sort_unstable();
+        assert_eq!(sizes, vec![1, 20, 20, 20]);
+        for upper in [true, false] {
+            let mut t = TriMat::new((n, n));
+            for (&v, (i, j)) in full.iter() {
+                if (i <= j) == upper || i == j {
+                    t.add_triplet(i, j, v);
+                }
+            }
+            let one = t.to_csc();
+            assert_eq!(groups(&Components::of(&one)), searched(&full));
         }
     }
 
