@@ -48,6 +48,21 @@ struct Phase1 {
     best: Best,
 }
 
+/// Where the interior-point iteration starts.
+enum InteriorStart<'a> {
+    /// From the last plain step's iterate (x, λ), handed over when the plain steps flipped:
+    /// s = (g − B x)⁺ + `interior::START_SHIFT` X, λ = λ⁺ + `interior::START_SHIFT` F.
+    HandedOver {
+        /// x of the last plain step.
+        x: Vec<f64>,
+        /// Its λ (not clamped).
+        multipliers: &'a [f64],
+    },
+    /// Before any set ([`crate::StartSet::Interior`]): x = 0, s = g⁺ + `interior::START_SHIFT` X,
+    /// λ = `interior::CENTRED_MULTIPLIER` F.
+    Centred,
+}
+
 /// The best iterate so far (smallest worst KKT residual): the answer of an iteration that ends
 /// without meeting the tolerance.
 struct Best {
@@ -235,16 +250,41 @@ impl<'p> ActiveSet<'p> {
         )
     }
 
-    /// The first set and its signs: predicted from the warm start when there is one (the
-    /// previous load increment's answer), else from the settings.
-    fn first_set(&self) -> (Vec<bool>, Vec<f64>) {
-        let p = self.problem;
-        if let Some(start) = self
-            .options
+    /// The warm start, when one is given and fits the problem.
+    fn warm_start(&self) -> Option<&signorini_qp::WarmStart> {
+        self.options
             .warm_start
             .as_deref()
-            .and_then(|w| w.fitting(p))
-        {
+            .and_then(|w| w.fitting(self.problem))
+    }
+
+    /// Whether the iteration starts with the interior-point predictor ([`StartSet::Interior`],
+    /// or [`StartSet::Auto`] on an interface where fewer than half the one-sided rows touch
+    /// first) rather than with a set: never with a warm start or with box rows.
+    fn starts_interior(&self) -> bool {
+        if self.warm_start().is_some() || self.has_box() {
+            return false;
+        }
+        match self.settings.start {
+            StartSet::Interior => true,
+            StartSet::Auto => {
+                let touching = signorini_qp::first_touch(self.problem)
+                    .into_iter()
+                    .filter(|t| *t)
+                    .count();
+                2 * touching < self.problem.rows()
+            }
+            StartSet::All | StartSet::ClosedGaps | StartSet::Empty => false,
+        }
+    }
+
+    /// The first set and its signs: predicted from the warm start when there is one (the
+    /// previous load increment's answer), else from the settings ([`StartSet::Interior`] and
+    /// [`StartSet::Auto`] start from every row when they come here: with box rows, or on a
+    /// flush interface).
+    fn first_set(&self) -> (Vec<bool>, Vec<f64>) {
+        let p = self.problem;
+        if let Some(start) = self.warm_start() {
             let guess = SetSolution {
                 x: start.x.clone(),
                 multipliers: start.multipliers.clone(),
@@ -259,7 +299,7 @@ impl<'p> ActiveSet<'p> {
         }
         let active = match self.settings.start {
             StartSet::Empty => vec![false; p.rows()],
-            StartSet::All => vec![true; p.rows()],
+            StartSet::All | StartSet::Interior | StartSet::Auto => vec![true; p.rows()],
             StartSet::ClosedGaps => p
                 .gap
                 .iter()

@@ -62,7 +62,7 @@
 //! # Few factorisations: start set and low-rank updates
 //! *Start.*  Active-set iterations (one LDLᵀ or update each) by first set, tol 1e-9:
 //!
-//! | scene | m | every row ([`StartSet::All`], default) | closed gaps | empty (textbook) |
+//! | scene | m | every row ([`StartSet::All`], the default's choice here) | closed gaps | empty (textbook) |
 //! |---|---|---|---|---|
 //! | strip-floating (51 575 DOFs) | 2001 | **1** | 1 | 2 |
 //! | strip-clamped (51 572 DOFs) | 2001 | **2** | 2 | 2 |
@@ -87,6 +87,27 @@
 //! floating body has every rigid mode held from the first factorisation; rows with an open
 //! gap that should not touch carry tension after the first solve and leave the set.
 //! (Counts measured with the `start` setting varied, same build otherwise.)
+//!
+//! Every scene of that table is a flush interface: its rows touch at once.  On a curved one
+//! (a cylinder on a block) every row glues open gaps as well, the first solve puts most rows
+//! in tension, and the iteration hands over to its interior-point phase from that glued
+//! answer.  [`StartSet::Interior`] starts there instead, from the centred point (x = 0, every
+//! gap and multiplier shifted into the interior), and solves the set its first predictor step
+//! finds; the default [`StartSet::Auto`] takes it where fewer than half the rows touch first
+//! ([`signorini_qp::first_touch`]), every row elsewhere.  `signorini solve SCENE --backend pdas`
+//! (iterations: factorisations + low-rank updates), every row → interior start:
+//!
+//! | scene | m (active) | touch first | every row | interior start |
+//! |---|---|---|---|---|
+//! | accuracy/hertz | 311 (94) | 5 | 14: 9 + 5 | **8: 3 + 5** |
+//! | accuracy/hertz-graded | 160 (50) | 2 | 13: 8 + 5 | **6: 3 + 3** |
+//! | hard/strip-thin-partial (flush) | 2 001 (403) | 2 001 | **3: 3 + 0** | 3: 2 + 1 |
+//! | hard/strip-thin-floating (flush, all active) | 301 (301) | 301 | **1: 1 + 0** | 2: 2 + 0 |
+//!
+//! A flush interface keeps every row: pressed along its whole length it is solved by the
+//! first factorisation, which the interior start would follow with a second; only where the
+//! load lifts most of it (the partial strip) would the interior start save one.  No other
+//! fixture of `fixtures/hard`, `accuracy` or `seed` changes its iterations.
 //!
 //! *Updates.*  When a set differs from the factored one in k rows (say the one row at a
 //! clamped end that lifts off, or the few rows a Hertz contact zone gains or loses per step),

@@ -15,6 +15,29 @@ pub enum StartSet {
     /// Every row: the bodies glued along the whole interface, the rows in tension dropped
     /// next.  Holds every rigid mode of a floating body from the first factorisation.
     All,
+    /// No guess: one interior-point predictor step from the centred start x = 0,
+    /// sᵢ = gᵢ⁺ + 0.1 Xᵢ, λᵢ = F (Xᵢ, F the scales of [`signorini_qp::ResidualScales`])
+    /// predicts the first set, which is then solved exactly — the crossover of the
+    /// interior-point phase (see the crate docs).  One factorisation more than [`StartSet::All`]
+    /// where every row ends active, fewer where most rows open.  With box rows (friction, which
+    /// the interior-point phase does not know) it is [`StartSet::All`].
+    Interior,
+    /// [`StartSet::All`] when at least half the one-sided rows touch first
+    /// ([`signorini_qp::first_touch`]: a flush interface, which a load may press along its
+    /// whole length), else [`StartSet::Interior`] (a curved interface, a cylinder on a block:
+    /// gluing every row would glue more open gaps than closed ones).
+    Auto,
+}
+
+impl StartSet {
+    /// Every start, for tests and measurements.
+    pub const EVERY: [StartSet; 5] = [
+        StartSet::All,
+        StartSet::ClosedGaps,
+        StartSet::Empty,
+        StartSet::Interior,
+        StartSet::Auto,
+    ];
 }
 
 /// Settings of the primal–dual active-set backend.  Every field has a default (see
@@ -30,7 +53,7 @@ pub struct PdasSettings {
     /// Default `1.0`.  (The rule only compares c (Bx − g)ᵢ with 0 off the set and λᵢ with 0
     /// on it, so c matters only for the rows whose status changes in both ways at once.)
     pub penalty: f64,
-    /// The first active set.  Default [`StartSet::All`] (see the crate docs for the
+    /// The first active set.  Default [`StartSet::Auto`] (see the crate docs for the
     /// measurements behind the choice).
     pub start: StartSet,
     /// A gap counts as closed for [`StartSet::ClosedGaps`] when gᵢ ≤ `closed_gap` · Xᵢ.
@@ -68,7 +91,7 @@ impl Default for PdasSettings {
         Self {
             max_iter: 100,
             penalty: 1.0,
-            start: StartSet::All,
+            start: StartSet::Auto,
             closed_gap: 1e-9,
             dual_regularization: 1e-8,
             primal_regularization: 1e-10,

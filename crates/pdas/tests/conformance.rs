@@ -6,7 +6,7 @@ use signorini_qp::conformance::{assert_conforms, Conformance};
 
 #[test]
 fn pdas_conforms_from_every_start() {
-    for start in [StartSet::All, StartSet::ClosedGaps, StartSet::Empty] {
+    for start in StartSet::EVERY {
         assert_conforms(
             &mut || {
                 Box::new(PdasBackend::new(PdasSettings {

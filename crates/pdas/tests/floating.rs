@@ -36,7 +36,7 @@ fn floating(push: f64) -> QpProblem {
 }
 
 fn every_start() -> Vec<PdasSettings> {
-    [StartSet::All, StartSet::ClosedGaps, StartSet::Empty]
+    StartSet::EVERY
         .into_iter()
         .map(|start| PdasSettings {
             start,

@@ -32,7 +32,7 @@ fn check(known: &Known, settings: PdasSettings) {
 }
 
 fn every_start() -> Vec<PdasSettings> {
-    [StartSet::All, StartSet::ClosedGaps, StartSet::Empty]
+    StartSet::EVERY
         .into_iter()
         .map(|start| PdasSettings {
             start,

@@ -8,7 +8,9 @@ use std::time::Instant;
 
 use signorini_qp::{QpProblem, QpStatus};
 
-use super::{count, settled_message, ActiveSet, Best, Measured, Outcome, Phase1, Timing};
+use super::{
+    count, settled_message, ActiveSet, Best, InteriorStart, Measured, Outcome, Phase1, Timing,
+};
 use crate::coupling::Coupling;
 use crate::error::PdasError;
 use crate::refine::{first_rhs, first_solution, first_solve, refine, SetSolution};
@@ -136,6 +138,13 @@ impl ActiveSet<'_> {
     /// Runs the iteration.
     pub fn run(&mut self) -> Outcome {
         let max_iter = self.options.max_iter.unwrap_or(self.settings.max_iter);
+        if self.starts_interior() {
+            let phase1 = Phase1 {
+                iteration: 0,
+                best: Best::zero(self.problem),
+            };
+            return self.interior(InteriorStart::Centred, phase1, max_iter);
+        }
         let mut state = Plain::new(self.problem, self.first_set(), max_iter, self.rho());
         match self.steps(&mut state) {
             Some(Flow::Done(outcome)) => return outcome,
@@ -144,7 +153,11 @@ impl ActiveSet<'_> {
                     iteration: state.iteration,
                     best: state.best,
                 };
-                return self.interior(x, &multipliers, phase1, max_iter);
+                let start = InteriorStart::HandedOver {
+                    x,
+                    multipliers: &multipliers,
+                };
+                return self.interior(start, phase1, max_iter);
             }
             Some(Flow::Next) | None => {}
         }
