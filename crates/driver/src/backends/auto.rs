@@ -4,7 +4,9 @@
 //! # The chain
 //! [`plan`] picks an ordered list of backends from features of the QP that cost nothing to
 //! measure ([`Features`]: n, m, the DOFs B touches, whether A has a kernel); [`AutoBackend`]
-//! runs them in turn until one answers `solved` after the core's own check
+//! runs them in turn, each on auto's problem as it stands ([`QpBackend::solve_in_given_units`]:
+//! auto's own `solve` has nondimensionalised it already), until one answers `solved` after the
+//! core's own check
 //! ([`checked_status`] on [`kkt_residuals`](signorini_core::qp::kkt_residuals), exactly as
 //! [`signorini_core::solve`] judges every backend; the residual scales computed once for the
 //! whole chain).  The rule:
@@ -624,7 +626,10 @@ fn run_chain(
         let name = backend.name().to_string();
         let t0 = Instant::now();
         let result = match run.coulomb {
-            None => backend.solve(problem, &attempt_options),
+            // In auto's own units: `QpBackend::solve` nondimensionalised the problem before
+            // auto saw it (or found it in units of its data already), so a member's own
+            // `solve` would only measure that again (`QpScaling::of`, a pass over A).
+            None => backend.solve_in_given_units(problem, &attempt_options),
             Some(rows) if backend.solves_coulomb(problem) => {
                 backend.solve_coulomb(problem, rows, &attempt_options)
             }
