@@ -9,7 +9,8 @@
 //! and honestly otherwise:
 //! a set that repeats without meeting them, the iteration or time limit, or a certificate of
 //! primal or dual infeasibility.  When the sets flip (a set comes back, or the changes stop
-//! falling) the iteration continues with the interior-point method of [`interior`].
+//! falling) the iteration continues with the interior-point method of [`interior`]; on a curved
+//! interface it starts there ([`crate::StartSet::Auto`]).
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -58,7 +59,8 @@ enum InteriorStart<'a> {
         /// Its λ (not clamped).
         multipliers: &'a [f64],
     },
-    /// Before any set ([`crate::StartSet::Interior`]): x = 0, s = g⁺ + `interior::START_SHIFT` X,
+    /// Before any set ([`crate::StartSet::Interior`], and [`crate::StartSet::Auto`] on a
+    /// curved interface): x = 0, s = g⁺ + `interior::START_SHIFT` X,
     /// λ = `interior::CENTRED_MULTIPLIER` F.
     Centred,
 }
@@ -260,9 +262,9 @@ impl<'p> ActiveSet<'p> {
 
     /// Whether the iteration starts with the interior-point predictor ([`StartSet::Interior`],
     /// or [`StartSet::Auto`] on an interface where fewer than half the one-sided rows touch
-    /// first) rather than with a set: never with a warm start or with box rows.
+    /// first) rather than with a set: never with a warm start, with box rows or without rows.
     fn starts_interior(&self) -> bool {
-        if self.warm_start().is_some() || self.has_box() {
+        if self.warm_start().is_some() || self.has_box() || self.problem.rows() == 0 {
             return false;
         }
         match self.settings.start {

@@ -12,13 +12,14 @@
 //! λ − max(0, λ + c (Bx − g)) — as in deal.II's step-41, but with a sparse direct solver:
 //!
 //! ```text
-//! F₀ = every row (see "Start" below)
+//! F₀ = every row, or the set an interior-point predictor finds (see "Start" below)
 //! repeat:   [ A    B_Fᵀ ] [ x  ]   [ f   ]
 //!           [ B_F   0   ] [ λ_F] = [ g_F ],     λᵢ = 0 off F,
 //!           F ← { i : λᵢ + c (Bx − g)ᵢ > 0 }
 //! ```
 //!
-//! (continued by an interior-point method when the sets flip, see below) until the set
+//! (continued by an interior-point method when the sets flip, and started by one on a curved
+//! interface, see below) until the set
 //! reproduces itself and (x, max(λ, 0)) meets the core's KKT residuals
 //! ([`signorini_qp::kkt_residuals`]) at the requested tolerance (an answer that meets
 //! them while rows still want to change is taken only at a cycle or at the iteration cap).  The status is honest otherwise: a set that repeats without

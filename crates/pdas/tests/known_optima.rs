@@ -41,12 +41,15 @@ fn every_start() -> Vec<PdasSettings> {
         .collect()
 }
 
+/// Without rows every start is one solve (the interior start has no set to predict).
 #[test]
 fn no_rows_is_one_solve() {
     let known = unconstrained();
-    check(&known, PdasSettings::default());
-    let (sol, _) = solve(&known.problem, TOL);
-    assert_eq!(sol.iterations, 1);
+    for settings in every_start() {
+        check(&known, settings.clone());
+        let (sol, _) = solve_with(settings.clone(), &known.problem, TOL);
+        assert_eq!(sol.iterations, 1, "{:?}: {:?}", settings.start, sol.message);
+    }
 }
 
 #[test]

@@ -293,3 +293,27 @@ fn a_curved_interface_starts_from_the_interior_point_predictor() {
         glued.message
     );
 }
+
+/// Cut short before its first exact solve (one iteration: the interior-point step), the
+/// interior start answers with its measured iterate, not with x = 0 and "best KKT residuals
+/// inf" (as it did before the iterate was kept).
+#[test]
+fn an_interior_start_cut_short_answers_with_its_iterate() {
+    let problem = curved(200);
+    let options = SolveOptions {
+        tol: 1e-10,
+        max_iter: Some(1),
+        ..SolveOptions::default()
+    };
+    let sol = PdasBackend::new(PdasSettings::default())
+        .solve(&problem, &options)
+        .unwrap();
+    let message = sol.message.clone().unwrap_or_default();
+    assert_eq!(sol.status, QpStatus::MaxIterations, "{message}");
+    assert!(message.contains("from the centred start"), "{message}");
+    assert!(!message.contains("inf"), "{message}");
+    assert!(sol.x.iter().any(|v| *v != 0.0), "{message}");
+    // The iterate is the one the message measured: its residuals are finite.
+    let residuals = signorini_qp::kkt_residuals(&problem, &sol.x, &sol.multipliers);
+    assert!(residuals.worst().is_finite(), "{residuals:?}");
+}

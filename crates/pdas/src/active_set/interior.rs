@@ -1,4 +1,5 @@
-//! The globalised iteration, taken over from the plain one when its sets flip: a primal–dual
+//! The globalised iteration, taken over from the plain one when its sets flip (or started
+//! from a centred point on a curved interface, [`crate::StartSet::Auto`]): a primal–dual
 //! interior-point method (Mehrotra's predictor–corrector) on the same fixed-pattern KKT
 //! matrix, with a crossover to the exact active-set solve.
 //!
@@ -34,7 +35,9 @@
 
 use std::time::Instant;
 
-use signorini_qp::{dot, mat_t_vec, mat_vec, QpProblem, QpStatus, ResidualScales};
+use signorini_qp::{
+    dot, kkt_residuals_with, mat_t_vec, mat_vec, QpProblem, QpStatus, ResidualScales,
+};
 
 use super::plain::{Flow, Plain};
 use super::{count, ActiveSet, Best, InteriorStart, Outcome, Phase1};
@@ -189,8 +192,26 @@ impl ActiveSet<'_> {
         }
     }
 
+    /// Keeps the interior iterate (x, λ⁺) as the best answer when its KKT residuals are the
+    /// smallest so far: the answer of an iteration that stops before an exact solve is accepted
+    /// (started here, nothing else has been measured).  Only at such a stop: the steps
+    /// themselves never need it.
+    fn keep_iterate(&self, state: &mut Interior) {
+        let multipliers = self.clamp(&state.lambda);
+        let worst = kkt_residuals_with(self.problem, &self.scales, &state.x, &multipliers).worst();
+        let candidate = Outcome {
+            x: state.x.clone(),
+            multipliers,
+            status: QpStatus::Solved,
+            iterations: state.iteration,
+            message: String::new(),
+        };
+        state.best.keep_if_better(candidate, worst);
+    }
+
     /// The end at the iteration cap or the time limit.
-    fn interior_limit(&self, state: Interior) -> Outcome {
+    fn interior_limit(&self, mut state: Interior) -> Outcome {
+        self.keep_iterate(&mut state);
         let (status, why) = if state.iteration >= state.max_iter {
             (
                 QpStatus::MaxIterations,
@@ -224,6 +245,7 @@ impl ActiveSet<'_> {
         let clock = Instant::now();
         self.kkt.set_diagonal(0.0, &diagonal);
         if let Err(e) = self.factor_values(clock) {
+            self.keep_iterate(state);
             let iteration = state.iteration;
             return Err(self.finish(
                 state.best.take(),
@@ -245,6 +267,7 @@ impl ActiveSet<'_> {
         };
         let alpha = (TO_BOUNDARY * max_step(s, &d.ds).min(max_step(lambda, &d.dl))).min(1.0);
         if alpha.is_nan() || alpha <= 0.0 || d.dx.iter().chain(&d.dl).any(|v| !v.is_finite()) {
+            self.keep_iterate(state);
             let message = format!(
                 "the interior-point step failed (step length {alpha:.1e}) after {} interior steps; best KKT residuals {:.1e}",
                 state.steps, state.best.worst

@@ -29,8 +29,8 @@ pub(crate) struct SolveFlags {
     #[arg(long, default_value = "auto", value_parser = parse_coulomb)]
     pub(crate) coulomb: signorini_core::qp::CoulombMethod,
     /// Seconds each backend may take (auto: its whole chain); it then stops with status
-    /// time-limit.  Checked between iterations: an iteration under way (a factorisation and its
-    /// solves, an interior-point step) finishes first, so a solve may run over by one.
+    /// time-limit.  Checked after the setup and between iterations: the setup and an iteration
+    /// under way (a factorisation and its solves, an interior-point step) finish first.
     #[arg(long, value_parser = parse_time_limit)]
     pub(crate) time_limit: Option<f64>,
     /// Print the backends' iteration logs to stderr (pdas: one line per active-set step;
