@@ -560,6 +560,55 @@ fn box_crossings_of_the_seed_regions() {
     );
 }
 
+/// Meshes the convex `polygon` (of size `scale`) at hmax = 2 `scale` / `divisions`, checks the
+/// mesh, and returns its smallest angle, the polygon's smallest input angle (degrees) and the
+/// boundary edge-length ratio.  The boundary discretisation is fixed (rule 1), so small input
+/// angles and abrupt changes of boundary edge length limit the angles there (measured over 3000
+/// cases: ≥ 20.1° whenever input ≥ 30° and ratio ≤ 2; ≥ 0.90 min(input, 20°) / ratio always —
+/// but see `a_convex_hexagon_the_random_search_found_keeps_twenty_degrees`).
+fn mesh_convex(polygon: &[Point], scale: f64, divisions: f64) -> (f64, f64, f64) {
+    let hmax = 2.0 * scale / divisions;
+    let g = BodyGeometry {
+        tol: 1e-9 * scale,
+        ..body(polygon, hmax, &[])
+    };
+    let mesh = mesh_body(&g, &MeshLimits::default()).unwrap();
+    let angle = check_mesh(&mesh, polygon, hmax);
+    (angle, input_angle_deg(polygon), boundary_ratio(&mesh))
+}
+
+/// The case `random_convex_polygons_mesh_validly` found on 2026-11-28 (a CI run; the property
+/// held on every earlier run): a hexagon with input angles ≥ 64° and a boundary ratio of 1.91
+/// meshes with a smallest angle of 17.3°, under the 20° the property asks there.  Open: the
+/// mesher's refinement does not reach 20° next to this boundary.
+#[test]
+#[ignore = "open: smallest angle 17.3° where the mesher should keep 20° (input 64.3°, boundary ratio 1.91); found by the random search on 2026-11-28"]
+fn a_convex_hexagon_the_random_search_found_keeps_twenty_degrees() {
+    let mut angles = [
+        5.522927295356044,
+        0.2757035875442457,
+        5.849843545635097,
+        6.109817994662912,
+        3.7809429247180373,
+        2.955306650009249,
+    ];
+    angles.sort_by(f64::total_cmp);
+    let (aspect, scale) = (0.4553399640296236, 0.001);
+    let polygon: Vec<Point> = angles
+        .iter()
+        .map(|t| [scale * t.cos(), scale * aspect * t.sin()])
+        .collect();
+    let (angle, input, ratio) = mesh_convex(&polygon, scale, 4.4879675573028255);
+    assert!(
+        input >= 30.0 && ratio <= 2.0,
+        "test construction: input {input}, ratio {ratio}"
+    );
+    assert!(
+        angle >= 20.0,
+        "min angle {angle} (input {input}, ratio {ratio})"
+    );
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
     #[test]
@@ -579,15 +628,7 @@ proptest! {
             .map(|t| [scale * (offset.0 + t.cos()), scale * (offset.1 + aspect * t.sin())])
             .collect();
         prop_assume!(signed_area(&polygon) > 0.05 * scale * scale);
-        let hmax = 2.0 * scale / divisions;
-        let g = BodyGeometry { tol: 1e-9 * scale, ..body(&polygon, hmax, &[]) };
-        let mesh = mesh_body(&g, &MeshLimits::default()).unwrap();
-        let angle = check_mesh(&mesh, &polygon, hmax);
-        // The boundary discretisation is fixed (rule 1), so small input angles and abrupt
-        // changes of boundary edge length limit the angles there (measured over 3000 cases:
-        // ≥ 20.1° whenever input ≥ 30° and ratio ≤ 2; ≥ 0.90 min(input, 20°) / ratio always).
-        let input = input_angle_deg(&polygon);
-        let ratio = boundary_ratio(&mesh);
+        let (angle, input, ratio) = mesh_convex(&polygon, scale, divisions);
         if input >= 30.0 && ratio <= 2.0 {
             prop_assert!(angle >= 20.0, "min angle {} (input {}, ratio {})", angle, input, ratio);
         }
