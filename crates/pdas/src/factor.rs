@@ -1,14 +1,24 @@
-//! The sparse LDLᵀ factor of the KKT matrix: one symbolic analysis (the project's shared
-//! [`CholeskyPattern`], ordered by [`signorini_qp::linalg::kkt_order`]), a numeric
-//! factorisation per active set, and solves with it.  K is built in the factor's elimination
-//! order ([`KktMatrix::new`]), so the analysis carries no permutation: faer's numeric
-//! factorisation reads K in place, and the solves permute their right-hand sides instead.
+//! The sparse LDLᵀ factor of the KKT matrix: one symbolic analysis, a numeric factorisation per
+//! active set, and solves with it.  K is ordered by [`signorini_qp::linalg::kkt_order`] and
+//! built in that order ([`KktMatrix::new`]), so the analysis carries no permutation: the
+//! numeric factorisation reads K in place, and the solves permute their right-hand sides
+//! instead.
+//!
+//! Two kernels, chosen by faer's flop rule on K's column counts
+//! ([`EliminationTree::suits_simplicial`]): the project's simplicial LDLᵀ
+//! ([`signorini_qp::linalg::ldlt`], which keeps the pattern of every row of L from the analysis
+//! instead of finding it again on every factorisation) where L's columns are short — the long,
+//! thin contact strips pdas is for — and faer's supernodal LDLᵀ (through the project's shared
+//! [`CholeskyPattern`]) where they are long enough for dense kernels.
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::sparse::linalg::cholesky::{LdltRef, SymbolicCholesky};
 use faer::{Conj, MatMut, Par, Side};
 use signorini_qp::linalg::kkt::kkt_graph;
+use signorini_qp::linalg::ldlt::{
+    EliminationTree, Regularisation, SimplicialLdlt, SimplicialPattern,
+};
 use signorini_qp::linalg::{kkt_order, CholeskyPattern, Layout, LinalgError, OrderingMethod};
 use signorini_qp::QpProblem;
 
@@ -17,25 +27,44 @@ use crate::kkt::KktMatrix;
 
 /// The symbolic factor of K's pattern and the numeric values of the last factorisation.
 pub struct KktFactor {
-    pattern: CholeskyPattern,
-    values: Vec<f64>,
-    /// +1 on the primal block, −1 on the multiplier block (faer's dynamic regularisation), in
-    /// the elimination order.
+    kernel: Kernel,
+    /// The ordering method that ordered K.
+    method: OrderingMethod,
+    /// +1 on the primal block, −1 on the multiplier block (the dynamic regularisation's
+    /// expected signs), in the elimination order.
     signs: Vec<i8>,
     /// The elimination order, `forward[new] = old`.
     forward: Vec<usize>,
     /// A right-hand side in the elimination order.
     work: Vec<f64>,
-    buffer: MemBuffer,
-    scratch_bytes: usize,
+}
+
+/// The factorisation's kernel: its symbolic analysis and, once allocated, its values.
+enum Kernel {
+    /// The project's simplicial LDLᵀ.
+    Simplicial {
+        pattern: SimplicialPattern,
+        factor: Option<SimplicialLdlt>,
+    },
+    /// faer's supernodal LDLᵀ.
+    Supernodal {
+        pattern: CholeskyPattern,
+        values: Vec<f64>,
+        buffer: MemBuffer,
+        scratch_bytes: usize,
+    },
 }
 
 impl std::fmt::Debug for KktFactor {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("KktFactor")
             .field("dim", &self.signs.len())
-            .field("nnz_l", &self.values.len())
-            .field("method", &self.pattern.ordering())
+            .field("nnz_l", &self.nnz_l())
+            .field(
+                "simplicial",
+                &matches!(self.kernel, Kernel::Simplicial { .. }),
+            )
+            .field("method", &self.method)
             .finish()
     }
 }
@@ -49,7 +78,8 @@ impl KktFactor {
         Self::analyse_laid_out(problem, Layout::FaerChoice)
     }
 
-    /// [`KktFactor::analyse`] with the layout given (the tests force each).
+    /// [`KktFactor::analyse`] with the layout given: `FaerChoice` takes the kernel faer's flop
+    /// rule picks, `Supernodal` forces faer's supernodal one (the tests force each).
     fn analyse_laid_out(
         problem: &QpProblem,
         layout: Layout,
@@ -59,120 +89,201 @@ impl KktFactor {
             kkt_graph(&problem.stiffness, &problem.constraints).map_err(symbolic_error)?;
         let ordering = kkt_order(&xadj, &adjncy).map_err(symbolic_error)?;
         drop((xadj, adjncy));
+        // The simplicial kernel reads the upper triangle, the supernodal one the lower.
         let mut kkt = KktMatrix::new(problem, &ordering, Side::Upper)?;
-        let pattern = CholeskyPattern::analyse_ordered(
-            kkt.matrix().symbolic(),
-            kkt.side(),
-            ordering.method,
-            layout,
-        )
-        .map_err(symbolic_error)?;
-        if pattern.reads() != kkt.side() {
-            // A supernodal factor reads the lower triangle: built so once, in the same order.
+        let tree = EliminationTree::of(kkt.matrix().symbolic()).map_err(symbolic_error)?;
+        let kernel = if layout == Layout::FaerChoice && tree.suits_simplicial() {
+            let pattern = SimplicialPattern::analyse(kkt.matrix().symbolic(), &tree)
+                .map_err(symbolic_error)?;
+            Kernel::Simplicial {
+                pattern,
+                factor: None,
+            }
+        } else {
+            drop(tree);
+            // faer analyses an unpermuted matrix through its upper triangle (whatever side is
+            // named), and its supernodal kernel reads the lower one: built so once more.
+            let pattern = CholeskyPattern::analyse_ordered(
+                kkt.matrix().symbolic(),
+                kkt.side(),
+                ordering.method,
+                Layout::Supernodal,
+            )
+            .map_err(symbolic_error)?;
             kkt = KktMatrix::new(problem, &ordering, pattern.reads())?;
-        }
+            let scratch_bytes = scratch(pattern.symbolic()).size_bytes();
+            Kernel::Supernodal {
+                pattern,
+                values: Vec::new(),
+                buffer: MemBuffer::new(StackReq::EMPTY),
+                scratch_bytes,
+            }
+        };
         let forward = ordering.forward;
-        let scratch = scratch(pattern.symbolic());
         let signs = forward
             .iter()
             .map(|&old| if old < dofs { 1 } else { -1 })
             .collect();
         let dim = forward.len();
         let factor = Self {
-            pattern,
-            values: Vec::new(),
+            kernel,
+            method: ordering.method,
             signs,
             forward,
             work: vec![0.0; dim],
-            buffer: MemBuffer::new(StackReq::EMPTY),
-            scratch_bytes: scratch.size_bytes(),
         };
         Ok((factor, kkt))
     }
 
-    /// faer's symbolic factor.
-    fn symbolic(&self) -> &SymbolicCholesky<usize> {
-        self.pattern.symbolic()
-    }
-
     /// Stored entries of the factor L (and D): the length of its value array.
     pub fn nnz_l(&self) -> usize {
-        self.pattern.stored_values()
+        match &self.kernel {
+            Kernel::Simplicial { pattern, .. } => pattern.nnz_l(),
+            Kernel::Supernodal { pattern, .. } => pattern.stored_values(),
+        }
     }
 
     /// The ordering method that ordered K.
     pub fn method(&self) -> OrderingMethod {
-        self.pattern.ordering()
+        self.method
     }
 
-    /// Bytes the numeric factorisation will hold: the factor's values plus faer's workspace.
+    /// Bytes the numeric factorisation will hold: the factor's values plus its workspace.
     pub fn bytes_needed(&self) -> f64 {
-        (self.nnz_l() * std::mem::size_of::<f64>() + self.scratch_bytes) as f64
+        let workspace = match &self.kernel {
+            // A dense row and the next free slot of each column.
+            Kernel::Simplicial { .. } => 16 * self.signs.len(),
+            Kernel::Supernodal { scratch_bytes, .. } => *scratch_bytes,
+        };
+        (self.nnz_l() * std::mem::size_of::<f64>() + workspace) as f64
     }
 
     /// Allocates the factor's values and the workspace (call once, after the memory check).
     pub fn allocate(&mut self) -> Result<(), PdasError> {
-        let scratch = scratch(self.symbolic());
-        self.buffer =
-            MemBuffer::try_new(scratch).map_err(|e| PdasError::Numeric(format!("{e:?}")))?;
-        let mut values = Vec::new();
-        values
-            .try_reserve_exact(self.nnz_l())
-            .map_err(|e| PdasError::Numeric(format!("factor of {} entries: {e}", self.nnz_l())))?;
-        values.resize(self.nnz_l(), 0.0);
-        self.values = values;
+        let nnz_l = self.nnz_l();
+        match &mut self.kernel {
+            Kernel::Simplicial { pattern, factor } => {
+                *factor = Some(SimplicialLdlt::new(pattern).map_err(numeric_error)?);
+            }
+            Kernel::Supernodal {
+                pattern,
+                values,
+                buffer,
+                ..
+            } => {
+                *buffer = MemBuffer::try_new(scratch(pattern.symbolic()))
+                    .map_err(|e| PdasError::Numeric(format!("{e:?}")))?;
+                let mut new = Vec::new();
+                new.try_reserve_exact(nnz_l)
+                    .map_err(|e| PdasError::Numeric(format!("factor of {nnz_l} entries: {e}")))?;
+                new.resize(nnz_l, 0.0);
+                *values = new;
+            }
+        }
         Ok(())
     }
 
-    /// Numeric LDLᵀ of K with the values `kkt` holds (the matrix analysed).  A pivot of the
-    /// wrong sign or smaller than `epsilon` in magnitude is replaced by ±`delta` (faer's
-    /// dynamic regularisation).
-    pub fn factor(&mut self, kkt: &KktMatrix, epsilon: f64, delta: f64) -> Result<(), PdasError> {
-        if self.values.len() != self.nnz_l() {
-            self.allocate()?;
+    /// Whether [`KktFactor::allocate`] has run.
+    fn allocated(&self) -> bool {
+        match &self.kernel {
+            Kernel::Simplicial { factor, .. } => factor.is_some(),
+            Kernel::Supernodal { values, .. } => values.len() == self.nnz_l(),
         }
-        let regularization = LdltRegularization {
-            dynamic_regularization_signs: Some(&self.signs),
-            dynamic_regularization_delta: delta,
-            dynamic_regularization_epsilon: epsilon,
-        };
-        self.pattern
-            .symbolic()
-            .factorize_numeric_ldlt(
-                &mut self.values,
-                kkt.matrix(),
-                kkt.side(),
-                regularization,
-                Par::Seq,
-                MemStack::new(&mut self.buffer),
-                Default::default(),
-            )
-            .map(|_| ())
-            .map_err(|e| PdasError::Numeric(format!("{e:?}")))
     }
 
-    /// Overwrites the column-major (n + m) × k block `rhs` with K⁻¹ rhs (k = rhs.len() / (n + m)),
-    /// one sweep for all k columns.
+    /// Numeric LDLᵀ of K with the values `kkt` holds (the matrix analysed).  A pivot of the
+    /// wrong sign or smaller than `epsilon` in magnitude is replaced by ±`delta` (dynamic
+    /// regularisation).
+    pub fn factor(&mut self, kkt: &KktMatrix, epsilon: f64, delta: f64) -> Result<(), PdasError> {
+        if !self.allocated() {
+            self.allocate()?;
+        }
+        match &mut self.kernel {
+            Kernel::Simplicial {
+                pattern,
+                factor: Some(factor),
+            } => {
+                let regularisation = Regularisation {
+                    signs: &self.signs,
+                    epsilon,
+                    delta,
+                };
+                factor
+                    .factor(pattern, kkt.matrix(), regularisation)
+                    .map(|_| ())
+                    .map_err(numeric_error)
+            }
+            Kernel::Simplicial { factor: None, .. } => {
+                Err(PdasError::Numeric("the factor was not allocated".into()))
+            }
+            Kernel::Supernodal {
+                pattern,
+                values,
+                buffer,
+                ..
+            } => {
+                let regularization = LdltRegularization {
+                    dynamic_regularization_signs: Some(&self.signs),
+                    dynamic_regularization_delta: delta,
+                    dynamic_regularization_epsilon: epsilon,
+                };
+                pattern
+                    .symbolic()
+                    .factorize_numeric_ldlt(
+                        values,
+                        kkt.matrix(),
+                        kkt.side(),
+                        regularization,
+                        Par::Seq,
+                        MemStack::new(buffer),
+                        Default::default(),
+                    )
+                    .map(|_| ())
+                    .map_err(|e| PdasError::Numeric(format!("{e:?}")))
+            }
+        }
+    }
+
+    /// Overwrites the column-major (n + m) × k block `rhs` with K⁻¹ rhs (k = rhs.len() / (n + m)).
     pub fn solve_many_in_place(&mut self, rhs: &mut [f64]) -> Result<(), PdasError> {
         let dim = self.signs.len();
         if dim == 0 || rhs.is_empty() {
             return Ok(());
         }
         let k = rhs.len() / dim;
-        let mut buffer =
-            MemBuffer::try_new(self.symbolic().solve_in_place_scratch::<f64>(k, Par::Seq))
-                .map_err(|e| PdasError::Numeric(format!("{e:?}")))?;
         let mut ordered = vec![0.0; dim * k];
         for (from, to) in rhs.chunks_exact(dim).zip(ordered.chunks_exact_mut(dim)) {
             gather(&self.forward, from, to);
         }
-        let ldlt = LdltRef::new(self.pattern.symbolic(), &self.values);
-        ldlt.solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(&mut ordered, dim, k),
-            Par::Seq,
-            MemStack::new(&mut buffer),
-        );
+        match &self.kernel {
+            Kernel::Simplicial {
+                pattern,
+                factor: Some(factor),
+            } => {
+                for column in ordered.chunks_exact_mut(dim) {
+                    factor.solve_in_place(pattern, column);
+                }
+            }
+            Kernel::Simplicial { factor: None, .. } => {
+                return Err(PdasError::Numeric("the factor was not allocated".into()))
+            }
+            Kernel::Supernodal {
+                pattern, values, ..
+            } => {
+                let mut buffer = MemBuffer::try_new(
+                    pattern
+                        .symbolic()
+                        .solve_in_place_scratch::<f64>(k, Par::Seq),
+                )
+                .map_err(|e| PdasError::Numeric(format!("{e:?}")))?;
+                LdltRef::new(pattern.symbolic(), values).solve_in_place_with_conj(
+                    Conj::No,
+                    MatMut::from_column_major_slice_mut(&mut ordered, dim, k),
+                    Par::Seq,
+                    MemStack::new(&mut buffer),
+                );
+            }
+        }
         for (from, to) in ordered.chunks_exact(dim).zip(rhs.chunks_exact_mut(dim)) {
             scatter(&self.forward, from, to);
         }
@@ -186,13 +297,25 @@ impl KktFactor {
             return;
         }
         gather(&self.forward, rhs, &mut self.work);
-        let ldlt = LdltRef::new(self.pattern.symbolic(), &self.values);
-        ldlt.solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(&mut self.work, dim, 1),
-            Par::Seq,
-            MemStack::new(&mut self.buffer),
-        );
+        match &mut self.kernel {
+            Kernel::Simplicial {
+                pattern,
+                factor: Some(factor),
+            } => factor.solve_in_place(pattern, &mut self.work),
+            // Not factorised: nothing to solve with (the iteration never asks before it has).
+            Kernel::Simplicial { factor: None, .. } => return,
+            Kernel::Supernodal {
+                pattern,
+                values,
+                buffer,
+                ..
+            } => LdltRef::new(pattern.symbolic(), values).solve_in_place_with_conj(
+                Conj::No,
+                MatMut::from_column_major_slice_mut(&mut self.work, dim, 1),
+                Par::Seq,
+                MemStack::new(buffer),
+            ),
+        }
         scatter(&self.forward, &self.work, rhs);
     }
 }
@@ -211,6 +334,11 @@ fn scatter(forward: &[usize], from: &[f64], to: &mut [f64]) {
     }
 }
 
+/// A failed numeric factorisation, as the backend's error.
+fn numeric_error(e: LinalgError) -> PdasError {
+    PdasError::Numeric(e.to_string())
+}
+
 /// A failed ordering or analysis, as the backend's error.
 fn symbolic_error(e: LinalgError) -> PdasError {
     match e {
@@ -220,7 +348,7 @@ fn symbolic_error(e: LinalgError) -> PdasError {
     }
 }
 
-/// The workspace of a numeric LDLᵀ and of a one-column solve with it.
+/// The workspace of faer's numeric LDLᵀ and of a one-column solve with it.
 fn scratch(symbolic: &SymbolicCholesky<usize>) -> StackReq {
     StackReq::any_of(&[
         symbolic.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default()),

@@ -7,9 +7,10 @@
 //! ```
 //!
 //! K is built straight from A and B in the elimination order of its factor and in the
-//! triangle faer's numeric kernel reads ([`KktMatrix::new`]), so that no factorisation has to
-//! copy it into order: faer's numeric LDLᵀ with a permutation first lays the matrix out in
-//! that order, a scattered pass over every entry on every factorisation.  The ordering itself
+//! triangle the numeric kernel reads ([`KktMatrix::new`]: the upper one for the simplicial
+//! kernel, the lower for faer's supernodal one), so that no factorisation has to copy it into
+//! order: faer's numeric LDLᵀ with a permutation first lays the matrix out in that order, a
+//! scattered pass over every entry on every factorisation.  The ordering itself
 //! reads K's graph, taken from A and B as well ([`signorini_qp::linalg::kkt::kkt_graph`]).
 //! An inactive row keeps its entries as explicit zeros, so the sparsity pattern — and with it
 //! the ordering and the symbolic factor — is the same for every set; its equation reads

@@ -92,7 +92,7 @@ pub fn scalar(bound: f64) -> Known {
 }
 
 /// Tresca's 1-D spring on a box row ([`crate::ConstraintBlock::Box`]): min ½ x² − f x + |x|
-/// (A = 1, B = [1], g = 0, bound 1), solved by hand: stick (x = 0, λ = f) for |f| ≤ 1, else
+/// (A = 1, B = \[1\], g = 0, bound 1), solved by hand: stick (x = 0, λ = f) for |f| ≤ 1, else
 /// slip x = f − sign f, λ = sign f.
 pub fn tresca_spring(f: f64) -> Known {
     let problem = qp(

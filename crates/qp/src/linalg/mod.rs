@@ -4,8 +4,12 @@
 //! Every factorisation of A takes one path: [`fill_reducing_order`] (AMD or METIS nested
 //! dissection, by the rule in [`ordering`]), faer's symbolic Cholesky with that ordering
 //! (`SymmetricOrdering::Custom`) — forced supernodal for the factors whose supernodes are read
-//! (the dual backends'), faer's own choice of simplicial or supernodal for the timing floor and
-//! pdas's KKT factor ([`Layout`]) — and the numeric LLᵀ on one thread (`Par::Seq`); a matrix refactorised many times (pdas's KKT matrix) is instead built in its elimination order and analysed without a permutation ([`CholeskyPattern::analyse_ordered`]), so faer does not copy it into order on every factorisation.  The symbolic analysis is kept apart from the numeric factorisation so that one
+//! (the dual backends'), faer's own choice of simplicial or supernodal for the timing floor
+//! ([`Layout`]) — and the numeric LLᵀ on one thread (`Par::Seq`).  A matrix refactorised many
+//! times (pdas's KKT matrix) is instead built in its elimination order and analysed without a
+//! permutation, so no factorisation copies it into order: by the project's own simplicial LDLᵀ
+//! ([`ldlt`]) where faer's flop rule picks a simplicial factor, else by faer's supernodal one
+//! ([`CholeskyPattern::analyse_ordered`]).  The symbolic analysis is kept apart from the numeric factorisation so that one
 //! analysis serves many refactorisations of the same pattern, and so that the memory a factor
 //! will take ([`FactorInfo::factor_bytes`]) is known before it is allocated.
 
@@ -24,6 +28,7 @@ use faer::{Conj, MatMut, Par, Side};
 use crate::CscMatrix;
 
 pub mod kkt;
+pub mod ldlt;
 pub mod ordering;
 
 pub use ordering::{fill_reducing_order, kkt_order, order_with, FillOrdering, OrderingMethod};
@@ -42,6 +47,15 @@ pub enum LinalgError {
     /// A pivot was not positive: the matrix is singular or indefinite (e.g. a floating body).
     #[error("stiffness is not positive definite (pivot {index} of {n} vanished): a body may be free to move rigidly")]
     NotPositiveDefinite {
+        /// Index (in the factorisation's ordering) of the failing pivot.
+        index: usize,
+        /// Size of the matrix.
+        n: usize,
+    },
+    /// A pivot of an LDLᵀ factor was zero or not finite after the dynamic regularisation
+    /// ([`ldlt::Regularisation`]).
+    #[error("LDLᵀ pivot {index} of {n} is zero or not finite after the regularisation")]
+    ZeroPivot {
         /// Index (in the factorisation's ordering) of the failing pivot.
         index: usize,
         /// Size of the matrix.
@@ -180,8 +194,9 @@ pub enum Layout {
     /// Supernodal always: every factor of A (the dual backends read the trailing block off
     /// its supernodes).
     Supernodal,
-    /// Simplicial or supernodal as faer's flop ratio chooses: the timing floor's LLᵀ of A and
-    /// pdas's LDLᵀ of its KKT matrix.
+    /// Simplicial or supernodal as faer's flop ratio chooses: the timing floor's LLᵀ of A
+    /// (pdas's KKT factor takes the same rule, [`ldlt::EliminationTree::suits_simplicial`], with
+    /// the project's own simplicial kernel).
     FaerChoice,
 }
 
