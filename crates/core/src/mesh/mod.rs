@@ -15,12 +15,13 @@
 //! **P1.**  The discretised boundary plus an equilateral seed lattice (spacing 0.9 hmax, kept
 //! 0.54 hmax from the boundary) are bulk-loaded into spade's constrained Delaunay
 //! triangulation; Ruppert refinement (angle bound `min_angle_deg`, area bound 0.5 hmax²,
-//! boundary edges never split) and midpoint splitting of every interior edge longer than `hmax`
-//! follow.  About `area / (0.35 hmax²)` triangles result.  Coordinates are normalised before
-//! they reach spade, so scaling a scene (m → mm) scales the mesh.  Angles reach `min_angle_deg`
-//! except where the fixed boundary forbids it: at input angles below it, and next to boundary
-//! edges much shorter than their neighbours (a break point 0.01 from a corner at hmax 0.2 gives
-//! a 2.9° triangle).
+//! boundary edges never split; a skinny triangle whose circumcentre encroaches a boundary edge
+//! gets that circumcentre anyway when the triangles it makes keep both bounds) and midpoint
+//! splitting of every interior edge longer than `hmax` follow.  About `area / (0.35 hmax²)`
+//! triangles result.  Coordinates are normalised before they reach spade, so scaling a scene
+//! (m → mm) scales the mesh.  Angles reach `min_angle_deg` except where the fixed boundary
+//! forbids it: at input angles below it, and next to boundary edges much shorter than their
+//! neighbours (a break point 0.01 from a corner at hmax 0.2 gives a 2.9° triangle).
 //!
 //! **Q1.**  Structured grid on an axis-aligned rectangle: x from the split points of the bottom
 //! and top sides, y from those of the left and right sides.

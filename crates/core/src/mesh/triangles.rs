@@ -1,6 +1,8 @@
 //! P1 meshes: constrained Delaunay triangulation of the discretised boundary (spade), Ruppert
 //! refinement with an angle and an area bound, then midpoint insertion until every edge is
-//! ≤ hmax.
+//! ≤ hmax.  The boundary is kept (never split), so spade drops a skinny face whose circumcentre
+//! encroaches a boundary edge; that circumcentre is inserted anyway when every face it makes
+//! keeps both bounds (see [`relieve`]).
 //!
 //! Coordinates are normalised (translated to the bounding-box minimum, divided by the larger
 //! extent, snapped to a 2⁻³⁴ grid) before they reach spade, so a scene written in mm meshes like
@@ -9,7 +11,7 @@
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use spade::handles::FixedVertexHandle;
+use spade::handles::{FixedFaceHandle, FixedVertexHandle, InnerTag};
 use spade::{
     AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
 };
@@ -304,11 +306,13 @@ fn refine(
     }
 }
 
-/// One pass of spade's Ruppert refinement with the angle limit and an area bound.
+/// One pass of spade's Ruppert refinement with the angle limit and an area bound, then
+/// [`relieve`] for the skinny faces it leaves next to the kept boundary.
 fn ruppert(cdt: &mut Cdt, h: f64, limits: &MeshLimits, split: &Splitter) -> Result<(), MeshError> {
+    let max_area = AREA_FACTOR * h * h;
     let parameters = RefinementParameters::<f64>::new()
         .with_angle_limit(AngleLimit::from_deg(limits.min_angle_deg))
-        .with_max_allowed_area(AREA_FACTOR * h * h)
+        .with_max_allowed_area(max_area)
         .keep_constraint_edges()
         .exclude_outer_faces(true)
         .with_max_additional_vertices(split.max_vertices.saturating_sub(cdt.num_vertices()));
@@ -316,7 +320,168 @@ fn ruppert(cdt: &mut Cdt, h: f64, limits: &MeshLimits, split: &Splitter) -> Resu
     if !result.refinement_complete {
         return Err(split.budget_exceeded(cdt));
     }
+    let mut outer = vec![false; cdt.num_all_faces()];
+    for face in &result.excluded_faces {
+        outer[face.index()] = true;
+    }
+    relieve(cdt, &outer, limits.min_angle_deg, max_area, split)
+}
+
+/// Passes of [`relieve`] over the faces it could not mend yet.
+const RELIEF_PASSES: usize = 4;
+
+/// Largest cavity (faces) [`relieve`] examines for one circumcentre.
+const RELIEF_CAVITY: usize = 64;
+
+/// Mends the skinny inside faces spade leaves.  With the boundary kept (never split), spade
+/// drops a skinny face whose circumcentre encroaches a boundary edge (lies in its diametral
+/// circle) instead of splitting that edge, so the face stays.  Such a circumcentre still lies
+/// inside the body, often well away from the boundary: a body one hmax thick (no seed fits)
+/// left a 17.3° fan triangle from a boundary node to a short boundary edge, and splitting its
+/// long sides kept the angle.  Here the circumcentre is inserted anyway when every face it
+/// creates (the constrained Delaunay cavity's boundary joined to it, predicted locally before
+/// inserting) keeps the angle limit and the area bound: each insertion removes a skinny face
+/// and creates none, so the passes end.  Cost: one scan of the faces (no division, no
+/// trigonometry per face), then up to [`RELIEF_PASSES`] passes over the skinny faces left, each
+/// looking at a cavity of at most [`RELIEF_CAVITY`] faces.  `outer` marks spade's excluded
+/// (outside) faces by index.
+fn relieve(
+    cdt: &mut Cdt,
+    outer: &[bool],
+    limit: f64,
+    max_area: f64,
+    split: &Splitter,
+) -> Result<(), MeshError> {
+    let sin = limit.to_radians().sin();
+    if sin <= 0.0 {
+        return Ok(());
+    }
+    // Skinny as spade judges it: circumradius / shortest edge above 1 / (2 sin limit).
+    let ratio2 = (0.5 / sin).powi(2);
+    let mut pending: Vec<(FixedFaceHandle<InnerTag>, [FixedVertexHandle; 3])> = cdt
+        .inner_faces()
+        .filter(|f| !outer.get(f.fix().index()).copied().unwrap_or(false))
+        .filter(|f| skinny(f.positions(), ratio2))
+        .map(|f| (f.fix(), f.vertices().map(|v| v.fix())))
+        .collect();
+    for _ in 0..RELIEF_PASSES {
+        let before = pending.len();
+        let mut left = Vec::new();
+        for (face, vertices) in pending {
+            // Faces are renumbered by insertions: skip the ones gone.
+            let alive = face.index() < cdt.num_all_faces()
+                && same_cycle(cdt.face(face).vertices().map(|v| v.fix()), vertices);
+            if !alive {
+                continue;
+            }
+            let Some(centre) = mendable(cdt, face, limit, max_area) else {
+                left.push((face, vertices));
+                continue;
+            };
+            if cdt.num_vertices() >= split.max_vertices {
+                return Err(split.budget_exceeded(cdt));
+            }
+            cdt.insert_with_hint(centre, vertices[0])
+                .map_err(|e| MeshError::Triangulation {
+                    reason: format!("inserting a circumcentre failed: {e:?}"),
+                })?;
+        }
+        if left.is_empty() || left.len() == before {
+            break;
+        }
+        pending = left;
+    }
     Ok(())
+}
+
+/// True when the triangle `t` has circumradius² > `ratio2` × shortest side², without dividing:
+/// R² = a² b² c² / (16 area²), so the test is (the two longer sides' squared lengths multiplied)
+/// > `ratio2` × (2 area)² × 4.
+fn skinny(t: [Point2<f64>; 3], ratio2: f64) -> bool {
+    let [a, b, c] = [0, 1, 2].map(|k| t[k].distance_2(t[(k + 1) % 3]));
+    let twice = (t[1].x - t[0].x) * (t[2].y - t[0].y) - (t[1].y - t[0].y) * (t[2].x - t[0].x);
+    let longer = a * b * c / a.min(b).min(c);
+    longer > 4.0 * ratio2 * twice * twice
+}
+
+/// True when `a` is `b` up to a cyclic shift.
+fn same_cycle(a: [FixedVertexHandle; 3], b: [FixedVertexHandle; 3]) -> bool {
+    (0..3).any(|k| (0..3).all(|i| a[(i + k) % 3] == b[i]))
+}
+
+/// The circumcentre of the inside face `face` when inserting it makes only faces with angles
+/// ≥ `limit` and areas ≤ `max_area`: the faces whose circumcircle holds it, reached from `face`
+/// without crossing a boundary edge, are replaced by its fan to their outline.  `None` when the
+/// centre is not strictly inside that cavity (beyond a boundary edge, or on an edge).
+fn mendable(
+    cdt: &Cdt,
+    face: FixedFaceHandle<InnerTag>,
+    limit: f64,
+    max_area: f64,
+) -> Option<Point2<f64>> {
+    let centre = cdt.face(face).circumcenter();
+    if !(centre.x.is_finite() && centre.y.is_finite()) {
+        return None;
+    }
+    let mut cavity = vec![face];
+    let mut stack = vec![face];
+    let mut outline: Vec<[Point2<f64>; 2]> = Vec::new();
+    let mut found = false;
+    while let Some(f) = stack.pop() {
+        let f = cdt.face(f);
+        found |= strictly_inside(f.positions(), centre);
+        for edge in f.adjacent_edges() {
+            let neighbour = edge.rev().face().as_inner();
+            match neighbour {
+                Some(g) if !edge.is_constraint_edge() => {
+                    if cavity.contains(&g.fix()) {
+                        continue;
+                    }
+                    if in_circumcircle(g.positions(), centre) {
+                        if cavity.len() >= RELIEF_CAVITY {
+                            return None;
+                        }
+                        cavity.push(g.fix());
+                        stack.push(g.fix());
+                        continue;
+                    }
+                    outline.push(edge.positions());
+                }
+                _ => outline.push(edge.positions()),
+            }
+        }
+    }
+    if !found {
+        return None;
+    }
+    let mendable = outline.iter().all(|&[a, b]| {
+        let twice = (b.x - a.x) * (centre.y - a.y) - (b.y - a.y) * (centre.x - a.x);
+        twice > 0.0 && 0.5 * twice <= max_area && face_min_angle([a, b, centre]) >= limit
+    });
+    mendable.then_some(centre)
+}
+
+/// True when `p` lies strictly inside the counter-clockwise triangle `t` (a relative margin
+/// keeps points on an edge out).
+fn strictly_inside(t: [Point2<f64>; 3], p: Point2<f64>) -> bool {
+    (0..3).all(|k| {
+        let (a, b) = (t[k], t[(k + 1) % 3]);
+        let (dx, dy) = (b.x - a.x, b.y - a.y);
+        let twice = dx * (p.y - a.y) - dy * (p.x - a.x);
+        twice > 1e-12 * (dx * dx + dy * dy)
+    })
+}
+
+/// True when `p` lies strictly inside the circumcircle of the counter-clockwise triangle `t`.
+fn in_circumcircle(t: [Point2<f64>; 3], p: Point2<f64>) -> bool {
+    let rows = t.map(|q| {
+        let (x, y) = (q.x - p.x, q.y - p.y);
+        [x, y, x * x + y * y]
+    });
+    let [a, b, c] = rows;
+    let det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+        + a[2] * (b[0] * c[1] - b[1] * c[0]);
+    det > 0.0
 }
 
 /// Inserts edge midpoints (each with a nearby vertex as hint); returns the new vertices.
