@@ -292,7 +292,7 @@ impl ActiveSet<'_> {
     }
 
     /// Solves the current set (timing the solve of a fresh factor), refines the solution when
-    /// the set predicts itself, and returns it with the set it predicts.
+    /// the set predicts itself or a set seen before, and returns it with the set it predicts.
     fn solve_set(
         &mut self,
         state: &mut Plain,
@@ -319,7 +319,13 @@ impl ActiveSet<'_> {
             }
         }
         let (mut next, mut signs) = self.next_state(&solution);
-        if next == state.active && signs == state.signs {
+        // A set that predicts itself is judged on a refined solution, and so is one that
+        // predicts a set seen before: a row at the edge of the contact zone whose multiplier
+        // and gap are both at round-off can flip on an unrefined solution, and a cycle is
+        // only judged on a factorised set (`decide`), which costs a factorisation where a
+        // refinement step or two settle it.
+        let settles = next == state.active && signs == state.signs;
+        if settles || state.seen.contains(&codes(&next, &signs)) {
             let mut solver = SetSolver {
                 factor: &mut self.factor,
                 update: set_solve.update.as_ref(),

@@ -369,26 +369,64 @@ impl SimplicialLdlt {
         let n = pattern.dim();
         debug_assert_eq!(rhs.len(), n);
         let (col_ptr, row_idx, values) = (&pattern.col_ptr, &pattern.row_idx, &self.values);
-        for j in 0..n {
-            let y = rhs[j];
-            if y != 0.0 {
-                let (start, end) = (col_ptr[j] + 1, col_ptr[j + 1]);
+        // L y = b, a pair of columns in one pass over their common rows.
+        let mut j = 0;
+        while j < n {
+            let (start, end) = (col_ptr[j] + 1, col_ptr[j + 1]);
+            if j + 1 < n && pattern.second[j + 1] {
+                let (next_start, next_end) = (col_ptr[j + 1] + 1, col_ptr[j + 2]);
+                let y0 = rhs[j];
+                let y1 = rhs[j + 1] - values[start] * y0;
+                rhs[j + 1] = y1;
+                for ((&i, &l0), &l1) in row_idx[next_start..next_end]
+                    .iter()
+                    .zip(&values[start + 1..end])
+                    .zip(&values[next_start..next_end])
+                {
+                    rhs[i as usize] -= l0 * y0 + l1 * y1;
+                }
+                j += 2;
+            } else {
+                let y = rhs[j];
                 for (&i, &l) in row_idx[start..end].iter().zip(&values[start..end]) {
                     rhs[i as usize] -= l * y;
                 }
+                j += 1;
             }
         }
         for (x, &p) in rhs.iter_mut().zip(col_ptr) {
             *x /= values[p];
         }
-        for j in (0..n).rev() {
-            let (start, end) = (col_ptr[j] + 1, col_ptr[j + 1]);
-            let s: f64 = row_idx[start..end]
-                .iter()
-                .zip(&values[start..end])
-                .map(|(&i, &l)| l * rhs[i as usize])
-                .sum();
-            rhs[j] -= s;
+        // Lᵀ x = D⁻¹ y, from the last column back, pairs as above.
+        let mut j = n;
+        while j > 0 {
+            let last = j - 1;
+            let (start, end) = (col_ptr[last] + 1, col_ptr[last + 1]);
+            if pattern.second[last] {
+                let first = last - 1;
+                let first_start = col_ptr[first] + 1;
+                let (mut s0, mut s1) = (0.0, 0.0);
+                for ((&i, &l0), &l1) in row_idx[start..end]
+                    .iter()
+                    .zip(&values[first_start + 1..start - 1])
+                    .zip(&values[start..end])
+                {
+                    let x = rhs[i as usize];
+                    s0 += l0 * x;
+                    s1 += l1 * x;
+                }
+                rhs[last] -= s1;
+                rhs[first] -= s0 + values[first_start] * rhs[last];
+                j -= 2;
+            } else {
+                let s: f64 = row_idx[start..end]
+                    .iter()
+                    .zip(&values[start..end])
+                    .map(|(&i, &l)| l * rhs[i as usize])
+                    .sum();
+                rhs[last] -= s;
+                j -= 1;
+            }
         }
     }
 }
