@@ -302,8 +302,11 @@ impl KktFactor {
                 pattern,
                 factor: Some(factor),
             } => factor.solve_in_place(pattern, &mut self.work),
-            // Not factorised: nothing to solve with (the iteration never asks before it has).
-            Kernel::Simplicial { factor: None, .. } => return,
+            // Not factorised (the iteration never asks before it has): no answer, loudly.
+            Kernel::Simplicial { factor: None, .. } => {
+                rhs.fill(f64::NAN);
+                return;
+            }
             Kernel::Supernodal {
                 pattern,
                 values,

@@ -39,12 +39,13 @@
 //! definite), so an LDLᵀ factorisation without pivoting exists in any symmetric ordering: one
 //! fill-reducing ordering ([`signorini_qp::linalg::kkt_order`]: AMD of K's node-compressed
 //! graph, the same fill as AMD of K found 14–58 % faster; the timing floor orders A by
-//! [`signorini_qp::linalg::fill_reducing_order`]) and one symbolic analysis (faer's, simplicial or supernodal as faer chooses) serve
-//! every set; each set costs one numeric LDLᵀ (faer, with dynamic regularisation of any pivot
-//! below 10⁻³ of the static ones as a safety net).  ρ = 10⁻¹⁰ s is added only when A has a
+//! [`signorini_qp::linalg::fill_reducing_order`]) and one symbolic analysis (the project's simplicial one where faer's flop rule picks a
+//! simplicial factor, else faer's supernodal one) serve every set; each set costs one numeric
+//! LDLᵀ (with dynamic regularisation of any pivot below 10⁻³ of the static ones as a safety
+//! net).  ρ = 10⁻¹⁰ s is added only when A has a
 //! kernel, so that K exists while the active rows do not yet hold every rigid mode.  The
 //! ordering reads K's graph straight off A and B, and K is built in that order and in the
-//! triangle faer's numeric kernel reads, so the analysis carries no permutation and no
+//! triangle the numeric kernel reads, so the analysis carries no permutation and no
 //! factorisation copies K into order (faer's permuted path does, on every call: a quarter of
 //! each numeric factorisation on the partial strip); the solves permute their right-hand
 //! sides instead.

@@ -379,7 +379,9 @@ fn relieve(
                 continue;
             };
             if cdt.num_vertices() >= split.max_vertices {
-                return Err(split.budget_exceeded(cdt));
+                // The mending is optional: a budget spent keeps the faces as spade left them
+                // (the refinement after it reports the budget if it needs more).
+                return Ok(());
             }
             cdt.insert_with_hint(centre, vertices[0])
                 .map_err(|e| MeshError::Triangulation {

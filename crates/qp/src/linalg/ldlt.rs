@@ -3,11 +3,11 @@
 //!
 //! faer's simplicial kernel (up-looking, as this one) finds the pattern of every row of L again
 //! on every numeric factorisation — an elimination-tree walk per row, a fifth of the
-//! factorisation's time on the KKT matrices of long contact strips — and its symbolic analysis
-//! walks the tree twice (column counts, then row indices).  Here the analysis walks it once
-//! and keeps what it found: the rows of L in each column (for the solves) and the columns of L
-//! in each row, in an order where every column comes after the columns it depends on (for the
-//! numeric factorisation, which then only does arithmetic).  Indices are 4 bytes, so the two
+//! factorisation's time on the KKT matrices of long contact strips.  Here the analysis walks
+//! the tree twice as faer's does (column counts, then the patterns) and keeps what the second
+//! walk found: the rows of L in each column (for the solves) and the columns of L in each row,
+//! in an order where every column comes after the columns it depends on (for the numeric
+//! factorisation, which then only does arithmetic).  Indices are 4 bytes, so the two
 //! patterns together take the 8 B per entry of L that faer's one pattern takes.
 //!
 //! The analysis starts with the elimination tree and the column counts alone
@@ -113,6 +113,9 @@ pub struct SimplicialPattern {
     /// descendants in the elimination tree — except the first column of a pair (below) in the
     /// rows after the pair, where the pair is worked at its second column.
     row_cols: Vec<u32>,
+    /// Entries of each column of the analysed upper triangle, cumulated: a matrix handed to
+    /// [`SimplicialLdlt::factor`] must have the same (a cheap check of the pattern).
+    upper_ptr: Vec<usize>,
     /// `second[j]`: columns j − 1 and j are a pair, the rows of j − 1 being j's and j itself
     /// (a node's two displacements, mostly): the numeric factorisation works both in one pass
     /// over their rows.
@@ -155,9 +158,10 @@ impl SimplicialPattern {
             row_idx,
             row_ptr: Vec::with_capacity(n + 1),
             row_cols,
+            upper_ptr: entries_per_column(upper),
             second: pairs(tree),
         };
-        pattern.fill(upper, &tree.parent);
+        pattern.fill(upper, &tree.parent)?;
         Ok(pattern)
     }
 
@@ -165,7 +169,15 @@ impl SimplicialPattern {
     /// entry of column k up to a node already visited is one segment, and every later segment
     /// ends below an earlier one, so the segments are laid down last first: each column after
     /// its descendants), and k into the rows of each of those columns (ascending, as k grows).
-    fn fill(&mut self, upper: SymbolicSparseColMatRef<'_, usize>, parent: &[usize]) {
+    ///
+    /// # Errors
+    /// [`LinalgError::Shape`] when a column outgrows its count: `parent` was not computed for
+    /// `upper`.
+    fn fill(
+        &mut self,
+        upper: SymbolicSparseColMatRef<'_, usize>,
+        parent: &[usize],
+    ) -> Result<(), LinalgError> {
         let n = parent.len();
         let mut mark = vec![ROOT; n];
         let mut next: Vec<usize> = self.col_ptr[..n].iter().map(|&p| p + 1).collect();
@@ -193,6 +205,12 @@ impl SimplicialPattern {
             let reach = &stack[top..n];
             for &j in reach {
                 let j = j as usize;
+                if next[j] >= self.col_ptr[j + 1] {
+                    return Err(LinalgError::Shape {
+                        rows: n,
+                        cols: upper.ncols(),
+                    });
+                }
                 self.row_idx[next[j]] = k as u32;
                 next[j] += 1;
                 // The first column of a pair is worked with its second, which is in the reach
@@ -206,6 +224,7 @@ impl SimplicialPattern {
             self.row_ptr.push(end);
         }
         self.row_cols.truncate(end);
+        Ok(())
     }
 
     /// Size n of the matrix.
@@ -242,6 +261,16 @@ fn pairs(tree: &EliminationTree) -> Vec<bool> {
     second
 }
 
+/// The entries of each column of `upper`, cumulated from 0.
+fn entries_per_column(upper: SymbolicSparseColMatRef<'_, usize>) -> Vec<usize> {
+    let mut ptr = Vec::with_capacity(upper.ncols() + 1);
+    ptr.push(0);
+    for k in 0..upper.ncols() {
+        ptr.push(ptr[k] + upper.row_idx_of_col_raw(k).len());
+    }
+    ptr
+}
+
 /// A zero-filled vector, or the allocation failure as an error.
 fn zeroed<T: Clone + Default>(len: usize) -> Result<Vec<T>, LinalgError> {
     let mut v = Vec::new();
@@ -253,7 +282,7 @@ fn zeroed<T: Clone + Default>(len: usize) -> Result<Vec<T>, LinalgError> {
 
 /// How a pivot of the wrong sign or too small a magnitude is replaced (faer's dynamic
 /// regularisation of a quasi-definite LDLᵀ): a pivot whose sign should be +1 and is ≤ ε
-/// becomes +δ, one whose sign should be −1 and is ≥ −ε becomes −δ.
+/// becomes +δ, one whose sign should be −1 and is ≥ −ε becomes −δ; with δ = 0 none is.
 #[derive(Debug, Clone, Copy)]
 pub struct Regularisation<'a> {
     /// The expected sign of every pivot, in the elimination order.
@@ -298,7 +327,8 @@ impl SimplicialLdlt {
     /// pattern lists for it.  Returns how many pivots were replaced ([`Regularisation`]).
     ///
     /// # Errors
-    /// [`LinalgError::Shape`] when `upper` or the signs do not match the pattern;
+    /// [`LinalgError::Shape`] when `upper` (its size or its entries per column) or the signs
+    /// do not match the pattern;
     /// [`LinalgError::ZeroPivot`] when a pivot is zero or not finite after the
     /// regularisation (the factor's values are then unusable).
     pub fn factor(
@@ -313,6 +343,7 @@ impl SimplicialLdlt {
             || regularisation.signs.len() != n
             || self.values.len() != pattern.nnz_l()
             || self.row.len() != n
+            || entries_per_column(upper.symbolic()) != pattern.upper_ptr
         {
             return Err(LinalgError::Shape {
                 rows: upper.nrows(),
@@ -348,13 +379,15 @@ impl SimplicialLdlt {
                     sweep.eliminate(j)
                 };
             }
-            if sign > 0 && d <= epsilon {
+            // As faer: no replacement at all when δ = 0.
+            if delta > 0.0 && sign > 0 && d <= epsilon {
                 d = delta;
                 replaced += 1;
-            } else if sign < 0 && d >= -epsilon {
+            } else if delta > 0.0 && sign < 0 && d >= -epsilon {
                 d = -delta;
                 replaced += 1;
             }
+            debug_assert!(sweep.row.iter().all(|&v| v == 0.0), "row {k} left entries");
             if d == 0.0 || !d.is_finite() {
                 sweep.row.fill(0.0);
                 return Err(LinalgError::ZeroPivot { index: k, n });
@@ -365,9 +398,16 @@ impl SimplicialLdlt {
     }
 
     /// Overwrites `rhs` (length n, in the elimination order) with (L D Lᵀ)⁻¹ rhs.
+    ///
+    /// # Panics
+    /// When `rhs` is shorter than n.
     pub fn solve_in_place(&self, pattern: &SimplicialPattern, rhs: &mut [f64]) {
         let n = pattern.dim();
-        debug_assert_eq!(rhs.len(), n);
+        assert!(
+            rhs.len() >= n,
+            "a right-hand side of {} for n = {n}",
+            rhs.len()
+        );
         let (col_ptr, row_idx, values) = (&pattern.col_ptr, &pattern.row_idx, &self.values);
         // L y = b, a pair of columns in one pass over their common rows.
         let mut j = 0;
@@ -676,17 +716,20 @@ mod tests {
     /// A 2D grid with two unknowns per node (the Laplacian ⊗ [[2, 0.5], [0.5, 1]], as an
     /// elasticity stiffness couples a node's displacements), numbered node by node, plus `m`
     /// multiplier rows: its upper triangle and pivot signs.
-    fn two_per_node(side: usize, m: usize) -> (SparseColMat<usize, f64>, Vec<i8>) {
+    fn two_per_node(side: usize, m: usize, scrambled: bool) -> (SparseColMat<usize, f64>, Vec<i8>) {
         let nodes = side * side;
         let n = 2 * nodes;
         let block = [[2.0, 0.5], [0.5, 1.0]];
+        // The nodes renumbered (a node's two unknowns stay together): a branching tree.
+        let renumber = |p: usize| if scrambled { (p * 7919) % nodes } else { p };
         let mut triplets = Vec::new();
         let mut couple = |p: usize, q: usize, w: f64| {
+            let (p, q) = (renumber(p), renumber(q));
             for (a, block_row) in block.iter().enumerate() {
                 for (b, &v) in block_row.iter().enumerate() {
                     let (i, j) = (2 * p + a, 2 * q + b);
-                    if i <= j && (p != q || a <= b) {
-                        triplets.push(Triplet::new(i, j, w * v));
+                    if p != q || a <= b {
+                        triplets.push(Triplet::new(i.min(j), i.max(j), w * v));
                     }
                 }
             }
@@ -709,12 +752,22 @@ mod tests {
     /// `agrees_with_faer_and_solves_to_round_off`, ‖K‖∞ ≤ 20.5 here: 2.5 × 8.1 and a row of B).
     #[test]
     fn a_nodes_two_unknowns_are_worked_as_a_pair() {
-        let (upper, signs) = two_per_node(25, 40);
+        for scrambled in [false, true] {
+            pairs_agree_with_faer(scrambled);
+        }
+    }
+
+    /// One case of `a_nodes_two_unknowns_are_worked_as_a_pair`.
+    fn pairs_agree_with_faer(scrambled: bool) {
+        let (upper, signs) = two_per_node(25, 40, scrambled);
         let dim = upper.ncols();
         let tree = EliminationTree::of(upper.symbolic()).unwrap();
         let pattern = SimplicialPattern::analyse(upper.symbolic(), &tree).unwrap();
         let pairs = pattern.second.iter().filter(|&&p| p).count();
-        assert!(2 * pairs >= 1200, "{pairs} pairs of {dim} columns");
+        assert!(
+            2 * pairs >= 1200,
+            "scrambled {scrambled}: {pairs} pairs of {dim} columns"
+        );
         let mut factor = SimplicialLdlt::new(&pattern).unwrap();
         let regularisation = Regularisation {
             signs: &signs,
@@ -738,13 +791,16 @@ mod tests {
             .iter()
             .zip(&z_faer)
             .fold(0.0_f64, |r, (a, b)| r.max((a - b).abs()));
-        assert!(gap <= bound, "gap {gap:e}");
+        assert!(gap <= bound, "scrambled {scrambled}: gap {gap:e}");
         let kz = apply(&upper, &z);
         let residual = kz
             .iter()
             .zip(&b)
             .fold(0.0_f64, |r, (a, b)| r.max((a - b).abs()));
-        assert!(residual <= bound, "residual {residual:e}");
+        assert!(
+            residual <= bound,
+            "scrambled {scrambled}: residual {residual:e}"
+        );
     }
 
     /// Every column of a row's pattern comes after its descendants, and the rows of every
@@ -818,6 +874,37 @@ mod tests {
             refused,
             Err(LinalgError::ZeroPivot { index: 1, n: 2 })
         ));
+        // δ = 0 replaces nothing (as faer): the same zero pivot is refused whatever its sign.
+        let unregularised = factor.factor(
+            &pattern,
+            upper.as_ref(),
+            Regularisation {
+                signs: &[1, 1],
+                epsilon: 1e-12,
+                delta: 0.0,
+            },
+        );
+        assert!(matches!(
+            unregularised,
+            Err(LinalgError::ZeroPivot { index: 1, n: 2 })
+        ));
+        // A matrix with another pattern than the analysed one is refused, not factored.
+        let diagonal = SparseColMat::<usize, f64>::try_new_from_triplets(
+            2,
+            2,
+            &[Triplet::new(0, 0, 1.0), Triplet::new(1, 1, 1.0)],
+        )
+        .unwrap();
+        let other = factor.factor(
+            &pattern,
+            diagonal.as_ref(),
+            Regularisation {
+                signs: &[1, 1],
+                epsilon: 1e-12,
+                delta: 1e-6,
+            },
+        );
+        assert!(matches!(other, Err(LinalgError::Shape { .. })));
         assert!(factor.row.iter().all(|&v| v == 0.0));
     }
 
