@@ -587,28 +587,17 @@ fn mesh_convex(polygon: &[Point], scale: f64, divisions: f64) -> (f64, f64, f64)
 /// makes keeps 20°).
 #[test]
 fn a_convex_hexagon_the_random_search_found_keeps_twenty_degrees() {
-    let mut angles = [
-        5.522927295356044,
-        0.2757035875442457,
-        5.849843545635097,
-        6.109817994662912,
-        3.7809429247180373,
-        2.955306650009249,
-    ];
-    angles.sort_by(f64::total_cmp);
-    let (aspect, scale) = (0.4553399640296236, 0.001);
-    let polygon: Vec<Point> = angles
-        .iter()
-        .map(|t| [scale * t.cos(), scale * aspect * t.sin()])
-        .collect();
-    let (angle, input, ratio) = mesh_convex(&polygon, scale, 4.4879675573028255);
-    assert!(
-        input >= 30.0 && ratio <= 2.0,
-        "test construction: input {input}, ratio {ratio}"
-    );
-    assert!(
-        angle >= 20.0,
-        "min angle {angle} (input {input}, ratio {ratio})"
+    keeps_twenty_degrees(
+        [
+            5.522927295356044,
+            0.2757035875442457,
+            5.849843545635097,
+            6.109817994662912,
+            3.7809429247180373,
+            2.955306650009249,
+        ],
+        0.4553399640296236,
+        4.4879675573028255,
     );
 }
 
@@ -617,20 +606,29 @@ fn a_convex_hexagon_the_random_search_found_keeps_twenty_degrees() {
 /// whose circumcentre encroaches a boundary edge (0.76 of its diametral radius from its middle).
 #[test]
 fn a_convex_pentagon_the_random_search_found_keeps_twenty_degrees() {
-    let mut angles = [
-        5.878878720330749,
-        0.5445186783365117,
-        1.1761214118763792,
-        4.857155185744216,
-        0.7983836492445485,
-    ];
+    keeps_twenty_degrees(
+        [
+            5.878878720330749,
+            0.5445186783365117,
+            1.1761214118763792,
+            4.857155185744216,
+            0.7983836492445485,
+        ],
+        0.3156561006658307,
+        4.715591469475588,
+    );
+}
+
+/// Meshes the convex polygon the random search builds from `angles` (on an ellipse of
+/// `aspect`, size 1e-3, at `divisions`) and asserts the property's 20° where it applies.
+fn keeps_twenty_degrees<const N: usize>(mut angles: [f64; N], aspect: f64, divisions: f64) {
     angles.sort_by(f64::total_cmp);
-    let (aspect, scale) = (0.3156561006658307, 0.001);
+    let scale = 0.001;
     let polygon: Vec<Point> = angles
         .iter()
         .map(|t| [scale * t.cos(), scale * aspect * t.sin()])
         .collect();
-    let (angle, input, ratio) = mesh_convex(&polygon, scale, 4.715591469475588);
+    let (angle, input, ratio) = mesh_convex(&polygon, scale, divisions);
     assert!(
         input >= 30.0 && ratio <= 2.0,
         "test construction: input {input}, ratio {ratio}"
