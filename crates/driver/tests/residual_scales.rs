@@ -113,3 +113,123 @@ fn a_load_on_a_body_outside_the_pair_does_not_loosen_its_verdict() {
     // The default backend must find the answer: the pair alone is the seed's easiest scene.
     assert!(solved.contains(&"auto"), "solved by {solved:?}");
 }
+
+/// A stiff punch (E = 1) pressed 0.01 into a foundation of Young's modulus `young`, every row of
+/// the interface closed in the exact answer.
+fn soft_foundation(young: f64) -> Scene {
+    Scene::from_toml(&format!(
+        r#"
+title = "stiff punch pressed into a very soft foundation"
+
+[[body]]
+name = "foundation"
+polygon = [[0, 0], [4, 0], [4, 1], [0, 1]]
+hmax = 0.25
+young = {young:e}
+poisson = 0.3
+
+[[body]]
+name = "punch"
+polygon = [[1.5, 1], [2.5, 1], [2.5, 1.5], [1.5, 1.5]]
+hmax = 0.125
+young = 1.0
+poisson = 0.3
+
+[[dirichlet]]
+body = "foundation"
+region = [0, 4, 0, 0]
+
+[[dirichlet]]
+body = "punch"
+region = [1.5, 2.5, 1.5, 1.5]
+value = [0, -0.01]
+
+[[contact]]
+bodies = ["punch", "foundation"]
+region = [1.4, 2.6, 0.99, 1.01]
+"#
+    ))
+    .unwrap()
+}
+
+#[test]
+fn a_soft_body_cannot_hide_a_wrong_contact_force() {
+    // Issue 41: the lifting forces of the stiff punch's prescribed motion set the pair's force
+    // scale, 1e10 times the forces the foundation can take; dual-pgs stopped after one sweep,
+    // `solved` with a normal force 44 % off and 8 of 9 rows open while carrying force.  Now a
+    // row's force scale is what the answer shows on the least loaded of its bodies (down to
+    // 1e-4 of what the row's own springs give over its length), so each backend is `solved`
+    // with the pair's force, or says it is not solved — at every contrast, also 1e14 where
+    // the foundation's forces are 100 times the round-off of the punch's.
+    for (young, tol) in [(1e-10, 1e-9), (1e-8, 1e-8), (1e-6, 1e-6), (1e-14, 1e-9)] {
+        let scene = soft_foundation(young);
+        let options = SolveOptions { tol, ..options() };
+        let run = |backend: &str| {
+            let kind = BackendKind::from_str(backend).unwrap();
+            let mut b = make_backend(kind).unwrap();
+            run::solve_scene(&scene, b.as_mut(), &options, &MeshLimits::default()).unwrap()
+        };
+        // The reference: dual-ssn (its active set of every row, one direct solve); the
+        // physics asks that every row carry force (the punch is pushed into the foundation).
+        let reference = run("dual-ssn");
+        assert_eq!(reference.solution.status, QpStatus::Solved, "E = {young:e}");
+        let expected = signorini_core::solve::contact_forces(
+            &reference.model,
+            &reference.solution.multipliers,
+        );
+        let rows = reference.solution.multipliers.len();
+        assert!(rows >= 5, "{rows} rows");
+        assert!(
+            reference.solution.multipliers.iter().all(|&l| l > 0.0),
+            "E = {young:e}: every row of the pressed punch carries force: {:?}",
+            reference.solution.multipliers
+        );
+        // The forces on the foundation (body 0, its DOFs first) are fixed by its own
+        // displacement, which every solved answer has to the tolerance.  How they split between
+        // the punch's rows is not: the punch is 1/E times stiffer, so a gap of 1e-11 of its
+        // motion (well within any tolerance here) moves force from row to row by as much as a
+        // row carries; the exact answer's row forces themselves are determined only to
+        // ε·F_punch/F_row ≈ 1e-5 in double precision.  So the foundation's nodal forces and the
+        // pair's total are compared, not the rows' multipliers.
+        let foundation = 2 * reference.model.dofs.node_offset(1);
+        let largest = expected[..foundation]
+            .iter()
+            .fold(0.0_f64, |m, f| m.max(f.abs()));
+        let total: f64 = expected[..foundation].iter().skip(1).step_by(2).sum();
+        assert!(largest > 0.0 && total.abs() > 0.0);
+        let mut solved = Vec::new();
+        for kind in std::iter::once(BackendKind::Auto).chain(BackendKind::ALL) {
+            let backend = kind.name();
+            let outcome = run(backend);
+            let s = &outcome.solution;
+            if s.status != QpStatus::Solved {
+                continue;
+            }
+            solved.push(backend);
+            // What the tolerance implies: the residuals bound the duality gap by ~m·tol of the
+            // pair's work, so the energy-norm error, and with it the relative error of the
+            // foundation's forces, by ~√(m·tol); ten times that (1e-3 at 1e-9) is the bound.
+            // The wrong answer's total was 0.44 off.
+            let bound = 10.0 * (rows as f64 * tol).sqrt();
+            let forces = signorini_core::solve::contact_forces(&outcome.model, &s.multipliers);
+            for (dof, (got, want)) in forces[..foundation].iter().zip(&expected).enumerate() {
+                assert!(
+                    (got - want).abs() <= bound * largest,
+                    "E = {young:e}, tol {tol:e}: {backend} `solved` with a contact force {got:.4e} on the foundation's DOF {dof} where it is {want:.4e} (largest {largest:.4e}); residuals {:?}",
+                    s.residuals
+                );
+            }
+            let got: f64 = forces[..foundation].iter().skip(1).step_by(2).sum();
+            assert!(
+                (got - total).abs() <= bound * total.abs(),
+                "E = {young:e}, tol {tol:e}: {backend} `solved` with the pair's normal force {got:.4e} where it is {total:.4e}; residuals {:?}",
+                s.residuals
+            );
+        }
+        // The default backend finds the answer at every contrast.
+        assert!(
+            solved.contains(&"auto"),
+            "E = {young:e}: solved by {solved:?}"
+        );
+    }
+}

@@ -23,21 +23,26 @@ use super::scales::TINY;
 ///   with Wᵢ the largest W_b = Σⱼ∈b |fⱼ| / Aⱼⱼ of the row's bodies (the motion their own loads
 ///   could give them) and δ = [`BODY_MOTION_FLOOR`];
 /// * the force on body b, F_b = max |fⱼ| and |(Bᵀλ)ⱼ| over its DOFs (its loads and the contact
-///   forces the answer puts on it), and the DOF's force F̃ⱼ = min(F_c(j), max(F_b, δ F_c(j)))
-///   with δ = [`BODY_FORCE_FLOOR`] (a body in equilibrium under its own forces, judged against
-///   them down to δ of its component's scale, which a solver of the whole component still
-///   resolves).
+///   forces the answer puts on it), and the DOF's force F̃ⱼ = min(F_c(j), max(F_b, δ Rⱼ))
+///   with δ = [`BODY_FORCE_FLOOR`] and Rⱼ = min(F_c(j), Aⱼⱼ L_c) the force its own spring gives
+///   over its component's length (a body in equilibrium under its own forces, judged against
+///   them down to δ of that);
+/// * the row's force F̃ᵢ = min(F_c(i), max(min_b F_b, δ Rᵢ)) over the bodies b row i touches,
+///   with Rᵢ = min(F_c(i), kᵢ Xᵢ) (its own springs over its length): a row's force acts on
+///   every body it touches, so it is no larger than the least loaded of them balances — the
+///   lifting of a stiff punch's prescribed motion cannot loosen the check of the forces a very
+///   soft foundation takes (issue 41).
 ///
 /// Then:
 /// * `max_penetration` = max(0, maxᵢ (Bx − g)ᵢ), in the problem's length unit;
 /// * `relative_penetration` = maxᵢ max(0, (Bx − g)ᵢ) / X̃ᵢ;
 /// * `stationarity` = maxⱼ |(Ax − f + Bᵀλ)ⱼ| / F̃ⱼ;
-/// * `complementarity` = maxᵢ |λᵢ (g − Bx)ᵢ| / (F_c(i) Xᵢ);
-/// * `min_multiplier` = minᵢ min(0, λᵢ / F_c(i)) (zero when every λᵢ ≥ 0).
+/// * `complementarity` = maxᵢ |λᵢ (g − Bx)ᵢ| / (F̃ᵢ Xᵢ);
+/// * `min_multiplier` = minᵢ min(0, λᵢ / F̃ᵢ) (zero when every λᵢ ≥ 0).
 ///
 /// Those are the non-negative rows'.  A box row i of bound sᵢ ([`crate::ConstraintBlock::Box`],
-/// rᵢ = (Bx − g)ᵢ unrestricted) has no penetration; it adds |sᵢ |rᵢ| − λᵢ rᵢ| / (F_c(i) Xᵢ) to
-/// `complementarity` and min(0, (sᵢ − |λᵢ|) / F_c(i)) to `min_multiplier`.
+/// rᵢ = (Bx − g)ᵢ unrestricted) has no penetration; it adds |sᵢ |rᵢ| − λᵢ rᵢ| / (F̃ᵢ Xᵢ) to
+/// `complementarity` and min(0, (sᵢ − |λᵢ|) / F̃ᵢ) to `min_multiplier`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Default, schemars::JsonSchema)]
 pub struct KktResiduals {
     /// Largest constraint violation max(0, Bx − g), in length units.
@@ -46,7 +51,7 @@ pub struct KktResiduals {
     pub relative_penetration: f64,
     /// Relative equilibrium residual maxⱼ |(Ax − f + Bᵀλ)ⱼ| / F_c(j).
     pub stationarity: f64,
-    /// Relative complementarity maxᵢ |λᵢ sᵢ| / (F_c(i) Xᵢ).
+    /// Relative complementarity maxᵢ |λᵢ sᵢ| / (F̃ᵢ Xᵢ).
     pub complementarity: f64,
     /// Most negative multiplier relative to its component's force scale (≤ 0).
     pub min_multiplier: f64,
@@ -140,15 +145,15 @@ pub fn kkt_residuals_in(
     let ax = mat_vec(&problem.stiffness, x);
     let bx = mat_vec(&problem.constraints, x);
     let btl = mat_t_vec(&problem.constraints, multipliers);
-    let (motion, force) = body_motion_and_force(problem, scales, x, &btl);
+    let (motion, body_force) = body_motion_and_force(problem, scales, x, &btl);
     let stationarity = ax
         .iter()
         .zip(&problem.load)
         .zip(&btl)
-        .zip(&scales.dof_forces)
+        .zip(scales.dof_forces.iter().zip(&scales.dof_reach))
         .zip(&scales.bodies.label)
-        .map(|((((a, f), b), &component), &body)| {
-            let own = force[body].max(BODY_FORCE_FLOOR * component);
+        .map(|((((a, f), b), (&component, &reach)), &body)| {
+            let own = body_force[body].max(BODY_FORCE_FLOOR * reach);
             (a - f + b).abs() / component.min(own)
         })
         .fold(0.0, f64::max);
@@ -161,17 +166,18 @@ pub fn kkt_residuals_in(
         .zip(&problem.gap)
         .zip(multipliers)
         .zip(&scales.rows)
-        .zip(&scales.row_forces)
+        .zip(scales.row_forces.iter().zip(&scales.row_reach))
         .zip(sets.iter().copied())
         .enumerate()
     {
         let slack = gi - bxi;
         let xi = xi.max(TINY);
+        let bodies = scales.bodies_of_row(i);
+        let force = row_force(force, bodies, &body_force);
         // F·Xᵢ can underflow to 0 when both are tiny: keep the quotient finite.
         let work = (force * xi).max(TINY);
         match set {
             RowSet::NonNegative => {
-                let bodies = scales.bodies_of_row(i);
                 let moved = bodies.iter().map(|&b| motion[b]).fold(0.0, f64::max);
                 let own_loads = bodies
                     .iter()
@@ -205,12 +211,13 @@ pub fn kkt_residuals_in(
     }
 }
 
-/// δ of [`KktResiduals`]: a body's equilibrium is judged against its own forces down to this
-/// fraction of its component's force scale.  With a tolerance of 1e-8 that is an equilibrium
-/// error of 1e-12 of the component's largest force, the accuracy an interior-point or direct
-/// solver of the whole component still reaches (their residuals are relative to the whole
-/// system); a body whose forces the answer gets wrong by more than 1e-4 of its component's
-/// scale (a load left unbalanced, a contact force without a counterpart) is still caught.
+/// δ of [`KktResiduals`]: a body's equilibrium (and a row's force) is judged against the
+/// forces the answer shows on it down to this fraction of the force its own springs give over
+/// their length (capped by its component's scale).  With a tolerance of 1e-8 that is an
+/// equilibrium error of 1e-12 of that force, the accuracy an interior-point or direct solver
+/// still reaches where the body's own stiffness sets the scale; a body whose forces the answer
+/// gets wrong by more than 1e-4 of it (a load left unbalanced, a contact force without a
+/// counterpart) is still caught.
 pub const BODY_FORCE_FLOOR: f64 = 1e-4;
 
 /// δ of a row's length in [`KktResiduals`]: a penetration is judged against the pair's own
@@ -222,6 +229,23 @@ pub const BODY_FORCE_FLOOR: f64 = 1e-4;
 /// body the answer separates from the pair cannot raise the floor (issue 18).  At a tolerance of
 /// 1e-8 a penetration of 1e-12 Wᵢ is still caught.
 pub const BODY_MOTION_FLOOR: f64 = 1e-4;
+
+/// F̃ᵢ of row i: its component's force scale `component`, tightened to the force the answer
+/// shows on the least loaded of the row's `bodies` (down to [`BODY_FORCE_FLOOR`] of
+/// `component`).  A row's force acts on every body it touches, so the row can carry no more
+/// than the body that carries least can balance: the lifting of a stiff punch's prescribed
+/// motion (a huge F_c) cannot loosen the check of the forces a very soft foundation takes.
+fn row_force((component, reach): (&f64, &f64), bodies: &[usize], body_force: &[f64]) -> f64 {
+    let least = bodies
+        .iter()
+        .map(|&b| body_force[b])
+        .fold(f64::INFINITY, f64::min);
+    if least.is_finite() {
+        component.min(least.max(BODY_FORCE_FLOOR * reach))
+    } else {
+        *component
+    }
+}
 
 /// Per body: the motion max |xⱼ| and the force max(|fⱼ|, |(Bᵀλ)ⱼ|) over its DOFs.
 fn body_motion_and_force(

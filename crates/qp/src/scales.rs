@@ -59,8 +59,15 @@ pub struct ResidualScales {
     pub rows: Vec<f64>,
     /// Force scale F_c of each row's component.
     pub row_forces: Vec<f64>,
+    /// The force row i's own springs give over its length, min(F_c, kᵢ Xᵢ): the floor below
+    /// which the answer's forces no longer tighten the row's force scale (see
+    /// [`crate::KktResiduals`]).
+    pub row_reach: Vec<f64>,
     /// Force scale F_c of each DOF's component (stationarity is measured DOF by DOF).
     pub dof_forces: Vec<f64>,
+    /// The force DOF j's own spring gives over its component's length, min(F_c, Aⱼⱼ L_c): the
+    /// floor below which the answer's forces no longer tighten the DOF's force scale.
+    pub dof_reach: Vec<f64>,
     /// The bodies: the connected components of A alone (`bodies.label[j]`: the body of DOF j).
     #[serde(skip)]
     pub bodies: Components,
@@ -81,9 +88,11 @@ impl ResidualScales {
     /// scales must meet to be used for it.
     pub fn fit(&self, problem: &QpProblem) -> bool {
         self.dof_forces.len() == problem.dofs()
+            && self.dof_reach.len() == problem.dofs()
             && self.bodies.label.len() == problem.dofs()
             && self.rows.len() == problem.rows()
             && self.row_forces.len() == problem.rows()
+            && self.row_reach.len() == problem.rows()
             && self.row_body_starts.len() == problem.rows() + 1
     }
 
@@ -280,19 +289,36 @@ impl ResidualScales {
                 body_motions[b] += f.abs() / d;
             }
         }
-        let rows = Self::row_lengths(problem, &diag, &of_row, &parts, length);
+        let (rows, row_stiffness) = Self::row_lengths(problem, &diag, &of_row, &parts, length);
         let component_forces: Vec<f64> = parts.iter().map(|c| c.force(stiffness, length)).collect();
-        let row_forces = of_row
+        let row_forces: Vec<f64> = of_row
             .iter()
             .map(|c| c.map_or(force.max(TINY), |c| component_forces[c]))
             .collect();
-        let dof_forces = of_dof.iter().map(|&c| component_forces[c]).collect();
+        let row_reach = row_forces
+            .iter()
+            .zip(&rows)
+            .zip(&row_stiffness)
+            .map(|((&f, &x), k)| k.map_or(f, |k| f.min(k * x)).max(TINY))
+            .collect();
+        let dof_forces: Vec<f64> = of_dof.iter().map(|&c| component_forces[c]).collect();
+        let dof_reach = of_dof
+            .iter()
+            .zip(&diag)
+            .zip(&dof_forces)
+            .map(|((&c, &d), &f)| {
+                let reach = d * parts[c].length(length);
+                if reach > 0.0 { f.min(reach) } else { f }.max(TINY)
+            })
+            .collect();
         Self {
             force: force.max(TINY),
             length: length.max(TINY),
             rows,
             row_forces,
+            row_reach,
             dof_forces,
+            dof_reach,
             bodies,
             row_body_starts,
             row_bodies,
@@ -300,14 +326,15 @@ impl ResidualScales {
         }
     }
 
-    /// Xᵢ = max(G_c, min(W_c, ‖f_c‖₁ / kᵢ)) of every row (see the type's docs).
+    /// Xᵢ = max(G_c, min(W_c, ‖f_c‖₁ / kᵢ)) of every row (see the type's docs), and kᵢ (None
+    /// for a row that touches no DOF with a positive diagonal).
     fn row_lengths(
         problem: &QpProblem,
         diag: &[f64],
         of_row: &[Option<usize>],
         parts: &[Component],
         global: f64,
-    ) -> Vec<f64> {
+    ) -> (Vec<f64>, Vec<Option<f64>>) {
         let mut row_count = vec![0usize; problem.rows()];
         let mut row_compliance = vec![0.0_f64; problem.rows()];
         for (j, col) in problem.constraints.outer_iterator().enumerate() {
@@ -322,14 +349,14 @@ impl ResidualScales {
             .iter()
             .enumerate()
             .map(|(i, c)| {
+                let k = harmonic(row_count[i], row_compliance[i]);
                 let Some(c) = c else {
-                    return global;
+                    return (global, k);
                 };
                 let part = &parts[*c];
-                let reach = harmonic(row_count[i], row_compliance[i])
-                    .map_or(part.motion, |k| part.motion.min(part.load_1 / k));
-                part.length_of(reach, global)
+                let reach = k.map_or(part.motion, |k| part.motion.min(part.load_1 / k));
+                (part.length_of(reach, global), k)
             })
-            .collect()
+            .unzip()
     }
 }
