@@ -126,7 +126,7 @@ fn the_hard_suite_passes_through_the_library() {
     let mut most = settings(&backends);
     most.only = cases;
     let report = suite::run(&repo("fixtures/hard"), &most, |_| {}).unwrap();
-    assert_eq!(report.cases.len(), 24);
+    assert_eq!(report.cases.len(), 28);
     assert!(
         report.regressions().is_empty(),
         "{}",

@@ -219,12 +219,15 @@ fn fixed_point(
         iterations += raw.iterations;
         let next = rows.bounds(&raw.multipliers);
         let scale = next.iter().fold(0.0_f64, |m, s| m.max(*s));
+        // Relative to the larger of the two sets of bounds: a solve whose normal forces all
+        // vanish (a failed inner solve answers zeros) changes them by 100 %, not by 1e306.
+        let before = bounds.iter().fold(0.0_f64, |m, s| m.max(*s));
         let change = bounds
             .iter()
             .zip(&next)
             .map(|(a, b)| (a - b).abs())
             .fold(0.0_f64, f64::max)
-            / scale.max(f64::MIN_POSITIVE);
+            / scale.max(before).max(f64::MIN_POSITIVE);
         changes.push(change);
         // Judged with its own bounds μ max(0, λₙ): Coulomb's conditions exactly.
         rows.set_bounds(&mut problem, &next);
@@ -281,7 +284,7 @@ fn fixed_point(
         },
         run.last_change.unwrap_or(0.0),
         run.contraction
-            .map(|c| format!(", contraction {c:.3}"))
+            .map(|c| format!(", contraction {c:.3e}"))
             .unwrap_or_default()
     );
     raw.message = Some(match raw.message.take() {

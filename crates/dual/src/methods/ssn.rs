@@ -83,8 +83,16 @@ pub fn solve(
             ));
         }
         state.seen.insert(codes(&state.active, &state.fixed));
-        let Some(step) = newton.step(data, monitor, &state) else {
-            return Ok(newton.singular(data, &state));
+        let step = loop {
+            if let Some(step) = newton.step(data, monitor, &state) {
+                break step;
+            }
+            // A set whose slipping rows leave a rigid mode unheld (every tangential row of a
+            // body held sideways by friction alone predicted to slip) has a singular system:
+            // the least excessive slip sticks instead, until the modes are held.
+            if !state.stick_least_slip() {
+                return Ok(newton.singular(data, &state));
+            }
         };
         if let Some(outcome) = newton.advance(data, monitor, &mut state, step) {
             return Ok(outcome);
@@ -119,6 +127,9 @@ struct State {
     active: Vec<bool>,
     /// The multipliers of the inactive rows: 0, or ±s on a slipping box row.
     fixed: Vec<f64>,
+    /// Per slipping box row, how far the set rule's vᵢ lies beyond its bound, (|vᵢ| − sᵢ) / sᵢ
+    /// (infinite elsewhere): which slip sticks first when the set leaves a rigid mode unheld.
+    excess: Vec<f64>,
     /// The sets stepped from so far, with their fixed multipliers' signs (one that comes back
     /// is a cycle); only the refined steps' once they take over ([`State::leave_dense_phase`]).
     seen: HashSet<Vec<i8>>,
@@ -159,6 +170,7 @@ impl State {
         Self {
             active,
             fixed: vec![0.0; m],
+            excess: vec![f64::INFINITY; m],
             seen: HashSet::new(),
             lambda: vec![0.0; m],
             iter: 0,
@@ -169,6 +181,23 @@ impl State {
             redo: false,
             budget: CheckBudget::new(newton.check_flops),
         }
+    }
+
+    /// Sticks the slipping box row with the least excess ([`State::excess`]); false when no
+    /// row slips.  The set so made is recorded as seen, so that a rule that keeps returning to
+    /// the singular set ends as a cycle, not a loop.
+    fn stick_least_slip(&mut self) -> bool {
+        let least = (0..self.active.len())
+            .filter(|&i| !self.active[i] && self.fixed[i] != 0.0)
+            .min_by(|&a, &b| self.excess[a].total_cmp(&self.excess[b]));
+        let Some(i) = least else {
+            return false;
+        };
+        self.active[i] = true;
+        self.fixed[i] = 0.0;
+        self.excess[i] = f64::INFINITY;
+        self.seen.insert(codes(&self.active, &self.fixed));
+        true
     }
 
     /// From now on the sets are decided by the exact dual gradient (refined steps).  The sets
@@ -313,6 +342,7 @@ impl Newton {
         // box row sticks when |vᵢ| ≤ sᵢ and slips at sᵢ sign vᵢ otherwise (the semismooth
         // Newton step of λ = P_[−s, s](λ + c r)).
         let mut next_fixed = vec![0.0; data.rows()];
+        let mut excess = vec![f64::INFINITY; data.rows()];
         let next_active: Vec<bool> = (0..data.rows())
             .map(|i| {
                 let v = state.lambda[i] - step.gradient[i] / self.diagonal[i];
@@ -323,6 +353,7 @@ impl Newton {
                     Some(s) if v.abs() <= s => true,
                     Some(s) => {
                         next_fixed[i] = s * v.signum();
+                        excess[i] = (v.abs() - s) / s;
                         false
                     }
                 }
@@ -363,6 +394,7 @@ impl Newton {
         }
         state.active = next_active;
         state.fixed = next_fixed;
+        state.excess = excess;
         None
     }
 
