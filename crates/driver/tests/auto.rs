@@ -721,14 +721,14 @@ fn coulomb_runs_pdas_s_newton_and_falls_back_to_the_fixed_point_when_it_does_not
     // fixtures/hard/friction-slide: a block dragged to full slip, T = μN exactly.
     let path = fixture("hard", "friction-slide");
     let options = SolveOptions::default();
-    // A short interface: the rule runs the fixed point through the short frictional chain
-    // (dual-pgs first), not pdas's Newton.
+    // A short interface of a block held sideways by friction alone (A has a rigid mode): the
+    // rule runs pdas's Newton (issue 41: the fixed point through dual-pgs took 10× as long).
     let mut auto = AutoBackend::default();
     let rule = solve_with(&path, &mut auto, &options);
     assert_eq!(rule.solution.status, QpStatus::Solved);
     let run = rule.solution.coulomb.unwrap();
-    assert_eq!(run.method, signorini_core::qp::CoulombMethod::FixedPoint);
-    assert_eq!(auto.record().unwrap().chosen.as_deref(), Some("dual-pgs"));
+    assert_eq!(run.method, signorini_core::qp::CoulombMethod::Newton);
+    assert_eq!(auto.record().unwrap().chosen.as_deref(), Some("pdas"));
     // A given chain with pdas first: its Newton.
     let mut auto = AutoBackend::with_kinds(vec![BackendKind::Pdas], "test chain");
     let newton = solve_with(&path, &mut auto, &options);
@@ -825,7 +825,56 @@ fn coulomb_goes_to_newton_on_long_interfaces_and_large_duals_only() {
         body_dofs: 2_000_000,
         body_interface: 1_200,
     };
+    // The floating block of fixtures/hard/friction-float-coulomb: a short interface whose
+    // block is held by contact alone (three rigid modes).
+    let floating = Features {
+        dofs: 386,
+        rows: 10,
+        touched: 22,
+        kernel: 3,
+        box_rows: 5,
+        body_dofs: 130,
+        body_interface: 5,
+    };
     assert!(signorini::auto::coulomb_by_newton(&strip));
     assert!(!signorini::auto::coulomb_by_newton(&cylinder));
     assert!(signorini::auto::coulomb_by_newton(&wide));
+    assert!(signorini::auto::coulomb_by_newton(&floating));
+}
+
+#[test]
+fn friction_on_bodies_held_by_contact_alone_runs_the_active_sets_before_pgs() {
+    // Issue 41: on a floating block or cap held sideways by friction, dual-pgs took 10–200× the
+    // floor or did not converge, the active sets 2× (BENCHMARKS.md, "Friction on ordinary
+    // scenes"); the Cattaneo cylinder (no rigid mode) keeps dual-pgs first.
+    let floating = Features {
+        dofs: 1_380,
+        rows: 30,
+        touched: 48,
+        kernel: 3,
+        box_rows: 15,
+        body_dofs: 396,
+        body_interface: 1,
+    };
+    let plan = signorini::auto::plan(&floating);
+    let want: Vec<BackendKind> = signorini::auto::FRICTION_FLOATING_CHAIN
+        .into_iter()
+        .filter(|k| k.available())
+        .collect();
+    assert_eq!(plan.chain, want, "{}", plan.reason);
+    assert_eq!(plan.chain[0], BackendKind::DualSsn);
+    assert!(!plan.chain.contains(&BackendKind::DualPgs));
+    assert!(
+        plan.reason.contains("held by contact alone"),
+        "{}",
+        plan.reason
+    );
+    let cylinder = Features {
+        kernel: 0,
+        ..floating
+    };
+    assert_eq!(
+        signorini::auto::plan(&cylinder).chain[0],
+        BackendKind::DualPgs
+    );
 }

@@ -117,6 +117,19 @@ pub const FRICTION_SHORT_CHAIN: [BackendKind; 3] = [
     BackendKind::Clarabel,
 ];
 
+/// The chain for friction on a short interface whose bodies are held only by contact (A has
+/// rigid modes, [`Features::kernel`]): the active sets first — dual-ssn (its slips that leave a
+/// mode unheld stick, issue 41), pdas — then OSQP and clarabel.  dual-pgs is not in it: the
+/// penalty that holds the modes in its dual makes that dual ill-conditioned, and it took 10–200×
+/// the floor on a floating block or cap held sideways by friction, or did not converge, where
+/// the active sets take 2× (BENCHMARKS.md, "Friction on ordinary scenes").
+pub const FRICTION_FLOATING_CHAIN: [BackendKind; 4] = [
+    BackendKind::DualSsn,
+    BackendKind::Pdas,
+    BackendKind::Osqp,
+    BackendKind::Clarabel,
+];
+
 /// The chain for friction on long interfaces or large duals: pdas (no dense m × m matrix;
 /// 2.5× the floor on a Tresca strip with 2 001 normal rows, where clarabel takes 13×, osqp
 /// 8.6× and dual-pgs ends inaccurate), then clarabel and OSQP on the primal form with
@@ -219,6 +232,14 @@ pub fn plan(f: &Features) -> Plan {
             &FRICTION_LONG_CHAIN[..],
             format!(
                 "{} box rows (friction) on a long interface or a large dual (ℓ = {ratio:.2})",
+                f.box_rows
+            ),
+        )
+    } else if f.box_rows > 0 && f.kernel > 0 {
+        (
+            &FRICTION_FLOATING_CHAIN[..],
+            format!(
+                "{} box rows (friction) on a short interface (ℓ = {ratio:.2}) of bodies held by contact alone",
                 f.box_rows
             ),
         )
@@ -517,12 +538,15 @@ impl AutoBackend {
 }
 
 /// Whether the rule solves Coulomb rows by a backend's own method (pdas's Newton): on long
-/// interfaces or large duals, the problems of [`FRICTION_LONG_CHAIN`].  On short interfaces the
-/// fixed point through [`FRICTION_SHORT_CHAIN`] (dual-pgs on the small condensed dual, A
-/// factored once per Tresca solve) is faster: on the Cattaneo cylinder (BENCHMARKS.md,
-/// "Friction") 13.5× the floor against 18.7× for pdas's Newton.
+/// interfaces or large duals, the problems of [`FRICTION_LONG_CHAIN`], and on bodies held by
+/// contact alone ([`FRICTION_FLOATING_CHAIN`]: the Newton solves the floating block in one
+/// solve's time, 0.7 ms where the fixed point through the chain takes 6.5 ms; where it does not
+/// solve, the fixed point follows).  On other short interfaces the fixed point through
+/// [`FRICTION_SHORT_CHAIN`] (dual-pgs on the small condensed dual, A factored once per Tresca
+/// solve) is faster: on the Cattaneo cylinder (BENCHMARKS.md, "Friction") 13.5× the floor
+/// against 18.7× for pdas's Newton.
 pub fn coulomb_by_newton(f: &Features) -> bool {
-    f.length_ratio() > LONG_INTERFACE || large_dual(f)
+    f.length_ratio() > LONG_INTERFACE || large_dual(f) || f.kernel > 0
 }
 
 /// A dual too large to form densely (m > [`SSN_MAX_ROWS`] or touched DOFs > [`SSN_MAX_TOUCHED`]).
