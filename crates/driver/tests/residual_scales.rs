@@ -233,3 +233,22 @@ fn a_soft_body_cannot_hide_a_wrong_contact_force() {
         );
     }
 }
+
+#[test]
+fn pdas_refines_a_soft_body_against_its_own_forces() {
+    // pdas refined its KKT solve until the residual was small against the whole problem's force
+    // scale, the stiff punch's lifting forces: the foundation 1e6 times softer was left at an
+    // equilibrium error of 1.2e-9 of its own forces, `inaccurate` at tol 1e-9.  Each DOF is now
+    // refined against its own spring's force scale.
+    let scene = soft_foundation(1e-6);
+    let kind = BackendKind::from_str("pdas").unwrap();
+    let mut b = make_backend(kind).unwrap();
+    let outcome = run::solve_scene(&scene, b.as_mut(), &options(), &MeshLimits::default()).unwrap();
+    assert_eq!(
+        outcome.solution.status,
+        QpStatus::Solved,
+        "{:?}: {:?}",
+        outcome.solution.residuals,
+        outcome.solution.message
+    );
+}

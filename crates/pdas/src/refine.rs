@@ -243,10 +243,19 @@ fn residual(problem: &QpProblem, scales: &ResidualScales, active: &[bool], z: &[
     let mut vector = Vec::with_capacity(z.len());
     let mut norm = 0.0_f64;
     let mut round_off = 0.0_f64;
-    for ((f, a), a_abs) in problem.load.iter().zip(&ax).zip(&ax_abs) {
+    // Each DOF against the force its own spring gives over its component's length (the scale
+    // its equilibrium is judged by, not the whole problem's: a very soft body beside a stiff
+    // one was left unrefined at 1e-9 of the stiff one's forces, issue 41).
+    for (((f, a), a_abs), &scale) in problem
+        .load
+        .iter()
+        .zip(&ax)
+        .zip(&ax_abs)
+        .zip(&scales.dof_reach)
+    {
         let v = f - a;
-        norm = norm.max(v.abs() / scales.force);
-        round_off = round_off.max((a_abs + f.abs()) / scales.force);
+        norm = norm.max(v.abs() / scale);
+        round_off = round_off.max((a_abs + f.abs()) / scale);
         vector.push(v);
     }
     for ((((g, b), b_abs), &on), xi) in problem
