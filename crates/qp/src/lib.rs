@@ -22,6 +22,8 @@
 //! with λ the contact forces.  [`kkt_residuals`] measures how far a pair (x, λ) is from them, the
 //! same way for every backend, and [`checked_status`] turns a backend's own verdict into the
 //! status the program reports: `solved` only when these residuals meet the requested tolerance.
+//! This is the frictionless problem; friction (Tresca, and Coulomb through [`CoulombRows`]) adds
+//! box rows with bounded multipliers |λᵢ| ≤ sᵢ after the contact rows ([`ConstraintBlock`]).
 
 pub mod conformance;
 pub mod examples;

@@ -1,4 +1,5 @@
-//! `signorini`: frictionless contact of elastic bodies in 2D, solved by several QP backends.
+//! `signorini`: contact of elastic bodies in 2D — frictionless, Tresca or Coulomb friction —
+//! solved by several QP backends.
 //!
 //! Exit codes (see `docs/scene.md`): 0 solved or valid, 1 bad input or usage, 2 not solved,
 //! 3 I/O or resource error.
@@ -29,7 +30,7 @@ use console::warn;
 #[command(
     name = "signorini",
     version,
-    about = "2D frictionless contact of elastic bodies by FEM, through several QP backends",
+    about = "2D contact of elastic bodies by FEM (frictionless, Tresca or Coulomb friction), through several QP backends",
     after_help = "Exit codes: 0 solved (or valid), 1 bad input or usage, 2 not solved, 3 I/O or resource error.\nThe scene and result formats: docs/scene.md."
 )]
 struct Cli {
