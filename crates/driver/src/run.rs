@@ -14,6 +14,8 @@ use signorini_core::report::{self, BodyFields, RunReport, Timings};
 use signorini_core::scene::{Scene, SceneError};
 use signorini_core::solve::{self, Solution, SolveError};
 
+use crate::backends::BackendKind;
+use crate::guard;
 use crate::outdir::{DirLock, OutputSet};
 use crate::output::{self, BodyField, OutputError, VtuFormat};
 
@@ -113,15 +115,76 @@ pub struct Outcome {
     pub report: RunReport,
 }
 
-/// Meshes, assembles and solves a scene with one backend.
+/// How [`solve_scene_priced`] prices the run's memory before the backend runs ([`guard`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Priced {
+    /// By the registry's estimate of this backend (what `check` prints for it).
+    Kind(BackendKind),
+    /// `auto` with a chain given by name (`--chain`): the walk over it ([`guard::walk`]).
+    Chain(Vec<BackendKind>),
+    /// The solve path's part only: a backend the registry does not know (a test's, one with
+    /// settings of its own), which guards its own allocations.
+    PathOnly,
+}
+
+impl Priced {
+    /// By the backend's name: a name of the registry is priced as that backend, any other as
+    /// [`Priced::PathOnly`].
+    pub fn by_name(name: &str) -> Self {
+        name.parse::<BackendKind>()
+            .map_or(Priced::PathOnly, Priced::Kind)
+    }
+}
+
+/// Meshes, assembles and solves a scene with one backend, its memory priced by its name
+/// ([`solve_scene_priced`] with [`Priced::by_name`]).
 pub fn solve_scene(
     scene: &Scene,
     backend: &mut dyn QpBackend,
     options: &SolveOptions,
     limits: &MeshLimits,
 ) -> Result<Outcome, RunError> {
+    let priced = Priced::by_name(backend.name());
+    solve_scene_priced(scene, backend, priced, options, limits)
+}
+
+/// Meshes, assembles and solves a scene with one backend.  Before the solve, the run's peak
+/// (the solve path's copies and the backend's own part, [`guard`]) is compared with the memory
+/// available: a run that does not fit is refused with `QpError::TooLarge` (exit 3), the figure
+/// `check` prints; one that fits runs with the solve path's part held for the backend's own
+/// checks ([`signorini_core::memory::hold`]).
+pub fn solve_scene_priced(
+    scene: &Scene,
+    backend: &mut dyn QpBackend,
+    priced: Priced,
+    options: &SolveOptions,
+    limits: &MeshLimits,
+) -> Result<Outcome, RunError> {
     let start = Instant::now();
     let prepared = prepare(scene, limits)?;
+    let _held = if prepared.qp.rows() == 0 {
+        // One sparse Cholesky solve, which `prepare` priced (the factor of A).
+        None
+    } else {
+        let shape = guard::RunShape::of(&prepared.model, &prepared.qp).map_err(SolveError::from)?;
+        Some(match priced {
+            Priced::Kind(kind) => guard::guard_run(kind, &shape).map_err(SolveError::from)?,
+            Priced::Chain(kinds) => {
+                let chain = crate::backends::auto::given_chain(&kinds);
+                let own = guard::walk(&shape, &chain).map_err(SolveError::from)?;
+                let need = guard::BackendNeed {
+                    backend: "auto",
+                    bytes: shape.path.bytes + own.bytes,
+                    path: shape.path.bytes,
+                    own: own.bytes,
+                    what: own.what,
+                };
+                guard::refuse_unless_fits(&need, &shape).map_err(SolveError::from)?;
+                memory::hold(need.path)
+            }
+            Priced::PathOnly => memory::hold(shape.path.bytes),
+        })
+    };
     let qp = solve::ScaledQp::new(prepared.qp);
     let solution = solve::solve_scaled(&prepared.model, &qp, backend, options)?;
     drop(qp);

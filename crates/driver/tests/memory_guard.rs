@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use signorini::check::{memory_needs, MemoryNeeds};
+use signorini::guard::RunShape;
 use signorini_core::memory::LIMIT_VAR;
 use signorini_core::mesh::MeshLimits;
 use signorini_core::scene::Scene;
@@ -55,7 +56,130 @@ fn entries(dir: &Path) -> Vec<String> {
 fn needs_of(scene: &Path) -> MemoryNeeds {
     let scene = Scene::from_path(scene).unwrap();
     let prepared = signorini::run::prepare(&scene, &MeshLimits::default()).unwrap();
-    memory_needs(&prepared.qp).unwrap()
+    memory_needs(&prepared.model, &prepared.qp).unwrap()
+}
+
+/// The run's peak with `backend` as the binary prices it under a limit of `limit` bytes (the
+/// estimate of dual-ssn and auto depends on what is available).
+fn need_under(scene: &Path, backend: &str, limit: Option<u64>) -> f64 {
+    let scene = Scene::from_path(scene).unwrap();
+    let prepared = signorini::run::prepare(&scene, &MeshLimits::default()).unwrap();
+    let mut shape = RunShape::of(&prepared.model, &prepared.qp).unwrap();
+    shape.available = limit;
+    shape.need(backend.parse().unwrap()).unwrap().bytes
+}
+
+/// The figure both `check` and `solve` print for a need: MiB with one decimal.
+fn mib(bytes: f64) -> String {
+    format!("{:.1} MiB", bytes / (1024.0 * 1024.0))
+}
+
+/// `solve --backend b` under `limit`: its exit code and stderr (the output directory in a
+/// temporary directory; a refusal must leave it absent).
+fn solve_under(limit: u64, scene: &Path, backend: &str) -> (Option<i32>, String, Vec<String>) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = limited(
+        &limit.to_string(),
+        &[
+            "solve",
+            scene.to_str().unwrap(),
+            "--backend",
+            backend,
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        dir.path(),
+    );
+    (o.status.code(), text(&o.stderr), entries(&out))
+}
+
+/// `check`'s line for `backend` under `limit`.
+fn check_line(limit: u64, scene: &Path, backend: &str) -> String {
+    let o = limited(
+        &limit.to_string(),
+        &["check", scene.to_str().unwrap()],
+        Path::new("."),
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    text(&o.stdout)
+        .lines()
+        .find(|l| l.trim_start().starts_with(&format!("{backend} ")))
+        .unwrap_or_else(|| panic!("no line for {backend}"))
+        .to_string()
+}
+
+/// Each guard fires, and `check` and `solve` agree on it: one byte below the run's peak as
+/// `check` prices it, `check` says "does not fit" and `solve` refuses with exit 3, the same
+/// figure and nothing written; one byte above, `check` says it fits and `solve` runs (exit 0 or
+/// 2: solved or not, but not refused — no allocation check of the backend's own refuses what the
+/// guard let through).  The figures are exact: the same code on the same scene in this process.
+fn guard_agrees(scene: &Path, backend: &str) {
+    // dual-ssn prices its matrix-free steps when the dense ones do not fit, auto the members
+    // that fit: below a figure the figure may be a smaller one, so descend to the figure that
+    // stays when the limit is one byte below it.
+    let mut need = need_under(scene, backend, None);
+    for _ in 0..10 {
+        let next = need_under(scene, backend, Some(need as u64 - 1));
+        if next >= need {
+            break;
+        }
+        need = next;
+    }
+    let below = need as u64 - 1;
+    let line = check_line(below, scene, backend);
+    assert!(
+        line.contains("[does not fit]") && line.contains(&mib(need)),
+        "{backend} below: {line}"
+    );
+    let (code, err, written) = solve_under(below, scene, backend);
+    assert_eq!(code, Some(3), "{backend} below: {err}");
+    assert!(
+        err.contains(&mib(need)),
+        "{backend}: {err} lacks {}",
+        mib(need)
+    );
+    assert!(written.is_empty(), "{backend} wrote {written:?}");
+    let above = need as u64 + 1;
+    let line = check_line(above, scene, backend);
+    assert!(!line.contains("[does not fit]"), "{backend} above: {line}");
+    let (code, err, _) = solve_under(above, scene, backend);
+    assert!(
+        matches!(code, Some(0 | 2)),
+        "{backend} above: {code:?} {err}"
+    );
+}
+
+#[test]
+fn check_and_solve_agree_on_the_run_of_each_backend_family() {
+    let scene = strip();
+    for backend in ["dual-pgs", "dual-ssn", "pdas", "clarabel"] {
+        guard_agrees(&scene, backend);
+    }
+}
+
+/// The case: at 16.5 MiB `check` said dual-pgs does not fit (17.6 MiB) while `solve`
+/// ran it, its factor of A and its dense H each checked alone.  Now `solve` refuses what `check`
+/// refuses.
+#[test]
+fn the_sum_is_checked_not_each_allocation() {
+    let scene = strip();
+    let need = need_under(&scene, "dual-pgs", None);
+    // Below the sum but above each part: the factor of A with the problem, and H alone.
+    let limit = (need * 0.9) as u64;
+    let (code, err, written) = solve_under(limit, &scene, "dual-pgs");
+    assert_eq!(code, Some(3), "{err}");
+    assert!(written.is_empty());
+}
+
+/// With friction the solve path holds a second copy of the problem (Coulomb's), and auto's
+/// chain is priced by its walk: the guard fires for both on the frictional fixture too.
+#[test]
+fn the_frictional_run_and_auto_are_guarded_alike() {
+    let scene = fixture("friction-stick.toml");
+    for backend in ["dual-pgs", "auto"] {
+        guard_agrees(&scene, backend);
+    }
 }
 
 fn need(needs: &MemoryNeeds, backend: &str) -> f64 {
@@ -152,10 +276,10 @@ fn under_a_tiny_limit_every_backend_is_refused_and_nothing_is_written() {
     assert!(entries(&dir.path().join("out")).is_empty());
 }
 
-/// Just above what every run holds, the backends whose own allocations are larger refuse them
-/// by their own checks: clarabel's and osqp's KKT factors, the condensed-dual forms' dense H.
-/// `compare` gives each an `error` row naming the GiB, and the backend that fits (dual-uzawa,
-/// no dense matrix) still solves.
+/// Just above what every run holds, the backends whose runs are larger are refused: by `solve`'s
+/// guard of the run's peak (naming their KKT factors, the condensed-dual forms' dense H), and in
+/// `compare` by their own allocation checks, each an `error` row naming the GiB; the backend
+/// that fits (dual-uzawa, no dense matrix) still solves.
 #[test]
 fn just_above_the_factor_of_a_each_backend_guards_its_own_allocation() {
     let scene = strip();
@@ -175,7 +299,7 @@ fn just_above_the_factor_of_a_each_backend_guards_its_own_allocation() {
         solve_refused(&limit, &scene, backend, "KKT");
     }
     for backend in ["clarabel/dual", "osqp/dual"] {
-        solve_refused(&limit, &scene, backend, "H = B A⁻¹ Bᵀ");
+        solve_refused(&limit, &scene, backend, "condensed dual H");
     }
     let dir = tempfile::tempdir().unwrap();
     let o = limited(

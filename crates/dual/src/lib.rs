@@ -171,4 +171,5 @@ mod settings;
 
 pub use backend::DualBackend;
 pub use error::DualError;
+pub use factor::MAX_TRAILING;
 pub use settings::{Condensation, DualMethod, DualSettings};

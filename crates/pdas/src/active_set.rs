@@ -205,9 +205,10 @@ impl<'p> ActiveSet<'p> {
         coulomb: Option<&'p CoulombRows>,
     ) -> Result<Self, SetupError> {
         let (mut factor, kkt) = KktFactor::analyse(problem)?;
-        let (dim, nnz_k, nnz_l) = (kkt.dim(), kkt.matrix().compute_nnz(), factor.nnz_l());
-        // The factor and faer's workspace, plus K and about ten vectors of length n + m.
-        let bytes = factor.bytes_needed() + (nnz_k * 16 + dim * 80) as f64;
+        let (dim, nnz_l) = (kkt.dim(), factor.nnz_l());
+        // The factor and faer's workspace, plus K and about ten vectors of length n + m: the
+        // figure `memory_need` prices too.
+        let bytes = crate::memory::setup_bytes(&factor, &kkt);
         signorini_qp::memory::check_fits(
             "pdas",
             || format!("the LDLᵀ factor of the {dim}×{dim} KKT matrix (nnz(L) = {nnz_l:.3e})"),

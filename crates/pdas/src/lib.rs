@@ -293,5 +293,5 @@ pub mod internals {
     pub use crate::kkt::KktMatrix;
 }
 pub use error::PdasError;
-pub use memory::{memory_need, MEMORY_MODEL};
+pub use memory::{memory_need, PdasNeed};
 pub use settings::{PdasSettings, StartSet};

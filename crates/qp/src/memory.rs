@@ -1,6 +1,14 @@
 //! How much memory the machine can give a run, and the one check every large allocation of a
 //! backend (a sparse factor, a KKT factor, a dense dual Hessian) goes through before it is made.
 //!
+//! A run is priced as a whole before anything large is allocated (the driver's guard: the
+//! problem copies the solve path holds plus the backend's own peak, the figure `signorini check`
+//! prints).  What the run already holds while a backend allocates is [`hold`]-ed on the running
+//! thread, and [`check_fits`] counts it: so each allocation's check is a check of the sum held
+//! at that moment, never of the allocation alone (a dense H that fits on its own beside a
+//! factor of A that already fills the limit is refused, or, where a backend has a leaner path,
+//! not taken).
+//!
 //! The memory available is `MemAvailable` of `/proc/meminfo`, capped by the user's
 //! [`LIMIT_VAR`] (`SIGNORINI_MEMORY_LIMIT`, e.g. `512M`): the binary refuses a bad value of it
 //! before it starts (exit 1, naming the variable); a library caller that did not check it gets
@@ -47,17 +55,75 @@ fn parse_available(meminfo: &str) -> Option<u64> {
     kib.checked_mul(1024)
 }
 
-/// `Err(QpError::TooLarge)` when `needed_bytes` exceeds the available memory.
+thread_local! {
+    /// Bytes the running thread's solve holds already (see [`hold`]).
+    static HELD: std::cell::Cell<f64> = const { std::cell::Cell::new(0.0) };
+}
+
+/// Bytes the current thread holds by [`hold`] (0 outside a guarded run).
+pub fn held_bytes() -> f64 {
+    HELD.with(std::cell::Cell::get)
+}
+
+/// Memory a run holds while its backend allocates more, counted by every [`check_fits`] on this
+/// thread until the guard is dropped.  Not `Send`: it belongs to the thread that runs the solve.
+#[derive(Debug)]
+#[must_use = "the bytes are held only while the guard lives"]
+pub struct Held {
+    bytes: f64,
+    _thread: std::marker::PhantomData<*const ()>,
+}
+
+impl Held {
+    /// The bytes held by this guard.
+    pub fn bytes(&self) -> f64 {
+        self.bytes
+    }
+}
+
+/// Counts `bytes` (negative or non-finite values count as 0) as held by the current thread
+/// until the returned guard is dropped: every [`check_fits`] meanwhile adds them to its need.
+pub fn hold(bytes: f64) -> Held {
+    let bytes = if bytes.is_finite() {
+        bytes.max(0.0)
+    } else {
+        0.0
+    };
+    HELD.with(|h| h.set(h.get() + bytes));
+    Held {
+        bytes,
+        _thread: std::marker::PhantomData,
+    }
+}
+
+impl Drop for Held {
+    fn drop(&mut self) {
+        HELD.with(|h| h.set((h.get() - self.bytes).max(0.0)));
+    }
+}
+
+/// `Err(QpError::TooLarge)` when `needed_bytes`, plus what the current thread holds already
+/// ([`hold`]), exceeds the available memory.  The message names the sum.
 pub fn check_fits(
     backend: &'static str,
     what: impl FnOnce() -> String,
     needed_bytes: f64,
 ) -> Result<(), crate::QpError> {
+    let held = held_bytes();
+    let total = needed_bytes + held;
     match available_bytes() {
-        Some(available) if needed_bytes > available as f64 => Err(crate::QpError::TooLarge {
+        Some(available) if total > available as f64 => Err(crate::QpError::TooLarge {
             backend,
-            what: what(),
-            needed: needed_bytes / GIB,
+            what: if held > 0.0 {
+                format!(
+                    "{} beside the {} the run holds already",
+                    what(),
+                    gib_f64(held / GIB)
+                )
+            } else {
+                what()
+            },
+            needed: total / GIB,
             available: available as f64 / GIB,
         }),
         _ => Ok(()),
@@ -124,5 +190,25 @@ mod tests {
         let err = check_fits("test", || "a petabyte".into(), 1e15).unwrap_err();
         assert!(err.to_string().contains("a petabyte"), "{err}");
         assert!(check_fits("test", || "a byte".into(), 1.0).is_ok());
+    }
+
+    /// What a run holds counts in every check on its thread until the guard is dropped.
+    #[test]
+    fn held_bytes_count_in_the_check_until_dropped() {
+        let Some(available) = available_bytes() else {
+            return;
+        };
+        let half = 0.6 * available as f64;
+        assert!(check_fits("test", || "a half".into(), half).is_ok());
+        let held = hold(half);
+        assert_eq!(held_bytes(), half);
+        let err = check_fits("test", || "a half".into(), half).unwrap_err();
+        assert!(err.to_string().contains("holds already"), "{err}");
+        // Another thread holds nothing.
+        let other = std::thread::spawn(move || check_fits("t", String::new, half).is_ok());
+        assert!(other.join().unwrap());
+        drop(held);
+        assert_eq!(held_bytes(), 0.0);
+        assert!(check_fits("test", || "a half".into(), half).is_ok());
     }
 }

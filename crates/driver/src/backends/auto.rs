@@ -290,6 +290,37 @@ pub fn plan(f: &Features) -> Plan {
     Plan { chain, reason }
 }
 
+/// A chain given by name (`--chain`) for the memory guard: each member with whether its memory
+/// refusal ends the chain (a sparse primal member's does, see [`dense_dual`]).
+pub fn given_chain(kinds: &[BackendKind]) -> Vec<(BackendKind, bool)> {
+    kinds.iter().map(|k| (*k, !dense_dual(k.name()))).collect()
+}
+
+/// What the rule runs on `problem`, in order, for the memory guard: with Coulomb rows
+/// (`coulomb`) solved by a backend's own method ([`coulomb_by_newton`]), [`COULOMB_CHAIN`]
+/// first — a refusal there falls back to the fixed point, so it ends nothing (`false`) — then
+/// [`plan`]'s chain, where a sparse member's memory refusal ends the chain (`true`, see
+/// [`dense_dual`]).
+pub fn chain_for(problem: &QpProblem, coulomb: bool) -> Vec<(BackendKind, bool)> {
+    let features = Features::of(problem);
+    let mut chain = Vec::new();
+    if coulomb && coulomb_by_newton(&features) {
+        chain.extend(
+            coulomb_plan(&features)
+                .chain
+                .into_iter()
+                .map(|k| (k, false)),
+        );
+    }
+    chain.extend(
+        plan(&features)
+            .chain
+            .into_iter()
+            .map(|k| (k, !dense_dual(k.name()))),
+    );
+    chain
+}
+
 /// A backend of the chain by name, with the chain's own limits ([`OSQP_MAX_ITER`]).
 fn chain_backend(kind: BackendKind) -> Result<Box<dyn QpBackend>, super::BackendError> {
     #[cfg(feature = "osqp")]

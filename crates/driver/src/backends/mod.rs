@@ -96,6 +96,10 @@ pub struct Entry {
     pub available: bool,
     /// Creates it with its default settings.
     pub make: fn() -> Result<Box<dyn QpBackend>, BackendError>,
+    /// Its own part of a run's peak memory (its factor, its working arrays, its copies), for
+    /// the memory guard and `check` ([`crate::guard`]): every backend states its own.
+    pub need:
+        fn(&crate::guard::RunShape<'_>) -> Result<crate::guard::Part, signorini_core::qp::QpError>,
 }
 
 /// Every backend, in the order reports list them: the algorithms ([`BackendKind::ALL`]) first,
@@ -111,6 +115,7 @@ pub const REGISTRY: [Entry; 9] = [
         compare_default: true,
         available: true,
         make: make_clarabel,
+        need: crate::guard::clarabel,
     },
     Entry {
         kind: BackendKind::Osqp,
@@ -122,6 +127,7 @@ pub const REGISTRY: [Entry; 9] = [
         compare_default: true,
         available: cfg!(feature = "osqp"),
         make: make_osqp,
+        need: crate::guard::osqp,
     },
     Entry {
         kind: BackendKind::DualPgs,
@@ -137,6 +143,7 @@ pub const REGISTRY: [Entry; 9] = [
                 Default::default(),
             )))
         },
+        need: crate::guard::dual_pgs,
     },
     Entry {
         kind: BackendKind::DualUzawa,
@@ -152,6 +159,7 @@ pub const REGISTRY: [Entry; 9] = [
                 Default::default(),
             )))
         },
+        need: crate::guard::dual_uzawa,
     },
     Entry {
         kind: BackendKind::Pdas,
@@ -163,6 +171,7 @@ pub const REGISTRY: [Entry; 9] = [
         compare_default: false,
         available: true,
         make: || Ok(Box::new(signorini_pdas::PdasBackend::default())),
+        need: crate::guard::pdas,
     },
     Entry {
         kind: BackendKind::DualSsn,
@@ -178,6 +187,7 @@ pub const REGISTRY: [Entry; 9] = [
                 Default::default(),
             )))
         },
+        need: crate::guard::dual_ssn,
     },
     Entry {
         kind: BackendKind::Auto,
@@ -189,6 +199,7 @@ pub const REGISTRY: [Entry; 9] = [
         compare_default: false,
         available: true,
         make: || Ok(Box::new(auto::AutoBackend::default())),
+        need: crate::guard::auto,
     },
     Entry {
         kind: BackendKind::ClarabelDual,
@@ -205,6 +216,7 @@ pub const REGISTRY: [Entry; 9] = [
                 "clarabel/dual",
             )))
         },
+        need: crate::guard::condensed,
     },
     Entry {
         kind: BackendKind::OsqpDual,
@@ -216,6 +228,7 @@ pub const REGISTRY: [Entry; 9] = [
         compare_default: false,
         available: cfg!(feature = "osqp"),
         make: make_osqp_dual,
+        need: crate::guard::condensed,
     },
 ];
 

@@ -43,6 +43,9 @@ pub struct StiffnessInverse {
     /// With `contact_last`: the full indices of the trailing DOFs, in trailing order.
     trailing: Vec<usize>,
     n: usize,
+    /// The factor's bytes, held for the later checks of this solve (the dense H, the dense
+    /// Newton matrices): they are made beside it (see [`memory::hold`]).
+    _held: memory::Held,
 }
 
 impl StiffnessInverse {
@@ -108,6 +111,12 @@ impl StiffnessInverse {
         if !contact_last {
             trailing.clear();
         }
+        let dense_block = if factor.has_trailing() {
+            (trailing_count as f64).powi(2)
+        } else {
+            0.0
+        };
+        let held = memory::hold(8.0 * (factor.factor_entries() as f64 + dense_block));
         let ratio = factor.min_pivot_ratio();
         if ratio < SINGULAR_PIVOT_RATIO {
             return Err(DualError::NearlySingular {
@@ -121,6 +130,7 @@ impl StiffnessInverse {
             contact_last,
             trailing,
             n,
+            _held: held,
         })
     }
 

@@ -5,4 +5,4 @@
 mod inverse;
 mod trailing;
 
-pub use inverse::StiffnessInverse;
+pub use inverse::{StiffnessInverse, MAX_TRAILING};

@@ -101,7 +101,7 @@ fn print_memory(con: &mut Console, needs: &MemoryNeeds) -> Result<()> {
     }
     if let Some(largest) = needs.largest() {
         con.line(format_args!(
-            "  largest memory need: {} ({}); each backend checks its own before allocating",
+            "  largest memory need: {} ({}); solve refuses a backend marked [does not fit] (exit 3)",
             largest.backend,
             size(largest.bytes)
         ))?;

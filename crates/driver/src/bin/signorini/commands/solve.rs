@@ -98,7 +98,12 @@ fn solve_auto(
         );
         AutoBackend::with_kinds(kinds, "the chain given by --chain")
     };
-    let result = run::solve_scene(scene, &mut auto, options, &limits(common));
+    let priced = if args.chain.is_empty() {
+        run::Priced::Kind(BackendKind::Auto)
+    } else {
+        run::Priced::Chain(parse_backends(&args.chain, &[])?)
+    };
+    let result = run::solve_scene_priced(scene, &mut auto, priced, options, &limits(common));
     if let Some(record) = auto.record() {
         for attempt in &record.attempts {
             warn(attempt.line());
