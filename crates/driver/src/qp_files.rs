@@ -20,11 +20,26 @@
 //! basis of A's null space: each column must be nonzero and satisfy
 //! ‖A v‖∞ ≤ [`NULL_SPACE_TOLERANCE`] · ‖A‖∞ · ‖v‖∞; the dual backends need it when A is
 //! singular.
+//!
+//! An optional `blocks.csv` (as `export` writes) names each row's multiplier set, making the
+//! problem `min ½xᵀAx − fᵀx + Σ_{box rows i} sᵢ |(Bx − g)ᵢ|  s.t.  (Bx)ᵢ ≤ gᵢ` on the other rows
+//! (Tresca friction's tangential rows are box rows, see [`signorini_core::qp::ConstraintBlock`]):
+//!
+//! ```text
+//! row,kind,bound
+//! 0,non-negative,
+//! 1,box,2.5e-5
+//! ```
+//!
+//! the header `row,kind,bound`, then one line per row of B in order (`row` = 0, 1, …, m − 1, as
+//! in `rows.csv`), `kind` `non-negative` (Bx ≤ g, λ ≥ 0; no bound) or `box` (|λ| ≤ `bound`, a
+//! finite number ≥ 0).  Blank lines are skipped; anything else is refused naming the line (see
+//! [`read_blocks`]).  Without the file every row is `non-negative` (the files of other codes).
 
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use signorini_core::qp::{CscMatrix, QpProblem};
+use signorini_core::qp::{BlockKind, ConstraintBlock, CscMatrix, QpProblem};
 
 /// A `general` A counts as symmetric when |Aᵢⱼ − Aⱼᵢ| ≤ this · max|A| for every stored entry.
 ///
@@ -41,6 +56,13 @@ pub const QP_FILES: [&str; 4] = ["A.mtx", "f.mtx", "B.mtx", "g.mtx"];
 
 /// The optional null-space basis of A.
 pub const KERNEL_FILE: &str = "N.mtx";
+
+/// The optional constraint blocks (each row's kind and bound); without it every row is
+/// one-sided.
+pub const BLOCKS_FILE: &str = "blocks.csv";
+
+/// The header line of [`BLOCKS_FILE`].
+pub const BLOCKS_HEADER: &str = "row,kind,bound";
 
 /// A column v of `N.mtx` counts as in A's null space when ‖A v‖∞ ≤ this · ‖A‖∞ · ‖v‖∞ (‖A‖∞ the
 /// largest row sum of |A|).  A rigid-body mode of an assembled stiffness gives round-off only,
@@ -549,6 +571,99 @@ fn stiffness(m: &Mtx) -> Result<CscMatrix, QpFileError> {
     Ok(t.to_csc())
 }
 
+/// Reads `blocks.csv` at `path` for a B of `rows` rows (see the module docs): the header
+/// `row,kind,bound`, then every row in order with its kind and, for a `box` row, its bound.
+/// Consecutive rows of one kind become one [`ConstraintBlock`].  Refused, naming the line: a
+/// wrong header, a line without exactly three fields, a row out of order or beyond B's rows, an
+/// unknown kind, a bound on a `non-negative` row, a `box` row without a bound or whose bound is
+/// not a number, not finite or negative; and, naming the file, fewer lines than B has rows.
+pub fn read_blocks(path: &Path, rows: usize) -> Result<Vec<ConstraintBlock>, QpFileError> {
+    let text = read_text(path)?;
+    let mut lines = text.lines().enumerate().map(|(k, l)| (k + 1, l.trim()));
+    let header = lines.next().map_or("", |(_, l)| l);
+    if header != BLOCKS_HEADER {
+        return Err(refuse(
+            path,
+            Some(1),
+            format!("the header must be `{BLOCKS_HEADER}`, not `{header}`"),
+        ));
+    }
+    let mut blocks: Vec<ConstraintBlock> = Vec::new();
+    let mut next = 0;
+    for (line, text) in lines.filter(|(_, l)| !l.is_empty()) {
+        let at = |reason: String| refuse(path, Some(line), reason);
+        let fields: Vec<&str> = text.split(',').map(str::trim).collect();
+        let [row, kind, bound] = fields.as_slice() else {
+            return Err(at(format!(
+                "expected three fields `row,kind,bound`, found {} in `{text}`",
+                fields.len()
+            )));
+        };
+        let row: usize = row
+            .parse()
+            .map_err(|_| at(format!("row `{row}` is not a non-negative integer")))?;
+        if row >= rows {
+            return Err(at(format!(
+                "row {row} is beyond B's {rows} rows (rows are numbered from 0, as in rows.csv)"
+            )));
+        }
+        if row != next {
+            return Err(at(format!(
+                "row {row} out of order: expected row {next} (every row of B once, in order 0, 1, …)"
+            )));
+        }
+        let kind = match *kind {
+            "non-negative" => BlockKind::NonNegative,
+            "box" => BlockKind::Box,
+            other => return Err(at(format!("unknown kind `{other}` (non-negative or box)"))),
+        };
+        match kind {
+            BlockKind::NonNegative => {
+                if !bound.is_empty() {
+                    return Err(at(format!(
+                        "a non-negative row takes no bound (its multiplier is only ≥ 0), found `{bound}`"
+                    )));
+                }
+                match blocks.last_mut() {
+                    Some(ConstraintBlock::NonNegative { rows }) => *rows += 1,
+                    _ => blocks.push(ConstraintBlock::NonNegative { rows: 1 }),
+                }
+            }
+            BlockKind::Box => {
+                if bound.is_empty() {
+                    return Err(at("a box row needs its bound s ≥ 0 (|λ| ≤ s)".into()));
+                }
+                let s: f64 = bound
+                    .parse()
+                    .map_err(|_| at(format!("bound `{bound}` is not a number")))?;
+                if !s.is_finite() {
+                    return Err(at(format!(
+                        "bound `{bound}` is not finite (NaN or infinite)"
+                    )));
+                }
+                if s < 0.0 {
+                    return Err(at(format!(
+                        "bound {s:e} is negative (a box row's |λ| ≤ s needs s ≥ 0)"
+                    )));
+                }
+                match blocks.last_mut() {
+                    Some(ConstraintBlock::Box { bounds }) => bounds.push(s),
+                    _ => blocks.push(ConstraintBlock::Box { bounds: vec![s] }),
+                }
+            }
+        }
+        next += 1;
+    }
+    if next < rows {
+        return Err(refuse(
+            path,
+            None,
+            format!("lists {next} rows but B has {rows}: every row of B needs its line"),
+        ));
+    }
+    Ok(blocks)
+}
+
 /// Reads A, f, B, g from `dir` and checks their shapes against each other.
 pub fn read_qp_dir(dir: &Path) -> Result<QpFiles, QpFileError> {
     if !dir.is_dir() {
@@ -599,8 +714,18 @@ pub fn read_qp_dir(dir: &Path) -> Result<QpFiles, QpFileError> {
     } else {
         Vec::new()
     };
+    let blocks_path = dir.join(BLOCKS_FILE);
+    let blocks = if blocks_path.exists() {
+        Some(read_blocks(&blocks_path, m)?)
+    } else {
+        None
+    };
     let qp = QpProblem::try_new(stiffness, load, constraints, gap)
         .and_then(|qp| qp.with_kernel(kernel))
+        .and_then(|qp| match blocks {
+            Some(blocks) => qp.with_blocks(blocks),
+            None => Ok(qp),
+        })
         .map_err(|e| refuse(dir, None, e.to_string()))?;
     let title = std::fs::read_to_string(dir.join("README.txt"))
         .ok()
@@ -690,6 +815,69 @@ mod tests {
         let q = read_qp_dir(d.path()).unwrap();
         assert_eq!(q.qp.stiffness.get(0, 1), q.qp.stiffness.get(1, 0));
         assert!(q.general);
+    }
+
+    #[test]
+    fn blocks_csv_gives_each_row_its_set_and_its_absence_one_sided_rows() {
+        let d = tempfile::tempdir().unwrap();
+        scalar(d.path());
+        write(
+            d.path(),
+            "B.mtx",
+            "%%MatrixMarket matrix coordinate real general\n4 1 4\n1 1 1\n2 1 1\n3 1 -1\n4 1 1\n",
+        );
+        write(
+            d.path(),
+            "g.mtx",
+            "%%MatrixMarket matrix array real general\n4 1\n1\n2\n3\n4\n",
+        );
+        let q = read_qp_dir(d.path()).unwrap();
+        assert_eq!(q.qp.blocks, vec![ConstraintBlock::NonNegative { rows: 4 }]);
+        write(
+            d.path(),
+            BLOCKS_FILE,
+            "row,kind,bound\n0,non-negative,\n1, box ,0.5\n\n2,box,0\r\n3,non-negative,\n",
+        );
+        let q = read_qp_dir(d.path()).unwrap();
+        assert_eq!(
+            q.qp.blocks,
+            vec![
+                ConstraintBlock::NonNegative { rows: 1 },
+                ConstraintBlock::Box {
+                    bounds: vec![0.5, 0.0]
+                },
+                ConstraintBlock::NonNegative { rows: 1 },
+            ]
+        );
+        // Out of order (a row listed twice).
+        write(
+            d.path(),
+            BLOCKS_FILE,
+            "row,kind,bound\n0,non-negative,\n0,box,1\n",
+        );
+        let e = read_qp_dir(d.path()).unwrap_err();
+        assert_eq!(e.line, Some(3), "{e}");
+        assert!(
+            e.to_string()
+                .contains("blocks.csv:3: row 0 out of order: expected row 1"),
+            "{e}"
+        );
+        // Too few rows: the file is named, no line is at fault.
+        write(d.path(), BLOCKS_FILE, "row,kind,bound\n0,box,inf\n");
+        let e = read_qp_dir(d.path()).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("blocks.csv:2: bound `inf` is not finite"),
+            "{e}"
+        );
+        write(d.path(), BLOCKS_FILE, "row,kind,bound\n0,box,1\n");
+        let e = read_qp_dir(d.path()).unwrap_err();
+        assert_eq!(e.line, None);
+        assert!(
+            e.to_string()
+                .contains("blocks.csv: lists 1 rows but B has 4"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -58,6 +58,27 @@ fn exported_problem_reads_back_equal() {
     assert!(dofs.lines().nth(1).unwrap().contains(','));
     let rows = std::fs::read_to_string(out.join("rows.csv")).unwrap();
     assert_eq!(rows.lines().count(), qp.rows() + 1);
+    // Without friction the export is what it was before blocks.csv existed (A, f, B, g and
+    // dofs.csv are checked above): rows.csv keeps its ten columns, README.txt its problem line;
+    // blocks.csv lists every row as non-negative, and the files read back as that problem.
+    assert_eq!(
+        rows.lines().next().unwrap(),
+        "row,pair,slave,slave_node,x,y,masters,nx,ny,gap"
+    );
+    let readme = std::fs::read_to_string(out.join("README.txt")).unwrap();
+    assert!(readme.contains("Problem: minimise 1/2 x'Ax - f'x subject to Bx <= g\n"));
+    assert!(!readme.contains("box"), "{readme}");
+    let blocks = std::fs::read_to_string(out.join("blocks.csv")).unwrap();
+    let expected: String = std::iter::once("row,kind,bound".to_string())
+        .chain((0..qp.rows()).map(|i| format!("{i},non-negative,")))
+        .map(|l| l + "\n")
+        .collect();
+    assert_eq!(blocks, expected);
+    let files = signorini::qp_files::read_qp_dir(&out).unwrap();
+    assert_eq!(
+        files.qp.blocks,
+        vec![signorini_core::qp::ConstraintBlock::NonNegative { rows: qp.rows() }]
+    );
     // 6b prescribes ux = −0.08 on the middle body: the lifted load is in f, not in extra rows.
     assert!(qp.load.iter().any(|f| *f != 0.0));
 }

@@ -326,6 +326,62 @@ fn malformed_input_is_refused_with_file_and_line() {
             a_with(4, "1 1 -2"),
             "A.mtx:4: diagonal entry A(1, 1) = -2e0 is negative",
         ),
+        // The constraint blocks (the fixture's B has one row, row 0).
+        (
+            "blocks.csv",
+            "row,kind\n0,box,1\n".to_string(),
+            "blocks.csv:1: the header must be `row,kind,bound`",
+        ),
+        (
+            "blocks.csv",
+            "row,kind,bound\n0,cone,\n".to_string(),
+            "blocks.csv:2: unknown kind `cone` (non-negative or box)",
+        ),
+        (
+            "blocks.csv",
+            "row,kind,bound\n0,box,-1\n".to_string(),
+            "blocks.csv:2: bound -1e0 is negative",
+        ),
+        (
+            "blocks.csv",
+            "row,kind,bound\n0,box,NaN\n".to_string(),
+            "blocks.csv:2: bound `NaN` is not finite",
+        ),
+        (
+            "blocks.csv",
+            "row,kind,bound\n0,box,\n".to_string(),
+            "blocks.csv:2: a box row needs its bound",
+        ),
+        (
+            "blocks.csv",
+            "row,kind,bound\n0,box,one\n".to_string(),
+            "blocks.csv:2: bound `one` is not a number",
+        ),
+        (
+            "blocks.csv",
+            "row,kind,bound\n0,non-negative,0.5\n".to_string(),
+            "blocks.csv:2: a non-negative row takes no bound",
+        ),
+        (
+            "blocks.csv",
+            "row,kind,bound\n0,box\n".to_string(),
+            "blocks.csv:2: expected three fields `row,kind,bound`",
+        ),
+        (
+            "blocks.csv",
+            "row,kind,bound\n\n0,box,1\n1,box,1\n".to_string(),
+            "blocks.csv:4: row 1 is beyond B's 1 rows",
+        ),
+        (
+            "blocks.csv",
+            "row,kind,bound\n1,box,1\n".to_string(),
+            "blocks.csv:2: row 1 is beyond B's 1 rows",
+        ),
+        (
+            "blocks.csv",
+            "row,kind,bound\n".to_string(),
+            "blocks.csv: lists 0 rows but B has 1",
+        ),
     ];
     for (file, text, expected) in &cases {
         let qp = broken(dir.path(), file, text);
@@ -497,4 +553,142 @@ fn a_singular_a_needs_its_null_space_for_the_dual_backends() {
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(err.contains("N must be n×k"), "{err}");
     assert!(!dir.path().join("c3").exists());
+}
+
+/// The answer of `signorini solve SCENE` in `out`: its objective and, per contact row in B's
+/// order (pair by pair, node by node), the normal and tangential multipliers of result.json.
+fn solved(dir: &Path, scene: &Path, out: &str) -> (f64, Vec<f64>, Vec<f64>) {
+    let o = signorini(
+        &["solve", scene.to_str().expect("a UTF-8 path"), "--out", out],
+        dir,
+    );
+    common::succeeded(&o);
+    let result = json(&dir.join(out).join("result.json"));
+    assert_eq!(result["status"], "solved", "{}", scene.display());
+    let nodes: Vec<&serde_json::Value> = result["contacts"]
+        .as_array()
+        .expect("contacts")
+        .iter()
+        .flat_map(|c| c["nodes"].as_array().expect("nodes"))
+        .collect();
+    let normal = nodes
+        .iter()
+        .map(|n| n["multiplier"].as_f64().expect("a multiplier"))
+        .collect();
+    let tangential = nodes
+        .iter()
+        .map(|n| {
+            n["tangential_multiplier"]
+                .as_f64()
+                .expect("a tangential multiplier")
+        })
+        .collect();
+    (
+        result["objective"].as_f64().expect("the objective"),
+        normal,
+        tangential,
+    )
+}
+
+/// Issue 41, item 5: the exported problem of a frictional scene is the problem the scene solves.
+/// Before, every row of B was written as `Bx ≤ g` (the tangential box rows as one-sided rows)
+/// and `compare --qp` answered `solved` for another problem (tresca-nts: objective −9.6357e-4
+/// where the scene's is −9.6157e-4; a tangential force must then be ≥ 0, while the dragged block's
+/// are all negative).  Now `blocks.csv` carries each row's kind and bound: `compare --qp` finds
+/// the scene's own objective, and a backend run on the files finds the scene's own normal and
+/// tangential forces.  A Coulomb scene is a Tresca snapshot at the bounds μ max(0, λₙ) of its
+/// answer, whose solution is that answer (friction-stick: every node sticks, its tangential
+/// forces interior to the bounds and fixed by equilibrium; friction-slide: every node slips).
+#[test]
+fn a_frictional_export_is_the_problem_the_scene_solves() {
+    let dir = tempfile::tempdir().unwrap();
+    for (scene, coulomb) in [
+        ("fixtures/qpset/tresca-nts.toml", false),
+        ("fixtures/hard/friction-stick.toml", true),
+        ("fixtures/hard/friction-slide.toml", true),
+    ] {
+        let path = repo(scene);
+        let (objective, normal, tangential) = solved(dir.path(), &path, "s");
+        let o = signorini(
+            &["export", path.to_str().unwrap(), "--out", "x"],
+            dir.path(),
+        );
+        common::succeeded(&o);
+        let err = String::from_utf8_lossy(&o.stderr);
+        let readme = std::fs::read_to_string(dir.path().join("x/README.txt")).unwrap();
+        assert!(readme.contains("s_i |(Bx - g)_i|"), "{scene}: {readme}");
+        // A Coulomb export says, in README.txt and on stderr, that it is a Tresca snapshot.
+        for said in [readme.as_str(), &err] {
+            assert_eq!(
+                said.contains("Coulomb friction is not a QP") && said.contains("Tresca snapshot"),
+                coulomb,
+                "{scene}: {said}"
+            );
+        }
+        // rows.csv lists every row of B: the normal rows, then one tangential row per node.
+        let rows = std::fs::read_to_string(dir.path().join("x/rows.csv")).unwrap();
+        let m = normal.len() + tangential.len();
+        assert_eq!(rows.lines().count(), 1 + m, "{scene}");
+        assert_eq!(
+            rows.lines().filter(|l| l.contains(",tangential,")).count(),
+            tangential.len(),
+            "{scene}"
+        );
+
+        // Every backend that solves box rows finds the scene's objective.  Each answer meets the
+        // relative KKT tolerance 1e-9 (the default of `solve` and `compare`) on the same problem,
+        // so each objective is within O(1e-9)·|objective| of the optimum (a Coulomb snapshot's
+        // bounds μ λₙ carry the answer's own 1e-9 error, which moves the optimum by as much):
+        // 1e-6 leaves a thousandfold margin, and the defect's 2e-3 lies far outside it.
+        let o = signorini(
+            &[
+                "compare",
+                "--qp",
+                "x",
+                "--backends",
+                "clarabel,pdas",
+                "--out",
+                "q",
+            ],
+            dir.path(),
+        );
+        common::succeeded(&o);
+        let report = json(&dir.path().join("q/compare.json"));
+        assert_eq!(report["constraints"].as_u64().unwrap() as usize, m);
+        for r in report["backends"].as_array().unwrap() {
+            assert_eq!(r["status"], "solved", "{scene}: {r}");
+            let o = r["objective"].as_f64().unwrap();
+            assert!(
+                (o - objective).abs() <= 1e-6 * objective.abs(),
+                "{scene} {}: {o} vs the scene's {objective}",
+                r["backend"]
+            );
+        }
+
+        // The forces: a backend on the files' problem, against result.json.  Both answers meet
+        // the KKT tolerance 1e-9, but multipliers are not stationary as the objective is: their
+        // error is that residual times the conditioning of B A⁻¹ Bᵀ (these multipliers are
+        // unique: B has full row rank).  Measured: 5.6e-8 (tresca-nts), 7.7e-10 (friction-stick)
+        // and 1.3e-7 (friction-slide) of the largest force; 1e-5 is 80 times the worst, and five
+        // orders below the defect's O(1) error (a force of the wrong sign or at another bound).
+        let files = read_qp_dir(&dir.path().join("x")).unwrap();
+        let mut backend =
+            signorini::backends::make_backend(signorini::backends::BackendKind::Clarabel).unwrap();
+        let answer = backend
+            .solve(&files.qp, &signorini_core::qp::SolveOptions::default())
+            .unwrap();
+        assert_eq!(
+            answer.status,
+            signorini_core::qp::QpStatus::Solved,
+            "{scene}"
+        );
+        let expected: Vec<f64> = normal.iter().chain(&tangential).copied().collect();
+        let largest = expected.iter().fold(0.0_f64, |s, v| s.max(v.abs()));
+        for (i, (got, want)) in answer.multipliers.iter().zip(&expected).enumerate() {
+            assert!(
+                (got - want).abs() <= 1e-5 * largest,
+                "{scene}: row {i}: {got:e} from the files, {want:e} from the scene"
+            );
+        }
+    }
 }

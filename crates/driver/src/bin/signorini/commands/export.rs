@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use signorini::auto::AutoBackend;
 use signorini::exit::Exit;
+use signorini::export::{self, BoxBounds};
 use signorini::fclib::{self, FclibGlobal};
 use signorini::run;
 use signorini_core::model::{Increment, LoadPath};
@@ -13,14 +14,18 @@ use signorini_core::scene::Scene;
 use signorini_core::solve::{self, Solution};
 
 use crate::args::{limits, Common};
-use crate::console::Console;
+use crate::console::{warn, Console};
 
 /// `signorini export SCENE …`: the options of an export.
 #[derive(clap::Args)]
 pub(crate) struct ExportArgs {
     #[command(flatten)]
     pub(crate) common: Common,
-    /// Output directory (created if missing).
+    /// Output directory (created if missing): A.mtx, f.mtx, B.mtx, g.mtx, blocks.csv (each
+    /// row's kind: non-negative, or box with its bound for friction's tangential rows), N.mtx
+    /// (when A is singular), dofs.csv, rows.csv, README.txt.  A Coulomb scene is solved first and
+    /// written as the Tresca problem at the bounds mu*max(0, lambda_n) of its answer (a
+    /// snapshot: Coulomb is not a QP); friction along a load path is refused (use --fclib).
     #[arg(long, default_value = "out")]
     pub(crate) out: PathBuf,
     /// Instead of the Matrix Market files, write the problem in FCLIB's global form (HDF5) to
@@ -36,16 +41,69 @@ pub(crate) fn export(args: &ExportArgs) -> Result<Exit> {
     if let Some(file) = &args.fclib {
         return export_fclib(file, &scene, prepared);
     }
-    let qp = &prepared.qp;
-    let written = signorini::export::export(out, &scene, &prepared.model, qp)
+    let model = &prepared.model;
+    if !model.tangential.is_empty() && model.path.as_ref().is_some_and(|p| p.increments.len() > 1) {
+        warn(format_args!(
+            "error: {}: friction along a load path ([[step]]): each increment's problem measures the slip from the previous increment's answer, so no single QP is the scene's; `export --fclib FILE` writes one problem per increment",
+            scene.title
+        ));
+        return Ok(Exit::Input);
+    }
+    let (snapshot, bounds);
+    let qp = if export::has_coulomb(model) {
+        // Coulomb is not a QP: the files hold the Tresca problem at the bounds μ max(0, λₙ) of
+        // the scene's own answer, which needs that answer first.
+        let mut backend = AutoBackend::default();
+        let options = SolveOptions::default();
+        let solution = solve::solve_model(model, &prepared.qp, &mut backend, &options)?;
+        if solution.status != QpStatus::Solved {
+            warn(format_args!(
+                "error: {}: Coulomb friction is exported as the Tresca problem at the bounds mu*max(0, lambda_n) of the scene's answer, but the default backend ended `{}`{}: nothing written",
+                scene.title,
+                solution.status,
+                solution
+                    .message
+                    .as_deref()
+                    .map(|m| format!(" ({m})"))
+                    .unwrap_or_default()
+            ));
+            return Ok(Exit::NotSolved);
+        }
+        snapshot = export::coulomb_snapshot(model, &prepared.qp, &solution.multipliers)?;
+        bounds = BoxBounds::CoulombSnapshot {
+            backend: solution.backend.clone(),
+            tolerance: options.tol,
+            objective: solution.objective,
+        };
+        warn(format_args!(
+            "note: Coulomb friction is not a QP: the files hold a Tresca snapshot, each Coulomb row bounded by mu*max(0, lambda_n) of the scene's answer ({}, solved to {:e}; see README.txt)",
+            solution.backend, options.tol
+        ));
+        &snapshot
+    } else {
+        bounds = BoxBounds::Scene;
+        &prepared.qp
+    };
+    let written = export::export(out, &scene, model, qp, &bounds)
         .with_context(|| format!("exporting to {}", out.display()))?;
     let mut con = Console::new();
-    con.line(format_args!(
-        "{}: {} unknowns, {} contact rows",
-        scene.title,
-        qp.dofs(),
-        qp.rows()
-    ))?;
+    let tangential = model.tangential.len();
+    if tangential == 0 {
+        con.line(format_args!(
+            "{}: {} unknowns, {} contact rows",
+            scene.title,
+            qp.dofs(),
+            qp.rows()
+        ))?;
+    } else {
+        con.line(format_args!(
+            "{}: {} unknowns, {} contact rows ({} normal, {tangential} tangential box rows: see blocks.csv)",
+            scene.title,
+            qp.dofs(),
+            qp.rows(),
+            qp.rows() - tangential
+        ))?;
+    }
     for p in &written {
         con.line(format_args!("  wrote {}", p.display()))?;
     }
