@@ -212,3 +212,21 @@ fn a_backend_that_cannot_run_is_an_error_row() {
     assert_eq!(rows[1]["status"], "solved");
     assert!(String::from_utf8_lossy(&o.stdout).contains("error: backend `clarabel/dual`"));
 }
+
+/// Friction along a load path has no single QP (each increment measures the slip from the
+/// previous answer): `export` refuses it with the reason (exit 1) and writes nothing, rather
+/// than a problem the scene does not solve.
+#[test]
+fn friction_along_a_load_path_is_not_exported() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/accuracy/cattaneo.toml");
+    let o = signorini(
+        &["export", scene.to_str().unwrap(), "--out", "x"],
+        dir.path(),
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("friction along a load path"), "{err}");
+    assert!(!dir.path().join("x/README.txt").exists());
+}

@@ -6,7 +6,10 @@
 //! * malformed input is refused naming the file and the line, exit code 1, nothing written;
 //! * a QP with a singular A is solved by every backend when `N.mtx` (written by `export`) gives
 //!   its null space, and is an error row for the dual backends without it; a wrong N.mtx is
-//!   refused.
+//!   refused;
+//! * a frictional scene's export (Tresca, or Coulomb's Tresca snapshot) compares to the scene's
+//!   own objective and forces: `blocks.csv` carries the box rows; a bad `blocks.csv` line is
+//!   refused naming the file and the line.
 
 mod common;
 use common::signorini;

@@ -28,7 +28,9 @@ pub(crate) struct CompareArgs {
     #[arg(long, default_value = "out")]
     pub(crate) out: PathBuf,
     /// Instead of a scene: a directory holding a QP as Matrix Market files A.mtx, f.mtx,
-    /// B.mtx, g.mtx (the layout `export` writes; docs/scene.md), from this or another code.
+    /// B.mtx, g.mtx (the layout `export` writes; docs/scene.md), from this or another code;
+    /// with blocks.csv (row,kind,bound) its box rows are friction's |lambda| <= bound rows,
+    /// without it every row is one-sided, Bx <= g.
     #[arg(long, value_name = "DIR", conflicts_with_all = ["scene", "max_elements"])]
     pub(crate) qp: Option<PathBuf>,
     /// Instead of a scene: an FCLIB global problem (HDF5, spacedim 2: M, H, f, w, mu), as
