@@ -61,7 +61,8 @@ enum Command {
     /// against the scene's stored expectation NAME.expected.json; write suite.json, suite.csv,
     /// suite.xml (JUnit) and suite.svg (performance profile).  Exit 2 when a case regressed.
     Suite(SuiteArgs),
-    /// Write the scene's QP (A, f, B, g as Matrix Market) and its DOF and row maps.
+    /// Write the scene's QP (A, f, B, g as Matrix Market; blocks.csv: friction's box rows and
+    /// their bounds) and its DOF and row maps.
     Export(ExportArgs),
     /// Export every scene under the given directories as a qpbenchmark test set (one .npz per
     /// problem, the Python module, references from our `auto` backend); see
