@@ -15,7 +15,7 @@ pub mod exit;
 pub mod export;
 pub mod fclib;
 pub mod fclib_import;
-pub mod guard;
+pub use backends::guard;
 pub mod outdir;
 pub mod output;
 pub mod plots;

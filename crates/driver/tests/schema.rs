@@ -317,8 +317,8 @@ fn every_expectation_satisfies_its_schema() {
             }
         }
     }
-    // One per seed (19), hard (25) and gmsh (1) scene.
-    assert_eq!(checked, 45);
+    // One per seed (19), hard (29) and gmsh (1) scene.
+    assert_eq!(checked, 49);
     let bad = serde_json::json!({"status": "solved", "rtol": {"objetive": 1e-3}});
     assert!(!errors(&validator, &bad).is_empty());
     let bad = serde_json::json!({"status": "perhaps"});

@@ -2,6 +2,7 @@
 //! (the automatic choice among them) beside it.
 
 pub mod auto;
+pub mod guard;
 
 use std::ffi::OsStr;
 use std::fmt;
@@ -98,8 +99,7 @@ pub struct Entry {
     pub make: fn() -> Result<Box<dyn QpBackend>, BackendError>,
     /// Its own part of a run's peak memory (its factor, its working arrays, its copies), for
     /// the memory guard and `check` ([`crate::guard`]): every backend states its own.
-    pub need:
-        fn(&crate::guard::RunShape<'_>) -> Result<crate::guard::Part, signorini_core::qp::QpError>,
+    pub need: fn(&guard::RunShape<'_>) -> Result<guard::Part, signorini_core::qp::QpError>,
 }
 
 /// Every backend, in the order reports list them: the algorithms ([`BackendKind::ALL`]) first,
@@ -115,7 +115,7 @@ pub const REGISTRY: [Entry; 9] = [
         compare_default: true,
         available: true,
         make: make_clarabel,
-        need: crate::guard::clarabel,
+        need: guard::clarabel,
     },
     Entry {
         kind: BackendKind::Osqp,
@@ -127,7 +127,7 @@ pub const REGISTRY: [Entry; 9] = [
         compare_default: true,
         available: cfg!(feature = "osqp"),
         make: make_osqp,
-        need: crate::guard::osqp,
+        need: guard::osqp,
     },
     Entry {
         kind: BackendKind::DualPgs,
@@ -143,7 +143,7 @@ pub const REGISTRY: [Entry; 9] = [
                 Default::default(),
             )))
         },
-        need: crate::guard::dual_pgs,
+        need: guard::dual_pgs,
     },
     Entry {
         kind: BackendKind::DualUzawa,
@@ -159,7 +159,7 @@ pub const REGISTRY: [Entry; 9] = [
                 Default::default(),
             )))
         },
-        need: crate::guard::dual_uzawa,
+        need: guard::dual_uzawa,
     },
     Entry {
         kind: BackendKind::Pdas,
@@ -171,7 +171,7 @@ pub const REGISTRY: [Entry; 9] = [
         compare_default: false,
         available: true,
         make: || Ok(Box::new(signorini_pdas::PdasBackend::default())),
-        need: crate::guard::pdas,
+        need: guard::pdas,
     },
     Entry {
         kind: BackendKind::DualSsn,
@@ -187,7 +187,7 @@ pub const REGISTRY: [Entry; 9] = [
                 Default::default(),
             )))
         },
-        need: crate::guard::dual_ssn,
+        need: guard::dual_ssn,
     },
     Entry {
         kind: BackendKind::Auto,
@@ -199,7 +199,7 @@ pub const REGISTRY: [Entry; 9] = [
         compare_default: false,
         available: true,
         make: || Ok(Box::new(auto::AutoBackend::default())),
-        need: crate::guard::auto,
+        need: guard::auto,
     },
     Entry {
         kind: BackendKind::ClarabelDual,
@@ -216,7 +216,7 @@ pub const REGISTRY: [Entry; 9] = [
                 "clarabel/dual",
             )))
         },
-        need: crate::guard::condensed,
+        need: guard::condensed,
     },
     Entry {
         kind: BackendKind::OsqpDual,
@@ -228,7 +228,7 @@ pub const REGISTRY: [Entry; 9] = [
         compare_default: false,
         available: cfg!(feature = "osqp"),
         make: make_osqp_dual,
-        need: crate::guard::condensed,
+        need: guard::condensed,
     },
 ];
 
