@@ -18,6 +18,7 @@ pub mod arc;
 pub mod balance;
 pub mod document;
 pub mod fields;
+pub mod free;
 pub mod friction;
 
 pub use active::{active_scale, is_active};
@@ -70,9 +71,11 @@ pub fn run_report(
         warnings: model
             .warnings
             .iter()
+            .cloned()
+            .chain(free::free_directions(scene, model, solution))
             .map(|w| WarningReport {
                 message: w.to_string(),
-                warning: w.clone(),
+                warning: w,
             })
             .collect(),
         attempts: Vec::new(),

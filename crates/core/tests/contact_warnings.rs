@@ -150,7 +150,7 @@ region = [1, 2, 0.94, 1.01]
         }
     );
     assert_eq!(w.kind(), "unmatched_nodes");
-    assert_eq!(w.pair(), 1);
+    assert_eq!(w.pair(), Some(1));
 }
 
 /// The seed-like interface (exp2b geometry) gives no warning at all.

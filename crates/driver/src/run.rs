@@ -252,7 +252,14 @@ pub fn finish_with_fields(
         }
     }
     if solution.status == QpStatus::Solved {
-        if let Some(note) = deformed_overlap_note(scene, model, fields) {
+        let (note, unjudged) = deformed_verdict(scene, model, fields);
+        report
+            .warnings
+            .extend(unjudged.into_iter().map(|w| report::WarningReport {
+                message: w.to_string(),
+                warning: w,
+            }));
+        if let Some(note) = note {
             demote(&mut solution, &mut report, QpStatus::DeformedOverlap, note);
         }
     }
@@ -279,15 +286,42 @@ pub fn deformed_overlap_note(
     model: &Model,
     fields: &[BodyFields],
 ) -> Option<String> {
+    deformed_verdict(scene, model, fields).0
+}
+
+/// The deformed-geometry check's note ([`deformed_overlap_note`]) and a
+/// [`model::ModelWarning::DeformedUnjudged`] for each pair it could not judge (an overlap in a
+/// pair that moves more than a tenth of its smaller body).
+pub fn deformed_verdict(
+    scene: &Scene,
+    model: &Model,
+    fields: &[BodyFields],
+) -> (Option<String>, Vec<model::ModelWarning>) {
     let displacement: Vec<&[[f64; 2]]> = fields.iter().map(|f| f.displacement.as_slice()).collect();
-    let o = contact::deformed_overlap(&model.meshes, &model.contacts, &displacement)?;
+    let check = contact::deformed_check(&model.meshes, &model.contacts, &displacement);
     let name = |b: usize| scene.bodies.get(b).map_or("?", |body| body.name.as_str());
+    let unjudged = check
+        .unjudged
+        .iter()
+        .map(|u| model::ModelWarning::DeformedUnjudged {
+            pair: u.overlap.pair + 1,
+            slave: name(u.overlap.slave).to_string(),
+            master: name(u.overlap.master).to_string(),
+            position: u.overlap.position,
+            depth: u.overlap.depth,
+            motion: u.overlap.motion,
+            size: u.size,
+        })
+        .collect();
+    let Some(o) = check.worst else {
+        return (None, unjudged);
+    };
     let why = if o.has_row {
         "its row holds, but it slid past its master segment"
     } else {
         "it has no contact row (outside the region box, or beyond the master's end)"
     };
-    Some(format!(
+    let note = format!(
         "contact #{}: slave \"{}\" node at {:?} ends {:.3e} inside master \"{}\" in the deformed \
          configuration ({:.1e} of the pair's motion {:.3e}; the small-displacement model allows \
          {:.1e}): {why}",
@@ -299,7 +333,8 @@ pub fn deformed_overlap_note(
         o.depth / o.motion,
         o.motion,
         o.allowed,
-    ))
+    );
+    (Some(note), unjudged)
 }
 
 /// The first number of the report (as a JSON path) or of the output fields that is NaN or

@@ -313,3 +313,175 @@ fn a_settled_set_that_misses_the_tolerance_says_by_how_much() {
         "{message:?}"
     );
 }
+
+/// The `free_direction` warnings of a result.json.
+fn free_directions(r: &serde_json::Value) -> Vec<serde_json::Value> {
+    r["warnings"]
+        .as_array()
+        .expect("warnings")
+        .iter()
+        .filter(|w| w["kind"] == "free_direction")
+        .cloned()
+        .collect()
+}
+
+/// Solves `scene` (text) with `backend` in a fresh directory: the exit code, result.json and
+/// stderr.
+fn solve_text(scene: &str, backend: &str) -> (Option<i32>, serde_json::Value, String) {
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::write(dir.path().join("s.toml"), scene).expect("write");
+    let o = signorini(
+        &["solve", "s.toml", "--backend", backend, "--out", "res"],
+        dir.path(),
+    );
+    let r = json(&dir.path().join("res/result.json"));
+    (o.status.code(), r, stderr(&o))
+}
+
+/// `fixtures/hard/floating-free.toml` (a frictionless block on a clamped base, no support) with
+/// a purely vertical load: any sideways translation of the block is a minimiser.
+fn block_without_sideways_load() -> String {
+    let text =
+        std::fs::read_to_string(common::repo("fixtures/hard/floating-free.toml")).expect("fixture");
+    assert!(text.contains("traction = [1e-5, -1e-4]"));
+    text.replace("traction = [1e-5, -1e-4]", "traction = [0, -1e-4]")
+}
+
+#[test]
+fn a_frictionless_floating_block_with_no_sideways_load_is_warned_not_unique() {
+    // Every row's normal is +y (a flat base), so (B v) = 0 for v = the block's x translation,
+    // and the load has no x part: the answer is one of a line of minimisers.  The status stays
+    // solved (exit 0); the warning names the body and the direction, in result.json and on
+    // stderr.  Before issue 41's item 8 there was no warning at all.
+    for backend in ["clarabel", "pdas"] {
+        let (code, r, err) = solve_text(&block_without_sideways_load(), backend);
+        assert_eq!(code, Some(0), "{backend}: {err}");
+        assert_eq!(r["status"], "solved");
+        let free = free_directions(&r);
+        assert_eq!(free.len(), 1, "{backend}: {:#}", r["warnings"]);
+        let motions = free[0]["motions"].as_array().expect("motions");
+        assert_eq!(motions.len(), 1);
+        assert_eq!(motions[0]["body"], "block");
+        // Along ±x exactly: the description zeroes parts below 1e-9 of the largest.
+        let along = &motions[0]["along"];
+        assert_eq!(along[1].as_f64(), Some(0.0), "{backend}: {along}");
+        assert_eq!(
+            along[0].as_f64().map(f64::abs),
+            Some(1.0),
+            "{backend}: {along}"
+        );
+        assert!(err.contains("\"block\" translation along x"), "{err}");
+        assert!(err.contains("not unique"), "{err}");
+    }
+}
+
+#[test]
+fn a_disc_on_a_flat_base_with_no_support_in_x_is_warned_not_unique() {
+    // A 24-gon disc (radius 0.5, a vertex at its bottom (1, 1)) resting on a clamped flat base,
+    // pressed down on its top, no support: sliding along the base is free.
+    let polygon: Vec<String> = (0..24)
+        .map(|k| {
+            let t = std::f64::consts::TAU * k as f64 / 24.0;
+            let (x, y) = if k == 0 {
+                (1.0, 1.0)
+            } else {
+                (1.0 + 0.5 * t.sin(), 1.5 - 0.5 * t.cos())
+            };
+            format!("[{x:.12}, {y:.12}]")
+        })
+        .collect();
+    let scene = format!(
+        r#"title = "disc on a flat base, no support in x"
+[[body]]
+name = "disc"
+polygon = [{}]
+hmax = 0.1
+young = 1.0
+poisson = 0.3
+[[body]]
+name = "base"
+polygon = [[0, 0], [2, 0], [2, 1], [0, 1]]
+hmax = 0.1
+young = 1.0
+poisson = 0.3
+[[dirichlet]]
+body = "base"
+region = [0, 2, 0, 0]
+[[neumann]]
+body = "disc"
+region = [0.9, 1.1, 1.9, 2.0]
+traction = [0, -1e-3]
+[[contact]]
+bodies = ["disc", "base"]
+region = [0.5, 1.5, 0.99, 1.2]
+"#,
+        polygon.join(", ")
+    );
+    let (code, r, err) = solve_text(&scene, "clarabel");
+    assert_eq!(code, Some(0), "{err}");
+    let free = free_directions(&r);
+    // The x translation is always free; with one row active (the bottom vertex) so is a
+    // rotation (rolling), which comes after it.
+    assert!(!free.is_empty(), "{:#}", r["warnings"]);
+    let first = &free[0]["motions"][0];
+    assert_eq!(first["body"], "disc");
+    assert_eq!(first["along"][1].as_f64(), Some(0.0), "{first}");
+    assert!(err.contains("\"disc\" translation along x"), "{err}");
+}
+
+#[test]
+fn unique_answers_of_floating_bodies_get_no_free_direction_warning() {
+    // A roller holds the block in x (floating.toml); friction that sticks holds it
+    // (friction-float-tresca.toml: pushed sideways, held by friction alone); a block pressed
+    // onto its base by friction-stick.toml's load.  Each answer is unique: no warning.
+    for fixture in ["floating", "friction-float-tresca", "friction-stick"] {
+        let text = std::fs::read_to_string(common::repo(&format!("fixtures/hard/{fixture}.toml")))
+            .expect("fixture");
+        for backend in ["clarabel", "pdas"] {
+            let (code, r, err) = solve_text(&text, backend);
+            assert_eq!(code, Some(0), "{fixture} {backend}: {err}");
+            assert!(
+                free_directions(&r).is_empty(),
+                "{fixture} {backend}: {:#}",
+                r["warnings"]
+            );
+            assert!(!err.contains("not unique"), "{fixture} {backend}: {err}");
+        }
+    }
+}
+
+#[test]
+fn an_overlap_in_a_pair_moving_beyond_the_small_displacement_range_is_reported_unjudged() {
+    // seed/exp1: the pair moves ~12 (12× its smaller body); in the deformed picture a slave
+    // node without a row ends 2.6 inside the master.  The check cannot tell the model's range
+    // from a solver error: the status stays solved, and a `deformed_unjudged` warning names
+    // the pair, the node and the figures.  Before, the pair was skipped with no trace.
+    let text = std::fs::read_to_string(common::repo("fixtures/seed/exp1.toml")).expect("fixture");
+    let (code, r, err) = solve_text(&text, "clarabel");
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(r["status"], "solved");
+    let unjudged: Vec<&serde_json::Value> = r["warnings"]
+        .as_array()
+        .expect("warnings")
+        .iter()
+        .filter(|w| w["kind"] == "deformed_unjudged")
+        .collect();
+    assert_eq!(unjudged.len(), 1, "{:#}", r["warnings"]);
+    let w = unjudged[0];
+    assert_eq!(w["pair"], 1);
+    let (motion, size, depth) = (
+        w["motion"].as_f64().expect("motion"),
+        w["size"].as_f64().expect("size"),
+        w["depth"].as_f64().expect("depth"),
+    );
+    assert!(motion > 0.1 * size && depth > 0.0, "{w}");
+    assert!(err.contains("could not judge this pair"), "{err}");
+    // A pair that moves little is still judged as before: the frictionless block above moves
+    // less than a tenth of its size and gets no such warning.
+    let (_, r, _) = solve_text(&block_without_sideways_load(), "clarabel");
+    assert!(
+        !r["warnings"].to_string().contains("deformed_unjudged"),
+        "{:#}",
+        r["warnings"]
+    );
+}

@@ -82,7 +82,7 @@ mod search;
 #[cfg(test)]
 mod tests;
 
-pub use deformed::{deformed_overlap, DeformedOverlap};
+pub use deformed::{deformed_check, deformed_overlap, DeformedCheck, DeformedOverlap, Unjudged};
 pub use interface::{Interface, Side};
 pub use overlap::Overlap;
 

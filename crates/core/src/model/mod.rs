@@ -42,7 +42,7 @@ pub use error::ModelError;
 pub use friction::TangentialRow;
 pub use meshing::mesh_scene;
 pub use path::{increments, Increment, LoadGroup, LoadPath};
-pub use warnings::{ModelWarning, NoRowReason};
+pub use warnings::{FreeMotion, ModelWarning, NoRowReason};
 
 /// The assembled model of a scene.
 #[derive(Debug, Clone)]

@@ -16,9 +16,36 @@ pub enum NoRowReason {
     AllInert,
 }
 
-/// Something assembly had to approximate or leave out, counted per contact pair.  `pair` is the
-/// 1-based index of the `[[contact]]` section; bodies are named.  [`std::fmt::Display`] gives a
-/// one-line message; serialised (JSON) with the variant name in `kind`.
+/// One body's part of a free direction ([`ModelWarning::FreeDirection`]): a translation along a
+/// unit vector, or a rotation about a point (exactly one of the two is given).
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
+pub struct FreeMotion {
+    /// The body, as in the scene.
+    pub body: String,
+    /// A translation: its unit direction.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub along: Option<Point>,
+    /// A rotation: the point it turns about (undeformed coordinates).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub about: Option<Point>,
+}
+
+impl std::fmt::Display for FreeMotion {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match (self.along, self.about) {
+            (Some([_, 0.0]), _) => write!(f, "translation along x"),
+            (Some([0.0, _]), _) => write!(f, "translation along y"),
+            (Some([x, y]), _) => write!(f, "translation along ({x:.4}, {y:.4})"),
+            (None, Some([x, y])) => write!(f, "rotation about ({x}, {y})"),
+            (None, None) => write!(f, "no motion"),
+        }
+    }
+}
+
+/// Something assembly had to approximate or leave out, counted per contact pair, or something
+/// the checks of the answer found (the last two variants).  `pair` is the 1-based index of the
+/// `[[contact]]` section; bodies are named.  [`std::fmt::Display`] gives a one-line message;
+/// serialised (JSON) with the variant name in `kind`.
 #[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum ModelWarning {
@@ -97,6 +124,35 @@ pub enum ModelWarning {
         /// Slave node position of the first one.
         first: Point,
     },
+    /// The answer is one of many minimisers: a rigid motion of floating bodies (held by contact
+    /// alone) that no row holding in the answer resists and along which the objective is flat
+    /// (`crate::report::free`).  Any amount of it gives another minimiser, so the displacement
+    /// along it is arbitrary and backends may return answers that differ by it; the status is
+    /// unchanged.
+    FreeDirection {
+        /// Each moving body's part (one body unless they move together).
+        motions: Vec<FreeMotion>,
+    },
+    /// The deformed-geometry check (`crate::contact::deformed`) could not judge the pair: a slave
+    /// node ends inside its deformed master beyond the allowance, but the pair moves more than a
+    /// tenth of its smaller body's size, beyond the small-displacement model, so the overlap may
+    /// be the model's and not the solver's (the status is not changed).
+    DeformedUnjudged {
+        /// 1-based pair index.
+        pair: usize,
+        /// Slave body.
+        slave: String,
+        /// Master body.
+        master: String,
+        /// The node's undeformed position.
+        position: Point,
+        /// How far it ends inside the master's deformed outline.
+        depth: f64,
+        /// The pair's motion U (max |u| over its two bodies' nodes).
+        motion: f64,
+        /// The smaller body's size (the smaller side of its bounding box).
+        size: f64,
+    },
 }
 
 impl ModelWarning {
@@ -108,17 +164,22 @@ impl ModelWarning {
             ModelWarning::TributaryFallback { .. } => "tributary_fallback",
             ModelWarning::InitialOverlap { .. } => "initial_overlap",
             ModelWarning::InertRows { .. } => "inert_rows",
+            ModelWarning::FreeDirection { .. } => "free_direction",
+            ModelWarning::DeformedUnjudged { .. } => "deformed_unjudged",
         }
     }
 
-    /// The 1-based contact pair the warning is about.
-    pub fn pair(&self) -> usize {
+    /// The 1-based contact pair the warning is about (`None` for a free direction, which is
+    /// about bodies).
+    pub fn pair(&self) -> Option<usize> {
         match self {
             ModelWarning::NoContactRow { pair, .. }
             | ModelWarning::UnmatchedNodes { pair, .. }
             | ModelWarning::TributaryFallback { pair, .. }
             | ModelWarning::InitialOverlap { pair, .. }
-            | ModelWarning::InertRows { pair, .. } => *pair,
+            | ModelWarning::InertRows { pair, .. }
+            | ModelWarning::DeformedUnjudged { pair, .. } => Some(*pair),
+            ModelWarning::FreeDirection { .. } => None,
         }
     }
 }
@@ -207,6 +268,37 @@ impl std::fmt::Display for ModelWarning {
                 f,
                 "contact #{pair} (slave \"{slave}\", master \"{master}\"): {rows} row(s) have every DOF fixed by [[dirichlet]] on both sides (first at ({}, {})) and were removed as inert",
                 first[0], first[1]
+            ),
+            ModelWarning::FreeDirection { motions } => {
+                let names: Vec<String> = motions.iter().map(|m| format!("\"{}\"", m.body)).collect();
+                let parts: Vec<String> = motions
+                    .iter()
+                    .map(|m| format!("\"{}\" {m}", m.body))
+                    .collect();
+                let who = if motions.len() == 1 {
+                    "body"
+                } else {
+                    "bodies"
+                };
+                write!(
+                    f,
+                    "the answer is not unique: {who} {} held by contact alone can move freely ({}): no contact row that holds in the answer resists it and the objective is flat along it, so the displacement along it is arbitrary and backends (or settings) may return answers that differ by any amount of it; a support or a load along it makes the answer unique",
+                    names.join(" and "),
+                    parts.join(", ")
+                )
+            }
+            ModelWarning::DeformedUnjudged {
+                pair,
+                slave,
+                master,
+                position,
+                depth,
+                motion,
+                size,
+            } => write!(
+                f,
+                "contact #{pair}: the deformed-geometry check could not judge this pair: slave \"{slave}\" node at ({}, {}) ends {depth:.3e} inside master \"{master}\" in the deformed configuration, but the pair moves {motion:.3e}, more than a tenth of its smaller body's size {size:.3e}, beyond the small-displacement model (the overlap may be the model's, not the solver's; a region box that covers where contact may reach, or a smaller load, lets it be judged)",
+                position[0], position[1]
             ),
         }
     }
