@@ -30,6 +30,7 @@
 //! (`[[body.refine]]`) and Gmsh meshes (MSH 4.1 files it writes beside the scene).
 
 mod fuzz {
+    pub mod friction;
     pub mod gen;
     pub mod msh;
     pub mod penetration;
@@ -322,6 +323,10 @@ fn fuzz_survey() {
     for p in PROPERTIES {
         let c = counts.get(p).copied().unwrap_or(0);
         println!("  {p:<24} {c:>7} failing case(s)");
+    }
+    println!("\nfrictional cases (fuzz/friction.rs):");
+    for (label, c) in fuzz::friction::tally() {
+        println!("  {c:>7} {label}");
     }
     println!("\nkinds of failure:");
     for (k, c) in &kinds {

@@ -218,6 +218,25 @@ struct BodyParams {
     /// triangles or, with `q1`, quadrilaterals) instead of `polygon`; `true`: every element
     /// listed clockwise (the reader turns them all).
     gmsh: Option<bool>,
+    /// A cap (frictional cases, the top body only): the bottom edge is a circular arc of this
+    /// half-angle (radians), drawn as a polygon of this many chords, its lowest point where the
+    /// block's bottom would be.
+    cap: Option<Cap>,
+}
+
+/// A cap's arc: `chords` chords over a half-angle `theta` (radians).
+#[derive(Debug, Clone, Copy)]
+struct Cap {
+    chords: usize,
+    theta: f64,
+}
+
+impl Cap {
+    /// The arc's radius and sag (its height above its lowest point at the ends) for width `w`.
+    fn radius_sag(self, w: f64) -> (f64, f64) {
+        let r = 0.5 * w / self.theta.sin();
+        (r, r * (1.0 - self.theta.cos()))
+    }
 }
 
 fn body_params() -> impl Strategy<Value = BodyParams> {
@@ -252,6 +271,7 @@ fn body_params() -> impl Strategy<Value = BodyParams> {
                     support,
                     refine,
                     gmsh,
+                    cap: None,
                 }
             },
         )
@@ -269,6 +289,8 @@ struct SceneParams {
     slave: Option<bool>,
     probe: bool,
     mortar: bool,
+    /// Friction on every pair, named loads and `[[step]]`s (a frictional case), or none.
+    friction: Option<FrictionParams>,
 }
 
 fn scene_params() -> impl Strategy<Value = SceneParams> {
@@ -308,9 +330,197 @@ fn scene_params() -> impl Strategy<Value = SceneParams> {
                     slave,
                     probe,
                     mortar,
+                    friction: None,
                 }
             },
         )
+}
+
+/// A frictional pair's law, drawn for every pair of a frictional case.
+#[derive(Debug, Clone, Copy)]
+enum Law {
+    /// Coulomb's μ (`friction = μ`).
+    Coulomb(f64),
+    /// Tresca's bound as a fraction of the press (`tresca = fraction × press`).
+    Tresca(f64),
+}
+
+/// What makes a case frictional: the law of its pairs and the top body's load path (pressed in
+/// a first `[[step]]`, dragged in a second, sometimes pushed back in a third).
+#[derive(Debug, Clone)]
+struct FrictionParams {
+    law: Law,
+    /// The drag against the top pair's capacity: below it (≤ 0.8 of its lower estimate), or
+    /// beyond it (≥ 1.3 of its upper bound; see [`friction_loads`]).
+    drag: f64,
+    /// The drag's direction, ±1.
+    sign: f64,
+    /// A third step reverses the drag (`drag = -1`).
+    push_back: bool,
+    /// Increments of each step.
+    increments: [u8; 3],
+}
+
+fn friction_params() -> impl Strategy<Value = FrictionParams> {
+    let increments = || prop_oneof![3 => Just(1u8), 1 => 2..=4u8];
+    (
+        prop_oneof![
+            3 => prop_oneof![
+                8 => log_uniform(0.05, 5.0),
+                1 => select(vec![0.0, 1e-3, 0.01, 10.0, 100.0]),
+            ]
+            .prop_map(Law::Coulomb),
+            1 => log_uniform(0.05, 5.0).prop_map(Law::Tresca),
+        ],
+        prop_oneof![3 => 0.0..0.8f64, 2 => 1.3..4.0f64],
+        select(vec![1.0, -1.0]),
+        prop::bool::weighted(0.35),
+        [increments(), increments(), increments()],
+    )
+        .prop_map(|(law, drag, sign, push_back, increments)| FrictionParams {
+            law,
+            drag,
+            sign,
+            push_back,
+            increments,
+        })
+}
+
+/// A frictional scene: [`scene_params`]' bodies (at least two), every pair frictional, the top
+/// body a cap in about a third of them (an arc of 2 to 32 chords over a half-angle of 10° to
+/// 40°) and floating (held by contact alone) in 60 %, no gravity and no linear traction (the
+/// drag is drawn against the press).  In 60 % of them ("tame") the bodies' extreme draws are
+/// replaced by ordinary ones (E = 1, ν = 0.3, a relative hmax, unit scale, no sliver, no
+/// overlap), so that enough of them are solved for the statics and the law to be judged.
+fn frictional_scene_params() -> impl Strategy<Value = SceneParams> {
+    (
+        (scene_params(), prop::bool::weighted(0.6)),
+        friction_params(),
+        prop::option::weighted(
+            0.35,
+            (2usize..=32, 10.0..40.0f64).prop_map(|(chords, deg)| Cap {
+                chords,
+                theta: deg.to_radians(),
+            }),
+        ),
+        prop::bool::weighted(0.6),
+    )
+        .prop_map(|((mut p, tame), fr, cap, floating)| {
+            if tame {
+                for b in &mut p.bodies {
+                    if !(1e-3..=1e3).contains(&b.young) {
+                        b.young = 1.0;
+                    }
+                    if !(0.0..=0.45).contains(&b.poisson) {
+                        b.poisson = 0.3;
+                    }
+                    if let Hmax::Absolute(_) = b.hmax {
+                        b.hmax = Hmax::Relative(0.3);
+                    }
+                    b.unit = 1.0;
+                    b.sliver = false;
+                    b.gap = b.gap.clamp(0.0, 0.1);
+                }
+                p.load[1] = p.load[1].abs().clamp(1e-5, 1e-2);
+            }
+            if p.bodies.len() == 1 {
+                let copy = p.bodies[0].clone();
+                p.bodies.push(copy);
+            }
+            p.gravity = None;
+            p.linear = None;
+            let top = p.bodies.len() - 1;
+            let b = &mut p.bodies[top];
+            if let Some(c) = cap {
+                b.cap = Some(c);
+                b.gmsh = None;
+                b.q1 = false;
+            }
+            if floating {
+                b.support = 0;
+            }
+            p.friction = Some(fr);
+            p
+        })
+}
+
+/// The press of a frictional case (a downward traction on the top body's top edge): the drawn
+/// vertical load's magnitude, 1e-3 when that is zero.
+fn press_of(p: &SceneParams) -> f64 {
+    match p.load[1].abs() {
+        t if t > 0.0 => t,
+        _ => 1e-3,
+    }
+}
+
+/// The loads of a frictional case: `press` and `drag` on the top body's top edge, and the
+/// `[[step]]`s: press; press and drag; sometimes press and the drag reversed.
+///
+/// The drag d (a traction over the top edge of width w, so a force T = d w, against the press
+/// N = p w) is drawn against the top pair's capacity. Below: a fraction of a lower estimate —
+/// Coulomb μ N; Tresca s × the overlap of the two bodies. Beyond: at least 1.3 × an upper bound
+/// — with the rows' normals within θ of the vertical (θ the cap's half-angle, 0 for a block),
+/// Coulomb tan(atan μ + θ) N (when atan μ + θ < 80°, else the drag stays below), Tresca
+/// (N + S) tan θ + S with S = s × the longer of the lower body's top and the top body's bottom.
+fn friction_loads(
+    p: &SceneParams,
+    fr: &FrictionParams,
+    rects: &[[f64; 4]],
+    names: &[String],
+    out: &mut Vec<Section>,
+) {
+    let top = rects.len() - 1;
+    let [x0, x1, _, y1] = rects[top];
+    let lo = rects[top.saturating_sub(1)];
+    let w = x1 - x0;
+    let theta = p.bodies[top].cap.map_or(0.0, |c| c.theta);
+    let press = press_of(p);
+    let ratio = match fr.law {
+        Law::Coulomb(mu) if fr.drag < 1.0 || mu.atan() + theta >= 80f64.to_radians() => {
+            fr.drag.min(0.8) * mu
+        }
+        Law::Coulomb(mu) => fr.drag * (mu.atan() + theta).tan(),
+        Law::Tresca(s) if fr.drag < 1.0 => {
+            let overlap = (x1.min(lo[1]) - x0.max(lo[0])).max(0.0);
+            fr.drag * s * overlap / w
+        }
+        Law::Tresca(s) => {
+            let arc = if theta > 0.0 {
+                theta / theta.sin()
+            } else {
+                1.0
+            };
+            let big_s = s * (lo[1] - lo[0]).max(w * arc) / w;
+            fr.drag * ((1.0 + big_s) * theta.tan() + big_s)
+        }
+    };
+    let drag = (ratio * press).min(1e300);
+    for (name, t) in [("press", [0.0, -press]), ("drag", [fr.sign * drag, 0.0])] {
+        out.push(Section {
+            header: "[[neumann]]",
+            entries: vec![
+                // Without its name the steps name an unknown load: refused, naming `loads`.
+                Entry::new("name", format!("\"{name}\"")).optional(),
+                Entry::new("body", format!("\"{}\"", names[top])),
+                Entry::new("region", arr(&[x0, x1, y1, y1])).array().num(),
+                Entry::new("traction", arr(&t)).array().num(),
+            ],
+        });
+    }
+    let mut steps = vec!["{ press = 1.0, drag = 0.0 }", "{ press = 1.0, drag = 1.0 }"];
+    if fr.push_back {
+        steps.push("{ press = 1.0, drag = -1.0 }");
+    }
+    for (loads, increments) in steps.into_iter().zip(fr.increments) {
+        let mut e = vec![Entry::new("loads", loads.to_string()).num()];
+        if increments > 1 {
+            e.push(Entry::new("increments", increments.to_string()).optional());
+        }
+        out.push(Section {
+            header: "[[step]]",
+            entries: e,
+        });
+    }
 }
 
 /// The bodies' rectangles `[x0, x1, y0, y1]`, stacked bottom to top.
@@ -321,11 +531,15 @@ fn rects(p: &SceneParams) -> Vec<[f64; 4]> {
     let mut h_prev = 0.0;
     for b in &p.bodies {
         let w = b.width * b.unit;
-        let h = if b.sliver {
+        let mut h = if b.sliver {
             w * 1e-5
         } else {
             b.height * b.unit
         };
+        // A cap stands on its arc: its block part above the arc's ends keeps the drawn height.
+        if let Some(cap) = b.cap {
+            h += cap.radius_sag(w).1;
+        }
         let y0 = if rects.is_empty() {
             0.0
         } else {
@@ -425,13 +639,16 @@ fn model_section(p: &SceneParams, out: &mut Vec<Section>) {
 fn body_sections(p: &SceneParams, rects: &[[f64; 4]], names: &[String], out: &mut Vec<Section>) {
     for (i, (b, r)) in p.bodies.iter().zip(rects).enumerate() {
         let [x0, x1, y0, y1] = *r;
-        let polygon = format!(
-            "[{}, {}, {}, {}]",
-            arr(&[x0, y0]),
-            arr(&[x1, y0]),
-            arr(&[x1, y1]),
-            arr(&[x0, y1])
-        );
+        let polygon = match b.cap {
+            None => format!(
+                "[{}, {}, {}, {}]",
+                arr(&[x0, y0]),
+                arr(&[x1, y0]),
+                arr(&[x1, y1]),
+                arr(&[x0, y1])
+            ),
+            Some(cap) => cap_polygon(cap, *r),
+        };
         let h = body_hmax(b, *r);
         let mut e = vec![Entry::new("name", format!("\"{}\"", names[i]))];
         if b.gmsh.is_some() {
@@ -470,6 +687,36 @@ fn body_sections(p: &SceneParams, rects: &[[f64; 4]], names: &[String], out: &mu
     }
 }
 
+/// A cap's outline in rectangle `r`: the arc from its left end through its lowest point
+/// (x0 + w/2, y0) to its right end, `chords` chords, then the top corners (counter-clockwise).
+fn cap_polygon(cap: Cap, r: [f64; 4]) -> String {
+    let [x0, x1, y0, y1] = r;
+    let w = x1 - x0;
+    let (radius, _) = cap.radius_sag(w);
+    let xm = 0.5 * (x0 + x1);
+    let mut points: Vec<String> = (0..=cap.chords)
+        .map(|k| {
+            let a = -cap.theta + 2.0 * cap.theta * k as f64 / cap.chords as f64;
+            let x = if k == 0 {
+                x0
+            } else if k == cap.chords {
+                x1
+            } else {
+                xm + radius * a.sin()
+            };
+            let y = if k == 0 || k == cap.chords {
+                y0 + cap.radius_sag(w).1
+            } else {
+                y0 + radius * (1.0 - a.cos())
+            };
+            arr(&[x, y])
+        })
+        .collect();
+    points.push(arr(&[x1, y1]));
+    points.push(arr(&[x0, y1]));
+    format!("[{}]", points.join(", "))
+}
+
 /// `[[dirichlet]]`: the bottom body clamped, the others by their `support`.
 fn support_sections(p: &SceneParams, rects: &[[f64; 4]], names: &[String], out: &mut Vec<Section>) {
     for (i, (b, r)) in p.bodies.iter().zip(rects).enumerate() {
@@ -506,6 +753,9 @@ fn support_sections(p: &SceneParams, rects: &[[f64; 4]], names: &[String], out: 
 
 /// `[[neumann]]`: the top body's top edge, a constant or a linear traction.
 fn load_section(p: &SceneParams, rects: &[[f64; 4]], names: &[String], out: &mut Vec<Section>) {
+    if let Some(fr) = &p.friction {
+        return friction_loads(p, fr, rects, names, out);
+    }
     let top = rects.len() - 1;
     let [x0, x1, y0, y1] = rects[top];
     let mut e = vec![
@@ -564,7 +814,11 @@ fn contact_sections(p: &SceneParams, rects: &[[f64; 4]], names: &[String], out: 
         if p.contact_region {
             let y = hi[2];
             let d = 0.01 * (hi[3] - hi[2]).min(lo[3] - lo[2]);
-            let region = [lo[0].max(hi[0]), lo[1].min(hi[1]), y - d, y + d];
+            // A cap's arc rises by its sag from its lowest point: the box covers the whole arc.
+            let sag = p.bodies[i]
+                .cap
+                .map_or(0.0, |c| c.radius_sag(hi[1] - hi[0]).1);
+            let region = [lo[0].max(hi[0]), lo[1].min(hi[1]), y - d, y + sag + d];
             e.push(Entry::new("region", arr(&region)).optional().array().num());
         }
         if let Some(upper) = p.slave {
@@ -573,6 +827,15 @@ fn contact_sections(p: &SceneParams, rects: &[[f64; 4]], names: &[String], out: 
         }
         if p.mortar {
             e.push(Entry::new("formulation", "\"mortar\"".to_string()).optional());
+        }
+        match p.friction.as_ref().map(|fr| fr.law) {
+            Some(Law::Coulomb(mu)) => e.push(Entry::new("friction", f(mu)).optional().num()),
+            Some(Law::Tresca(ratio)) => e.push(
+                Entry::new("tresca", f(ratio * press_of(p)))
+                    .optional()
+                    .num(),
+            ),
+            None => {}
         }
         out.push(Section {
             header: "[[contact]]",
@@ -787,17 +1050,23 @@ fn backend() -> impl Strategy<Value = BackendKind> {
     proptest::strategy::Union::new_weighted(weighted)
 }
 
-/// A whole test case: scene text, whether it must be refused, and a backend.
+/// A whole test case: scene text, whether it must be refused, and a backend.  One case in four
+/// is frictional ([`frictional_scene_params`]); the other three are drawn exactly as before
+/// friction was added.
 pub fn case() -> impl Strategy<Value = Case> {
-    (
-        scene_params(),
-        mutation(),
-        backend(),
-        prop::bool::weighted(0.1),
-    )
-        .prop_map(|(mut p, m, backend, unload)| {
-            // One scene in ten has nothing loaded or prescribed (its answer is known: u = 0).
-            if unload {
+    prop_oneof![
+        3 => case_of(scene_params().boxed()),
+        1 => case_of(frictional_scene_params().boxed()),
+    ]
+}
+
+/// A case of the scenes `scenes` draws.
+fn case_of(scenes: BoxedStrategy<SceneParams>) -> impl Strategy<Value = Case> {
+    (scenes, mutation(), backend(), prop::bool::weighted(0.1)).prop_map(
+        |(mut p, m, backend, unload)| {
+            // One scene in ten has nothing loaded or prescribed (its answer is known: u = 0); a
+            // frictional one is always pressed.
+            if unload && p.friction.is_none() {
                 p.load = [0.0, 0.0];
                 p.linear = None;
                 p.gravity = None;
@@ -815,7 +1084,7 @@ pub fn case() -> impl Strategy<Value = Case> {
                 && p.gravity.is_none()
                 && p.values == [0.0, 0.0];
             let apart = p.bodies.iter().skip(1).all(|b| b.gap >= 0.0);
-            let at_rest = unloaded && apart && matches!(m, Mutation::None);
+            let at_rest = unloaded && apart && p.friction.is_none() && matches!(m, Mutation::None);
             Case {
                 toml: render(&secs),
                 files: mesh_files(&p),
@@ -823,5 +1092,6 @@ pub fn case() -> impl Strategy<Value = Case> {
                 backend,
                 at_rest,
             }
-        })
+        },
+    )
 }

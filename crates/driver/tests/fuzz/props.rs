@@ -11,6 +11,7 @@ use signorini_core::qp::{QpError, SolveOptions};
 use signorini_core::scene::Scene;
 use signorini_core::solve::SolveError;
 
+use super::friction;
 use super::gen::Case;
 use super::penetration::interpenetration;
 use super::refusal::{check_refusal, Stage, SCENE_FILE};
@@ -25,7 +26,7 @@ pub struct Finding {
 }
 
 /// Every property, by name.
-pub const PROPERTIES: [&str; 12] = [
+pub const PROPERTIES: [&str; 15] = [
     // Nothing panics: not parsing, checking, solving nor writing.
     "no-panic",
     // Every stage ends: a case finishes within [`CASE_TIMEOUT`].
@@ -52,6 +53,14 @@ pub const PROPERTIES: [&str; 12] = [
     "broken-refused",
     // An accepted scene's output files are written and well formed (JSON parses, SVG/VTU are XML).
     "outputs-well-formed",
+    // `solved` ⇒ a body held by contact alone balances its load with the contact forces
+    // (fuzz/friction.rs, which derives the slack from the tolerance).
+    "solved-floating-statics",
+    // `solved` ⇒ every frictional node's tangential traction is within μ·pressure (Coulomb) or s
+    // (Tresca), up to the tolerance.
+    "solved-friction-law",
+    // A floating body loaded beyond its one frictional pair's capacity is never `solved`.
+    "overdrag-not-solved",
 ];
 
 /// The limits used for every case: small, so that a case stays fast and the element guard is hit.
@@ -193,14 +202,17 @@ pub fn run_case_here(case: &Case) -> Vec<Finding> {
     found
 }
 
-/// Whether a solve was refused by its backend (it cannot run this problem, or its own
-/// allocation would not fit): `check`, which verifies what solve verifies before its backend
+/// Whether a solve was refused by its backend (it cannot run this problem — it does not solve a
+/// block of its rows, e.g. `clarabel/dual`'s box rows of friction —, or its own allocation would
+/// not fit): `check`, which verifies what solve verifies before its backend
 /// runs, does not judge that.
 fn backend_refusal(e: &run::RunError) -> bool {
     matches!(
         e,
         run::RunError::Solve(SolveError::Qp(
-            QpError::Unavailable { .. } | QpError::TooLarge { .. }
+            QpError::Unavailable { .. }
+                | QpError::TooLarge { .. }
+                | QpError::UnsupportedBlock { .. }
         ))
     )
 }
@@ -215,6 +227,7 @@ fn run_stages(case: &Case, dir: &Path, found: &mut Vec<Finding>) {
     let scene = match Scene::from_toml_in(toml, dir) {
         Ok(s) => s,
         Err(e) => {
+            friction::refused(toml, case.must_refuse.is_some());
             found.extend(check_refusal(case, dir, &e.to_string(), Stage::Scene));
             return;
         }
@@ -289,6 +302,7 @@ fn run_stages(case: &Case, dir: &Path, found: &mut Vec<Finding>) {
             check_at_rest(&scene, &outcome, found);
         }
     }
+    friction::check(&scene, &outcome, options.tol, found);
     check_outputs(dir, &scene, &outcome, found);
 }
 
