@@ -221,7 +221,7 @@ fn fuzz_cases_replay() {
 /// The saved failures whose fix is open, each with every property enforced: this test fails
 /// until they are fixed (run it with `--ignored`; the cases and why are listed in README's
 /// Fuzzing section).
-#[ignore = "the saved failures headed # fuzz-open, whose fix is open (none at present; README, Fuzzing): fails until each is fixed"]
+#[ignore = "the saved failures headed # fuzz-open, whose fix is open (README, Fuzzing): fails until each is fixed"]
 #[test]
 fn fuzz_open_cases() {
     replay(|case, _| header(case, "# fuzz-open:").is_some());

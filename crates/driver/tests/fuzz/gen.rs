@@ -512,7 +512,8 @@ fn friction_loads(
         steps.push("{ press = 1.0, drag = -1.0 }");
     }
     for (loads, increments) in steps.into_iter().zip(fr.increments) {
-        let mut e = vec![Entry::new("loads", loads.to_string()).num()];
+        // `loads` defaults to no factor (docs/scene.md): removing it leaves a valid scene.
+        let mut e = vec![Entry::new("loads", loads.to_string()).optional().num()];
         if increments > 1 {
             e.push(Entry::new("increments", increments.to_string()).optional());
         }
