@@ -312,6 +312,15 @@ fn solve_direct(
 }
 
 impl Solution {
+    /// The backend's message as ` (message)`, or nothing without one: the tail of a refusal
+    /// that names why a solve fell short.
+    pub fn message_in_parentheses(&self) -> String {
+        self.message
+            .as_deref()
+            .map(|m| format!(" ({m})"))
+            .unwrap_or_default()
+    }
+
     /// A `numerical-error` with no answer (NaN displacements and multipliers, unmeasurable
     /// residuals) and the reason in `message`: for solves that fail before or instead of a
     /// backend's run.

@@ -184,11 +184,7 @@ pub fn build(
         return Ok(Built::Skipped(format!(
             "no reference: auto ended {} at tol {tol:e}{}",
             solution.status,
-            solution
-                .message
-                .as_deref()
-                .map(|m| format!(" ({m})"))
-                .unwrap_or_default()
+            solution.message_in_parentheses()
         )));
     }
     let objective = problem.objective(&x);

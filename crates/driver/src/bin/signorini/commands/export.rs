@@ -61,11 +61,7 @@ pub(crate) fn export(args: &ExportArgs) -> Result<Exit> {
                 "error: {}: Coulomb friction is exported as the Tresca problem at the bounds mu*max(0, lambda_n) of the scene's answer, but the default backend ended `{}`{}: nothing written",
                 scene.title,
                 solution.status,
-                solution
-                    .message
-                    .as_deref()
-                    .map(|m| format!(" ({m})"))
-                    .unwrap_or_default()
+                solution.message_in_parentheses()
             ));
             return Ok(Exit::NotSolved);
         }
